@@ -1,0 +1,106 @@
+/// @file check.hpp
+/// @brief Stage "check": is a triangle soup a closed, outward-oriented 2-manifold without
+/// self-intersections or degenerate faces, and if not, where?
+///
+/// Topology is judged after merging points with bit-identical coordinates (STL stores three
+/// points per facet; no tolerance is ever used). Geometric decisions (degenerate faces,
+/// self-intersections, orientation) use CGAL Polygon Mesh Processing on the exact-predicate
+/// kernel (Epick). The soup itself is never modified.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+struct CheckOptions {
+  /// Search for self-intersecting triangle pairs (the most expensive fact).
+  bool self_intersections = true;
+  /// Largest number of example locations kept per defect class.
+  std::size_t max_examples = 10;
+};
+
+/// An edge between two points (coordinates in mm) and one triangle (input index) that uses it.
+struct EdgeLocation {
+  std::array<Vec3, 2> ends;
+  std::uint32_t triangle = 0;
+};
+
+/// The facts check_mesh() establishes. Counts refer to the soup after merging bit-identical
+/// points; triangle indices refer to the input soup's triangles.
+struct MeshCheck {
+  // --- input --------------------------------------------------------------------------
+  std::uint64_t points = 0;               ///< points in the soup, as given
+  std::uint64_t triangles = 0;            ///< triangles in the soup
+  Box3 bbox;                              ///< of referenced points
+  std::uint64_t vertices = 0;             ///< distinct positions referenced by triangles
+  std::uint64_t duplicate_points = 0;     ///< points whose position an earlier point already has
+  std::uint64_t unreferenced_points = 0;  ///< points no triangle uses
+
+  // --- faces --------------------------------------------------------------------------
+  /// Triangles with a repeated corner or three exactly collinear corners (CGAL::collinear).
+  std::uint64_t degenerate_triangles = 0;
+  /// Triangles with the same three corners as an earlier one (in any order).
+  std::uint64_t duplicate_triangles = 0;
+
+  // --- edges and vertices ---------------------------------------------------------------
+  std::uint64_t edges = 0;               ///< distinct undirected edges
+  std::uint64_t border_edges = 0;        ///< used by exactly one triangle
+  std::uint64_t holes = 0;               ///< border cycles (after non-manifold vertices split)
+  std::uint64_t non_manifold_edges = 0;  ///< used by three or more triangles
+  /// Vertices whose triangles form more than one fan (pinched, e.g. a bow-tie).
+  std::uint64_t non_manifold_vertices = 0;
+  /// Edges shared by exactly two triangles that traverse it in the same direction.
+  std::uint64_t inconsistent_edges = 0;
+
+  // --- whole mesh ---------------------------------------------------------------------
+  std::uint64_t components = 0;       ///< connected through shared vertices
+  std::uint64_t edge_components = 0;  ///< connected through shared edges
+  /// Self-intersecting triangle pairs (pairs that share an edge or vertex count only if they
+  /// meet elsewhere too); unset when not searched for.
+  std::optional<std::uint64_t> self_intersecting_pairs;
+  double area = 0;  ///< total triangle area, mm^2
+  /// Set only when closed, manifold and consistently oriented: signed volume (mm^3, negative
+  /// when inside out), whether every shell is oriented so the solid is on its inner side, and
+  /// the genus (sum over shells, from the Euler characteristic).
+  std::optional<double> volume;
+  std::optional<bool> outward;
+  std::optional<std::int64_t> genus;
+
+  // --- where -------------------------------------------------------------------------
+  std::vector<EdgeLocation> border_edge_examples;
+  std::vector<EdgeLocation> non_manifold_edge_examples;
+  std::vector<EdgeLocation> inconsistent_edge_examples;
+  std::vector<Vec3> non_manifold_vertex_examples;
+  std::vector<std::uint32_t> degenerate_triangle_examples;
+  std::vector<std::uint32_t> duplicate_triangle_examples;
+  std::vector<std::array<std::uint32_t, 2>> self_intersection_examples;
+
+  bool closed() const { return border_edges == 0; }
+  bool manifold() const { return non_manifold_edges == 0 && non_manifold_vertices == 0; }
+  bool consistently_oriented() const { return inconsistent_edges == 0; }
+
+  /// The verdict behind `tpmsfill check`'s exit code 0: a closed 2-manifold, consistently and
+  /// outwardly oriented, without degenerate or duplicate triangles or self-intersections
+  /// (unsearched self-intersections count as none), and with at least one triangle.
+  bool valid() const;
+
+  /// One sentence per failed condition of valid(), in the order checked; empty when valid.
+  std::vector<std::string> problems() const;
+};
+
+/// Establishes the facts above.
+/// @param[in] soup     any triangle soup (indices must be in range, which readers guarantee)
+/// @param[in] options  which expensive facts to compute, how many examples to keep
+/// @throws InputError  an index is out of range
+MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options = {});
+
+/// The JSON object `tpmsfill check --json` prints; fields documented in docs/cli.md.
+std::string to_json(const MeshCheck& check);
+
+}  // namespace tpmsfill

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs what tpmsfill needs to build and test, from Debian's packages (non-interactive).
+# Safe to run again: installs only what is missing. Needs root (or sudo) when something is.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev libtbb-dev zlib1g-dev
+  libcli11-dev nlohmann-json3-dev libgtest-dev
+  # Real meshes for the tests and the demo: CGAL's demo data (femur.off, elephant-with-holes.off,
+  # ...) and assimp's odd STL/OBJ/PLY/OFF test files.
+  libcgal-demo assimp-testmodels
+)
+# Extra tools: `scripts/test.sh --sanitize` and `scripts/fuzz.sh` need clang's runtimes.
+if [[ "${TPMSFILL_SETUP_EXTRA:-}" == clang ]]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  # No recommends: libcgal-demo would otherwise pull in Qt for demos we never build.
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs dependencies, builds, and runs every test with ctest.
+#   bash scripts/test.sh              Release build in build/
+#   bash scripts/test.sh --sanitize   AddressSanitizer + UndefinedBehaviorSanitizer, in build-asan/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if [[ "${1:-}" == "--sanitize" ]]; then
+  TPMSFILL_SETUP_EXTRA=clang bash scripts/setup.sh
+  bash scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DTPMSFILL_SANITIZE=address,undefined
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
+  ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)"
+  exit
+fi
+
+bash scripts/setup.sh
+bash scripts/build.sh build
+ctest --test-dir build --output-on-failure --parallel "$(nproc)"

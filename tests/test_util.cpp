@@ -1,0 +1,157 @@
+#include "test_util.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <utility>
+
+namespace tpmsfill::test {
+
+TriangleSoup make_box(Vec3 min, Vec3 max) {
+  TriangleSoup box;
+  for (int i = 0; i < 8; ++i)
+    box.points.push_back(
+        {(i & 1) ? max.x : min.x, (i & 2) ? max.y : min.y, (i & 4) ? max.z : min.z});
+  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return box;
+}
+
+TriangleSoup make_sphere(Vec3 center, double radius, int levels) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Vec3> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Triangle> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+    auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+      auto key = std::minmax(a, b);
+      auto [it, inserted] = mid.emplace(key, static_cast<std::uint32_t>(p.size()));
+      if (inserted) p.push_back(0.5 * (p[a] + p[b]));
+      return it->second;
+    };
+    std::vector<Triangle> g;
+    for (auto [a, b, c] : f) {
+      std::uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      g.insert(g.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+    }
+    f = std::move(g);
+  }
+  for (Vec3& q : p) q = center + (radius / norm(q)) * q;
+  return {std::move(p), std::move(f)};
+}
+
+TriangleSoup make_torus(double R, double r, int nu, int nv) {
+  TriangleSoup torus;
+  const double two_pi = 2 * std::numbers::pi;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      double u = two_pi * i / nu, v = two_pi * j / nv;
+      torus.points.push_back({(R + r * std::cos(v)) * std::cos(u),
+                              (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+    }
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>((i % nu) * nv + (j % nv)); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      // (u, v) is a right-handed chart whose normal points away from the tube's core.
+      torus.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      torus.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return torus;
+}
+
+TriangleSoup make_box_with_hole(Vec3 min, Vec3 max) {
+  TriangleSoup box = make_box(min, max);
+  box.triangles.resize(10);  // the last two triangles are the +x side
+  return box;
+}
+
+TriangleSoup make_bow_tie() {
+  // Apex 0 at the origin; one tetrahedron above it, one mirrored below.
+  TriangleSoup s;
+  s.points = {{0, 0, 0}, {-1, -1, 1}, {1, -1, 1}, {0, 1, 1}, {-1, -1, -1}, {1, -1, -1}, {0, 1, -1}};
+  s.triangles = {{1, 2, 3}, {0, 2, 1}, {0, 3, 2}, {0, 1, 3},
+                 {4, 6, 5}, {0, 6, 4}, {0, 5, 6}, {0, 4, 5}};
+  return s;
+}
+
+TriangleSoup concat(const TriangleSoup& a, const TriangleSoup& b) {
+  TriangleSoup s = a;
+  const auto offset = static_cast<std::uint32_t>(a.points.size());
+  s.points.insert(s.points.end(), b.points.begin(), b.points.end());
+  for (Triangle t : b.triangles)
+    s.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  return s;
+}
+
+TriangleSoup flip(TriangleSoup soup, long i) {
+  for (std::size_t k = 0; k < soup.triangles.size(); ++k)
+    if (i < 0 || static_cast<std::size_t>(i) == k)
+      std::swap(soup.triangles[k][1], soup.triangles[k][2]);
+  return soup;
+}
+
+TriangleSoup unshare_points(const TriangleSoup& soup) {
+  TriangleSoup s;
+  for (Triangle t : soup.triangles) {
+    auto n = static_cast<std::uint32_t>(s.points.size());
+    for (std::uint32_t v : t) s.points.push_back(soup.points[v]);
+    s.triangles.push_back({n, n + 1, n + 2});
+  }
+  return s;
+}
+
+double signed_volume(const TriangleSoup& soup) {
+  double v = 0;
+  for (Triangle t : soup.triangles)
+    v += dot(soup.points[t[0]], cross(soup.points[t[1]], soup.points[t[2]]));
+  return v / 6.0;
+}
+
+std::filesystem::path scratch_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
+  for (char& c : name)
+    if (c == '/') c = '_';
+  auto dir = std::filesystem::temp_directory_path() / "tpmsfill-tests" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void write_file(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int run_command(const std::string& command, std::string* output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buffer;
+  std::string out;
+  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
+    out.append(buffer.data(), n);
+  int status = pclose(pipe);
+  if (output) *output = std::move(out);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace tpmsfill::test

@@ -1,0 +1,40 @@
+// Meshes made in code and small helpers shared by the test files.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <tpmsfill/types.hpp>
+
+namespace tpmsfill::test {
+
+/// Axis-aligned box, 8 points, 12 triangles, outward.
+TriangleSoup make_box(Vec3 min, Vec3 max);
+/// Icosphere: icosahedron subdivided `levels` times, projected on the sphere; outward, genus 0.
+TriangleSoup make_sphere(Vec3 center, double radius, int levels);
+/// Torus around the z axis (major radius R, minor radius r), nu x nv quads split; genus 1.
+TriangleSoup make_torus(double R, double r, int nu, int nv);
+/// make_box without the two triangles of its +x side: one hole of four border edges.
+TriangleSoup make_box_with_hole(Vec3 min, Vec3 max);
+/// Two tetrahedra sharing one apex: closed, but the shared vertex is pinched (non-manifold).
+TriangleSoup make_bow_tie();
+
+/// Both soups in one (b's indices shifted).
+TriangleSoup concat(const TriangleSoup& a, const TriangleSoup& b);
+/// Reverses the winding of triangle i (or of all when i < 0).
+TriangleSoup flip(TriangleSoup soup, long i = -1);
+/// Every triangle gets its own three points, as an STL file stores them.
+TriangleSoup unshare_points(const TriangleSoup& soup);
+
+/// Signed volume by the divergence theorem (mm^3), positive for outward closed meshes.
+double signed_volume(const TriangleSoup& soup);
+
+/// A fresh empty folder under the system temp folder, unique per test.
+std::filesystem::path scratch_dir();
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+std::string read_file(const std::filesystem::path& path);
+
+/// Runs a shell command, returns its exit status (not the raw wait status); output goes to
+/// *output when given (stdout and stderr together).
+int run_command(const std::string& command, std::string* output = nullptr);
+
+}  // namespace tpmsfill::test
