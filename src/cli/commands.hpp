@@ -1,0 +1,22 @@
+// The subcommands of the `tpmsfill` program. Each registers its options on the CLI11 app and
+// returns the function that runs it; main() maps exceptions to exit codes (docs/cli.md).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace tpmsfill::cli {
+
+/// Exit codes shared by all commands.
+enum ExitCode : int {
+  kOk = 0,           ///< the command did what was asked (check: the mesh is valid)
+  kNotValid = 1,     ///< check: the mesh was read but is not a valid closed 2-manifold
+  kBadInput = 2,     ///< the input cannot be read, or the command line is wrong
+  kInternal = 3,     ///< a bug: an unexpected exception
+};
+
+using Command = std::function<int()>;
+
+Command add_check_command(CLI::App& app);
+
+}  // namespace tpmsfill::cli

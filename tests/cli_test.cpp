@@ -1,0 +1,131 @@
+// The `tpmsfill` program as a user runs it: exit codes, one-line errors, JSON that parses,
+// and docs/cli.md naming every option --help lists.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <tpmsfill/io.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+
+namespace {
+
+std::string cli() { return TPMSFILL_CLI; }
+
+int check(const std::filesystem::path& file, const std::string& flags, std::string* out) {
+  return test::run_command(cli() + " check " + flags + " '" + file.string() + "'", out);
+}
+
+std::size_t count_lines(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
+
+}  // namespace
+
+TEST(Cli, ValidMeshExitsZero) {
+  auto dir = test::scratch_dir();
+  write_mesh(dir / "box.stl", test::make_box({0, 0, 0}, {10, 20, 30}));
+  std::string out;
+  EXPECT_EQ(check(dir / "box.stl", "", &out), 0) << out;
+  EXPECT_NE(out.find("verdict: VALID"), std::string::npos) << out;
+  EXPECT_NE(out.find("6000"), std::string::npos) << "volume missing:\n" << out;
+}
+
+TEST(Cli, OpenMeshExitsOneAndSaysWhere) {
+  auto dir = test::scratch_dir();
+  write_mesh(dir / "open.obj", test::make_box_with_hole({0, 0, 0}, {1, 1, 1}));
+  std::string out;
+  EXPECT_EQ(check(dir / "open.obj", "", &out), 1) << out;
+  EXPECT_NE(out.find("NOT VALID"), std::string::npos) << out;
+  EXPECT_NE(out.find("border edges"), std::string::npos) << out;
+  EXPECT_NE(out.find("at edge ("), std::string::npos) << "no location given:\n" << out;
+}
+
+TEST(Cli, JsonParsesAndAgreesWithExitCode) {
+  auto dir = test::scratch_dir();
+  write_mesh(dir / "torus.ply", test::make_torus(3, 1, 48, 24));
+  write_mesh(dir / "bowtie.off", test::make_bow_tie());
+  std::string out;
+  ASSERT_EQ(check(dir / "torus.ply", "--json", &out), 0) << out;
+  auto j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["valid"], true);
+  EXPECT_EQ(j["format"], "ply");
+  EXPECT_EQ(j["triangles"], 48 * 24 * 2);
+  EXPECT_EQ(j["genus"], 1);
+  EXPECT_EQ(j["border_edges"], 0);
+
+  ASSERT_EQ(check(dir / "bowtie.off", "--json", &out), 1) << out;
+  j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["valid"], false);
+  EXPECT_EQ(j["non_manifold_vertices"], 1);
+  EXPECT_FALSE(j["problems"].empty());
+}
+
+TEST(Cli, UnreadableInputExitsTwoWithOneLine) {
+  auto dir = test::scratch_dir();
+  test::write_file(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  test::write_file(dir / "empty.stl", "");
+  for (const char* name : {"bad.obj", "empty.stl", "missing.off"}) {
+    std::string out;
+    EXPECT_EQ(check(dir / name, "", &out), 2) << name << ": " << out;
+    EXPECT_EQ(count_lines(out), 1u) << name << ": " << out;
+    EXPECT_NE(out.find(name), std::string::npos) << "message does not name the file: " << out;
+  }
+  std::string out;
+  EXPECT_EQ(check(dir / "bad.obj", "", &out), 2);
+  EXPECT_NE(out.find(":4:"), std::string::npos) << "message does not name line 4: " << out;
+}
+
+TEST(Cli, HugeDeclaredCountsFailCleanlyUnderAMemoryLimit) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#else
+  auto dir = test::scratch_dir();
+  test::write_file(dir / "huge.ply",
+                   "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+                   "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                   "property list uchar int vertex_indices\nend_header\n0123456789");
+  test::write_file(dir / "huge.off", "OFF\n2000000000 2000000000 0\n0 0 0\n");
+  std::string stl(84, ' ');
+  stl[80] = '\xff', stl[81] = '\xff', stl[82] = '\xff', stl[83] = '\x7f';
+  test::write_file(dir / "huge.stl", stl + std::string(100, '\0'));
+  for (const char* name : {"huge.ply", "huge.off", "huge.stl"}) {
+    std::string out;
+    // 512 MiB of address space: a reader that trusted the header would die of bad_alloc (3).
+    EXPECT_EQ(test::run_command("ulimit -v 524288; " + cli() + " check " + (dir / name).string(),
+                                &out),
+              2)
+        << name << ": " << out;
+  }
+#endif
+}
+
+TEST(Cli, UsageErrorsExitTwoAndHelpExitsZero) {
+  std::string out;
+  EXPECT_EQ(test::run_command(cli(), &out), 2) << out;
+  EXPECT_EQ(test::run_command(cli() + " check", &out), 2) << out;
+  EXPECT_EQ(test::run_command(cli() + " check a.stl --no-such-flag", &out), 2) << out;
+  EXPECT_EQ(test::run_command(cli() + " --help", &out), 0) << out;
+  EXPECT_EQ(test::run_command(cli() + " --version", &out), 0) << out;
+}
+
+TEST(Cli, DocsNameEveryOptionOfHelp) {
+  const std::string docs = test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
+  ASSERT_FALSE(docs.empty());
+  for (const std::string command : {"", "check"}) {
+    std::string help;
+    ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
+    std::regex option("--[a-z][a-z-]+");
+    std::set<std::string> options;
+    for (auto it = std::sregex_iterator(help.begin(), help.end(), option); it != std::sregex_iterator(); ++it)
+      options.insert(it->str());
+    for (const std::string& o : options) {
+      if (o == "--help") continue;
+      EXPECT_NE(docs.find("`" + o), std::string::npos) << o << " missing from docs/cli.md";
+    }
+  }
+}
