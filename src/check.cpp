@@ -111,9 +111,12 @@ bool MeshCheck::valid() const {
 std::vector<std::string> MeshCheck::problems() const {
   std::vector<std::string> p;
   if (triangles == 0) p.push_back("the mesh has no triangles");
-  if (!closed())
-    p.push_back(plural(border_edges, "border edge", "border edges") + " in " +
+  if (!closed()) {
+    // Holes are counted once non-manifold edges are split, which can add border edges.
+    const char* joint = holes <= border_edges ? " in " : " and ";
+    p.push_back(plural(border_edges, "border edge", "border edges") + joint +
                 plural(holes, "hole", "holes") + ": the mesh is open");
+  }
   if (non_manifold_edges > 0)
     p.push_back(plural(non_manifold_edges, "non-manifold edge", "non-manifold edges") +
                 " (shared by three or more triangles)");

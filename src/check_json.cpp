@@ -6,7 +6,8 @@
 namespace tpmsfill {
 namespace {
 
-using nlohmann::json;
+// ordered_json keeps the keys in the documented order (valid and problems first).
+using json = nlohmann::ordered_json;
 
 json point(Vec3 p) {
   return json::array({p.x, p.y, p.z});
