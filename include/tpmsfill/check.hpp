@@ -3,9 +3,9 @@
 /// self-intersections or degenerate faces, and if not, where?
 ///
 /// Topology is judged after merging points with bit-identical coordinates (STL stores three
-/// points per facet; no tolerance is ever used). Geometric decisions (degenerate faces,
-/// self-intersections, orientation) use CGAL Polygon Mesh Processing on the exact-predicate
-/// kernel (Epick). The soup itself is never modified.
+/// points per facet; no tolerance is ever used; -0.0 and +0.0 count as equal). Geometric decisions
+/// (degenerate faces, self-intersections, orientation) use CGAL Polygon Mesh Processing on the
+/// exact-predicate kernel (Epick). The soup itself is never modified.
 #pragma once
 
 #include <array>
@@ -44,35 +44,55 @@ struct MeshCheck {
 
   // --- faces --------------------------------------------------------------------------
   /// Triangles with a repeated corner or three exactly collinear corners (CGAL::collinear).
+  /// Those with a repeated corner take no part in edges, fans, edge components or volume.
   std::uint64_t degenerate_triangles = 0;
-  /// Triangles with the same three corners as an earlier one (in any order).
+  /// Triangles without a repeated corner that have the same three corners as an earlier one
+  /// (in any order or orientation); the earliest of each set is not counted.
   std::uint64_t duplicate_triangles = 0;
 
   // --- edges and vertices ---------------------------------------------------------------
-  std::uint64_t edges = 0;               ///< distinct undirected edges
-  std::uint64_t border_edges = 0;        ///< used by exactly one triangle
-  std::uint64_t holes = 0;               ///< border cycles (after non-manifold vertices split)
+  std::uint64_t edges = 0;         ///< distinct undirected edges
+  std::uint64_t border_edges = 0;  ///< used by exactly one triangle
+  /// Border cycles of the mesh CGAL builds from the soup: repeated-corner and duplicate
+  /// triangles dropped (PMP::repair_polygon_soup), oriented (PMP::orient_polygon_soup, which
+  /// splits non-manifold edges and vertices, so a non-manifold soup may have holes without
+  /// border edges, or more holes than border edges).
+  std::uint64_t holes = 0;
   std::uint64_t non_manifold_edges = 0;  ///< used by three or more triangles
-  /// Vertices whose triangles form more than one fan (pinched, e.g. a bow-tie).
+  /// Vertices whose triangles form more than one fan (pinched, e.g. a bow-tie). Triangles
+  /// around a vertex are in one fan when they are joined through edges at the vertex shared
+  /// by two or more triangles, so a vertex on a non-manifold edge counts only when it is
+  /// also pinched (the edge is already reported).
   std::uint64_t non_manifold_vertices = 0;
   /// Edges shared by exactly two triangles that traverse it in the same direction.
   std::uint64_t inconsistent_edges = 0;
 
   // --- whole mesh ---------------------------------------------------------------------
-  std::uint64_t components = 0;       ///< connected through shared vertices
-  std::uint64_t edge_components = 0;  ///< connected through shared edges
-  /// Self-intersecting triangle pairs (pairs that share an edge or vertex count only if they
-  /// meet elsewhere too); unset when not searched for.
+  std::uint64_t components = 0;  ///< connected through shared vertices (all triangles)
+  /// Connected through edges shared by exactly two triangles, repeated-corner and duplicate
+  /// triangles left out: the connected components of the mesh CGAL builds (see holes).
+  std::uint64_t edge_components = 0;
+  /// Self-intersecting triangle pairs, found with exact predicates (PMP::self_intersections)
+  /// on the mesh CGAL builds (see holes): pairs that share an edge or vertex count only if
+  /// they meet elsewhere too; collinear triangles are counted as degenerate, not here.
+  /// Unset when not searched for.
   std::optional<std::uint64_t> self_intersecting_pairs;
   double area = 0;  ///< total triangle area, mm^2
-  /// Set only when closed, manifold and consistently oriented: signed volume (mm^3, negative
-  /// when inside out), whether every shell is oriented so the solid is on its inner side, and
-  /// the genus (sum over shells, from the Euler characteristic).
+  /// Set only when closed, manifold and consistently oriented (and some triangle has three
+  /// distinct corners): signed volume (mm^3, divergence theorem, negative when inside out);
+  /// whether every shell is oriented so the solid is on its inner side (nested shells
+  /// alternate: PMP::does_bound_a_volume and a positive volume; when self-intersections
+  /// exist, were not searched for, or faces are degenerate, a positive volume alone); and the
+  /// genus (sum over shells of (2 - V + E - F) / 2: sphere 0, torus 1).
   std::optional<double> volume;
   std::optional<bool> outward;
   std::optional<std::int64_t> genus;
 
   // --- where -------------------------------------------------------------------------
+  // At most CheckOptions::max_examples of each. Edges: ends in the direction the named
+  // triangle walks them, in order of vertex ids (first occurrence of a position in the
+  // soup); vertices likewise; triangles in input order; self-intersections as (i < j) pairs
+  // of input triangle indices, sorted.
   std::vector<EdgeLocation> border_edge_examples;
   std::vector<EdgeLocation> non_manifold_edge_examples;
   std::vector<EdgeLocation> inconsistent_edge_examples;
@@ -100,7 +120,20 @@ struct MeshCheck {
 /// @throws InputError  an index is out of range
 MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options = {});
 
-/// The JSON object `tpmsfill check --json` prints; fields documented in docs/cli.md.
+/// The JSON object `tpmsfill check --json` prints (2-space indent, keys in this order;
+/// doubles in shortest round-trip form; null where a fact is unset):
+///
+///   valid, problems (strings), points, triangles, vertices, duplicate_points,
+///   unreferenced_points, bbox ({min:[x,y,z], max:[x,y,z]}, null without triangles),
+///   degenerate_triangles, duplicate_triangles, edges, border_edges, holes,
+///   non_manifold_edges, non_manifold_vertices, inconsistent_edges, consistently_oriented,
+///   closed, manifold, components, edge_components, self_intersecting_pairs (null when not
+///   searched), area, volume, outward, genus (null unless closed, manifold and oriented),
+///   examples: {border_edges, non_manifold_edges, inconsistent_edges: [{a:[x,y,z], b:[x,y,z],
+///   triangle:i}], non_manifold_vertices: [[x,y,z]], degenerate_triangles: [i],
+///   duplicate_triangles: [i], self_intersections: [[i,j]]}.
+///
+/// Each field means what the MeshCheck member (or method) of the same name means.
 std::string to_json(const MeshCheck& check);
 
 }  // namespace tpmsfill

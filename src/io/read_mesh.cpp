@@ -1,24 +1,293 @@
-// Placeholder until the readers land.
-#include "tpmsfill/error.hpp"
-#include "tpmsfill/io.hpp"
+// Loading, unwrapping (gzip, UTF-16), format detection and dispatch: everything the readers
+// share, so each reader only parses its own syntax.
+// GCC 12 at -O3 warns falsely (-Wrestrict, GCC bug 105651) inside <string> on `"literal" +
+// std::string` once inlined. The warning is located in the library header, so it can only be
+// silenced before the first include.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wrestrict"
+#endif
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "detail/triangulate_polygon.hpp"
+#include "io/formats.hpp"
 
 namespace tpmsfill {
-std::string_view format_name(MeshFormat) {
-  return "unknown";
+namespace io {
+
+void add_face(MeshFile& mesh, std::span<const std::uint32_t> polygon) {
+  ++mesh.faces_in_file;
+  if (polygon.size() > 3) ++mesh.polygons_triangulated;
+  detail::triangulate_polygon(mesh.soup.points, polygon, mesh.soup.triangles);
 }
-MeshFormat format_from_extension(const std::filesystem::path&) {
+
+void fail_at_byte(const std::string& source, std::uint64_t offset, const std::string& reason) {
+  throw ParseError(source, std::nullopt, offset, reason);
+}
+
+void fail_at_line(const std::string& source, std::uint64_t line, const std::string& reason) {
+  throw ParseError(source, line, std::nullopt, reason);
+}
+
+}  // namespace io
+
+namespace {
+
+using namespace io;
+
+bool is_exact_binary_stl(std::string_view data) {
+  if (data.size() < 84) return false;
+  std::uint32_t n = 0;
+  for (int i = 3; i >= 0; --i) n = n << 8 | static_cast<unsigned char>(data[80 + i]);
+  return data.size() == 84 + 50 * std::uint64_t{n};
+}
+
+std::string gunzip(std::string_view data, const std::string& source, std::uint64_t max_bytes) {
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 16) != Z_OK) throw Error(source + ": cannot start zlib");
+  const std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
+  std::string out;
+  std::vector<unsigned char> chunk(std::size_t{1} << 18);
+  std::uint64_t consumed = 0;  // input handed to zlib so far
+  auto feed = [&] {
+    const std::uint64_t n = std::min<std::uint64_t>(data.size() - consumed, 1u << 30);
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data() + consumed));
+    z.avail_in = static_cast<uInt>(n);
+    consumed += n;
+  };
+  feed();
+  while (true) {
+    z.next_out = chunk.data();
+    z.avail_out = static_cast<uInt>(chunk.size());
+    const int rc = inflate(&z, Z_NO_FLUSH);
+    const std::uint64_t offset = consumed - z.avail_in;
+    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR)
+      fail_at_byte(source, offset,
+                   std::string("corrupt gzip data: ") + (z.msg ? z.msg : "zlib error"));
+    out.append(reinterpret_cast<const char*>(chunk.data()), chunk.size() - z.avail_out);
+    if (out.size() > max_bytes)
+      throw InputError(source + " decompresses to more than " + std::to_string(max_bytes) +
+                       " bytes (the limit)");
+    if (z.avail_in == 0 && consumed < data.size()) feed();
+    if (rc == Z_STREAM_END) {
+      // Concatenated gzip members form one stream (gzip(1) and zlib's gzopen agree).
+      if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
+        inflateReset(&z);
+        continue;
+      }
+      break;
+    }
+    if (rc == Z_BUF_ERROR && z.avail_in == 0 && consumed == data.size())
+      fail_at_byte(source, data.size(), "gzip data is truncated");
+  }
+  return out;
+}
+
+// UTF-16 with a byte-order mark -> bytes. Mesh files are ASCII, so anything else is refused
+// rather than guessed at.
+std::string from_utf16(std::string_view data, const std::string& source) {
+  const bool big = static_cast<unsigned char>(data[0]) == 0xFE;
+  if (data.size() % 2 != 0)
+    fail_at_byte(source, data.size() - 1, "UTF-16 text has an odd number of bytes");
+  std::string out;
+  out.reserve(data.size() / 2);
+  std::uint64_t line = 1;
+  for (std::size_t i = 2; i < data.size(); i += 2) {
+    const auto hi = static_cast<unsigned char>(data[big ? i : i + 1]);
+    const auto lo = static_cast<unsigned char>(data[big ? i + 1 : i]);
+    const unsigned unit = hi << 8 | lo;
+    if (unit >= 0x80) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "%04X", unit);
+      fail_at_line(source, line, std::string("non-ASCII character U+") + hex + " in UTF-16 text");
+    }
+    if (unit == '\n') ++line;
+    out.push_back(static_cast<char>(unit));
+  }
+  return out;
+}
+
+// Nothing but whitespace and '#' comment lines.
+bool is_blank(std::string_view data) {
+  if (data.starts_with("\xEF\xBB\xBF")) data.remove_prefix(3);
+  bool comment = false;
+  for (const char c : data) {
+    if (c == '\n') {
+      comment = false;
+    } else if (!comment) {
+      if (c == '#') {
+        comment = true;
+      } else if (c != ' ' && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// The first word of the text after blank and '#' comment lines (and a UTF-8 BOM).
+std::string_view first_word(std::string_view data) {
+  if (data.starts_with("\xEF\xBB\xBF")) data.remove_prefix(3);
+  constexpr std::string_view kBlank = " \t\r\n\f\v";
+  while (true) {
+    const std::size_t start = data.find_first_not_of(kBlank);
+    if (start == std::string_view::npos) return {};
+    data.remove_prefix(start);
+    if (data[0] != '#') break;
+    const std::size_t eol = data.find('\n');
+    if (eol == std::string_view::npos) return {};
+    data.remove_prefix(eol);
+  }
+  return data.substr(0, std::min(data.find_first_of(kBlank), std::size_t{64}));
+}
+
+bool is_obj_keyword(std::string_view word) {
+  static constexpr std::string_view kWords[] = {"v", "vt", "vn",     "vp",     "f", "g",
+                                                "o", "s",  "usemtl", "mtllib", "l", "p"};
+  return std::find(std::begin(kWords), std::end(kWords), word) != std::end(kWords);
+}
+
+bool has_control_bytes(std::string_view data) {
+  return std::any_of(data.begin(), data.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v';
+  });
+}
+
+// Content first; the extension only where the content leaves it open.
+MeshFormat detect(std::string_view data, const std::string& source) {
+  std::string_view text = data;
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  if (text.starts_with("ply\n") || text.starts_with("ply\r")) return MeshFormat::Ply;
+  const std::string_view word = first_word(data);
+  if (is_off_keyword(word)) return MeshFormat::Off;
+  if (is_exact_binary_stl(data)) return MeshFormat::StlBinary;  // read_stl tells "solid" text
+  std::string lower(word);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower == "solid") return MeshFormat::StlAscii;
+  if (is_obj_keyword(word)) return MeshFormat::Obj;
+  std::filesystem::path name(source);
+  if (name.extension() == ".gz" || name.extension() == ".GZ") name = name.stem();
+  if (const MeshFormat hint = format_from_extension(name); hint != MeshFormat::Auto) return hint;
+  // Binary data in no other format: the STL reader explains what is wrong with its count.
+  if (data.size() >= 84 && has_control_bytes(data)) return MeshFormat::StlBinary;
+  fail_at_line(source, 1, "not a mesh file: no STL, OBJ, PLY or OFF content recognised");
+}
+
+}  // namespace
+
+std::string_view format_name(MeshFormat format) {
+  switch (format) {
+    case MeshFormat::Auto:
+      return "auto";
+    case MeshFormat::StlBinary:
+      return "stl-binary";
+    case MeshFormat::StlAscii:
+      return "stl-ascii";
+    case MeshFormat::Obj:
+      return "obj";
+    case MeshFormat::Ply:
+      return "ply";
+    case MeshFormat::Off:
+      return "off";
+  }
+  return "auto";
+}
+
+MeshFormat format_from_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".stl") return MeshFormat::StlBinary;
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".ply") return MeshFormat::Ply;
+  if (ext == ".off") return MeshFormat::Off;
   return MeshFormat::Auto;
 }
-MeshFile read_mesh_file(const std::filesystem::path& path, const ReadOptions&) {
-  throw InputError(path.string() + ": reading is not implemented yet");
+
+MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
+                    const ReadOptions& options) {
+  if (bytes.size() > options.max_bytes)
+    throw InputError(source_name + " is larger than the limit of " +
+                     std::to_string(options.max_bytes) + " bytes");
+  MeshFile mesh;
+  std::string_view data = bytes;
+  std::string inflated, transcoded;
+  // A binary STL header may start with any bytes, the gzip magic or a BOM included: a file whose
+  // size matches its triangle count is never unwrapped.
+  if (data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
+      static_cast<unsigned char>(data[1]) == 0x8b && !is_exact_binary_stl(data)) {
+    inflated = gunzip(data, source_name, options.max_bytes);
+    data = inflated;
+    mesh.gzip = true;
+  }
+  if (data.size() >= 2 && !is_exact_binary_stl(data) &&
+      (data.starts_with("\xFE\xFF") || data.starts_with("\xFF\xFE"))) {
+    transcoded = from_utf16(data, source_name);
+    data = transcoded;
+  }
+  if (is_blank(data)) throw InputError(source_name + " is empty");
+
+  const MeshFormat format =
+      options.format == MeshFormat::Auto ? detect(data, source_name) : options.format;
+  switch (format) {
+    case MeshFormat::Auto:
+    case MeshFormat::StlBinary:
+    case MeshFormat::StlAscii:
+      read_stl(data, source_name, mesh);
+      break;
+    case MeshFormat::Obj:
+      read_obj(data, source_name, mesh);
+      break;
+    case MeshFormat::Ply:
+      read_ply(data, source_name, mesh);
+      break;
+    case MeshFormat::Off:
+      read_off(data, source_name, mesh);
+      break;
+  }
+  if (mesh.soup.triangles.empty()) throw InputError(source_name + " contains no triangles");
+  return mesh;
 }
+
+MeshFile read_mesh_file(const std::filesystem::path& path, const ReadOptions& options) {
+  const std::string name = path.string();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw IoError("cannot open " + name + ": " + std::strerror(errno));
+  const std::unique_ptr<const int, void (*)(const int*)> closer(&fd,
+                                                                [](const int* f) { ::close(*f); });
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw IoError("cannot read " + name + ": " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw IoError("cannot read " + name + ": it is a folder");
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  if (size > options.max_bytes)
+    throw InputError(name + " is larger than the limit of " + std::to_string(options.max_bytes) +
+                     " bytes");
+  std::string bytes(size, '\0');
+  std::uint64_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::read(fd, bytes.data() + done, size - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw IoError("cannot read " + name + ": " + std::strerror(errno));
+    if (n == 0) break;  // the file shrank while we read it
+    done += static_cast<std::uint64_t>(n);
+  }
+  bytes.resize(done);
+  return parse_mesh(bytes, name, options);
+}
+
 TriangleSoup read_mesh(const std::filesystem::path& path, const ReadOptions& options) {
   return read_mesh_file(path, options).soup;
 }
-MeshFile parse_mesh(std::string_view, const std::string& name, const ReadOptions&) {
-  throw InputError(name + ": reading is not implemented yet");
-}
-void write_mesh(const std::filesystem::path& path, const TriangleSoup&, const WriteOptions&) {
-  throw InputError(path.string() + ": writing is not implemented yet");
-}
+
 }  // namespace tpmsfill
