@@ -48,8 +48,17 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
   if (!c.bbox.empty())
     std::printf("  bounding box     %s to %s, size %.6g x %.6g x %.6g mm\n", point(c.bbox.min).c_str(),
                 point(c.bbox.max).c_str(), size.x, size.y, size.z);
-  std::printf("  closed           %s (%" PRIu64 " border edges in %" PRIu64 " holes)\n",
-              yes_no(c.closed()), c.border_edges, c.holes);
+  // Holes are counted after non-manifold edges are split, so a closed but non-manifold mesh
+  // can have some: say so rather than print "0 border edges in 2 holes".
+  if (!c.closed())
+    std::printf("  closed           no (%" PRIu64 " border edges in %" PRIu64 " holes)\n",
+                c.border_edges, c.holes);
+  else if (c.holes > 0)
+    std::printf("  closed           yes (0 border edges; %" PRIu64
+                " holes once its non-manifold edges are split)\n",
+                c.holes);
+  else
+    std::printf("  closed           yes (0 border edges)\n");
   std::printf("  2-manifold       %s (%" PRIu64 " non-manifold edges, %" PRIu64
               " non-manifold vertices)\n",
               yes_no(c.manifold()), c.non_manifold_edges, c.non_manifold_vertices);
@@ -140,7 +149,8 @@ int run_check(const CheckArgs& args) {
     j["faces_in_file"] = file.faces_in_file;
     j["polygons_triangulated"] = file.polygons_triangulated;
     j["warnings"] = file.warnings;
-    for (auto& [key, value] : nlohmann::ordered_json::parse(to_json(check)).items()) j[key] = value;
+    const auto facts = nlohmann::ordered_json::parse(to_json(check));  // outlives the loop
+    for (const auto& [key, value] : facts.items()) j[key] = value;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     for (const std::string& w : file.warnings) std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
