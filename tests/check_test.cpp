@@ -264,6 +264,8 @@ TEST(CheckMesh, ThreeTrianglesOnOneEdgeMakeANonManifoldEdge) {
   EXPECT_EQ(c.border_edges, 6u);
   EXPECT_EQ(c.edges, 7u);
   EXPECT_EQ(c.components, 1u);
+  EXPECT_EQ(c.edge_components, 3u);  // nothing joins the fins but the non-manifold edge
+  EXPECT_EQ(c.holes, 3u);            // CGAL splits that edge: three separate triangles
   ASSERT_EQ(c.non_manifold_edge_examples.size(), 1u);
   const EdgeLocation& e = c.non_manifold_edge_examples[0];
   EXPECT_TRUE((e.ends[0] == Vec3{0, 0, 0} && e.ends[1] == Vec3{1, 0, 0}) ||
