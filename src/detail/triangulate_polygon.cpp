@@ -47,9 +47,12 @@ bool has_repeated_index(std::span<const std::uint32_t> polygon) {
   return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
 }
 
-// Point-in-triangle tests allowed per polygon before giving up on clipping: keeps a huge,
-// badly concave polygon (fuzzers make them) from taking quadratic time.
-constexpr std::size_t kTestBudget = std::size_t{1} << 25;
+// Point-in-triangle tests allowed per polygon before giving up on clipping: 16 n^2 (plus a
+// floor) is far above what real polygons need, and keeps a file full of badly concave polygons
+// (fuzzers make them) from taking cubic time.
+std::size_t test_budget(std::size_t n) {
+  return std::min<std::size_t>(std::size_t{1} << 25, (std::size_t{1} << 16) + 16 * n * n);
+}
 
 bool ear_clip(std::span<const Vec3> points, std::span<const std::uint32_t> polygon, Vec3 normal,
               std::vector<Triangle>& out) {
@@ -86,7 +89,7 @@ bool ear_clip(std::span<const Vec3> points, std::span<const std::uint32_t> polyg
   };
   for (std::size_t i = 0; i < n; ++i) classify(i);
 
-  std::size_t budget = kTestBudget;
+  std::size_t budget = test_budget(n);
   auto is_ear = [&](std::size_t i) {
     if (reflex[i]) return false;
     const std::size_t a = prev[i], c = next[i];

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Fuzzes the mesh readers with libFuzzer + ASan + UBSan, one run per reader.
+#   scripts/fuzz.sh [seconds per reader]        (default 120)
+# Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
+set -euo pipefail
+seconds="${1:-120}"
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$root/build-fuzz"
+
+if ! command -v clang++ >/dev/null || ! dpkg -s libclang-rt-14-dev >/dev/null 2>&1; then
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y --no-install-recommends \
+    clang libclang-rt-14-dev
+fi
+
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DTPMSFILL_FUZZ=ON -DTPMSFILL_BUILD_TESTS=OFF -DTPMSFILL_BUILD_EXAMPLES=OFF
+cmake --build "$build" --target read_mesh_fuzz
+fuzzer="$build/tests/fuzz/read_mesh_fuzz"
+
+# Seed corpus: one small valid file per format, written here, plus assimp's test models when
+# the package is installed.
+seeds="$build/seeds"
+rm -rf "$seeds"
+mkdir -p "$seeds"/{auto,stl,obj,ply,off}
+printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n' >"$seeds/stl/ascii.stl"
+python3 - "$seeds/stl/binary.stl" <<'PY'
+import struct, sys
+with open(sys.argv[1], "wb") as f:
+    f.write(b"solid but binary".ljust(80, b" ") + struct.pack("<I", 2))
+    for z in (0.0, 1.0):
+        f.write(struct.pack("<12fH", 0, 0, 1, 0, 0, z, 1, 0, z, 0, 1, z, 0))
+PY
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3//1 4\nf -4 -3 -2\n' >"$seeds/obj/quad.obj"
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n' >"$seeds/ply/ascii.ply"
+python3 - "$seeds/ply" <<'PY'
+import struct, sys
+for order, tag in (("<", "little"), (">", "big")):
+    head = ("ply\nformat binary_%s_endian 1.0\nelement vertex 3\nproperty float x\n"
+            "property float y\nproperty double z\nelement face 1\n"
+            "property list uchar uint vertex_indices\nend_header\n" % tag).encode()
+    body = b"".join(struct.pack(order + "ffd", *p) for p in ((0, 0, 0), (1, 0, 0), (0, 1, 0)))
+    body += struct.pack(order + "B3I", 3, 0, 1, 2)
+    open("%s/%s.ply" % (sys.argv[1], tag), "wb").write(head + body)
+PY
+printf 'COFF 4 2 0\n# c\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n1 1 0 0 0 1 1\n0 1 0 1 1 1 1\n3 0 1 2\n4 0 1 2 3 255 0 0\n' >"$seeds/off/coff.off"
+models=/usr/share/assimp/models
+if [ -d "$models" ]; then
+  find "$models/STL" -iname '*.stl' -size -64k -exec cp {} "$seeds/stl/" \; || true
+  find "$models/OBJ" -name '*.obj' -size -64k -exec cp {} "$seeds/obj/" \; || true
+  find "$models/PLY" -name '*.ply' -size -64k -exec cp {} "$seeds/ply/" \; || true
+  find "$models/OFF" -name '*.off' -size -64k -exec cp {} "$seeds/off/" \; || true
+fi
+cp "$seeds"/{stl,obj,ply,off}/* "$seeds/auto/"
+gzip -c "$seeds/stl/ascii.stl" >"$seeds/auto/ascii.stl.gz"
+
+status=0
+for reader in auto stl obj ply off; do
+  corpus="$build/corpus/$reader"
+  findings="$build/findings/$reader"
+  mkdir -p "$corpus" "$findings"
+  echo "== $reader: ${seconds}s"
+  TPMSFILL_FUZZ_FORMAT="$reader" "$fuzzer" "$corpus" "$seeds/$reader" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=5 -max_len=65536 \
+    -artifact_prefix="$findings/" -print_final_stats=1 2>&1 |
+    grep -E '^(#[0-9]+ +DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|artifact_prefix)' || true
+  if compgen -G "$findings/*" >/dev/null; then
+    echo "!! $reader: findings in $findings" >&2
+    status=1
+  fi
+done
+exit $status
