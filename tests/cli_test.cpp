@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <cctype>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <set>
 #include <tpmsfill/io.hpp>
 
@@ -14,7 +14,9 @@ using namespace tpmsfill;
 
 namespace {
 
-std::string cli() { return TPMSFILL_CLI; }
+std::string cli() {
+  return TPMSFILL_CLI;
+}
 
 int check(const std::filesystem::path& file, const std::string& flags, std::string* out) {
   return test::run_command(cli() + " check " + flags + " '" + file.string() + "'", out);
@@ -96,9 +98,9 @@ TEST(Cli, HugeDeclaredCountsFailCleanlyUnderAMemoryLimit) {
   for (const char* name : {"huge.ply", "huge.off", "huge.stl"}) {
     std::string out;
     // 512 MiB of address space: a reader that trusted the header would die of bad_alloc (3).
-    EXPECT_EQ(test::run_command("ulimit -v 524288; " + cli() + " check " + (dir / name).string(),
-                                &out),
-              2)
+    EXPECT_EQ(
+        test::run_command("ulimit -v 524288; " + cli() + " check " + (dir / name).string(), &out),
+        2)
         << name << ": " << out;
   }
 #endif
@@ -114,15 +116,21 @@ TEST(Cli, UsageErrorsExitTwoAndHelpExitsZero) {
 }
 
 TEST(Cli, DocsNameEveryOptionOfHelp) {
-  const std::string docs = test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
+  const std::string docs =
+      test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
   for (const std::string command : {"", "check"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
-    std::regex option("--[a-z][a-z-]+");
+    // Every "--word" in the help text (no std::regex: GCC 12 warns inside it under ASan).
     std::set<std::string> options;
-    for (auto it = std::sregex_iterator(help.begin(), help.end(), option); it != std::sregex_iterator(); ++it)
-      options.insert(it->str());
+    for (std::size_t at = help.find("--"); at != std::string::npos; at = help.find("--", at + 2)) {
+      std::size_t end = at + 2;
+      while (end < help.size() &&
+             (std::islower(static_cast<unsigned char>(help[end])) || help[end] == '-'))
+        ++end;
+      if (end > at + 2) options.insert(help.substr(at, end - at));
+    }
     for (const std::string& o : options) {
       if (o == "--help") continue;
       EXPECT_NE(docs.find("`" + o), std::string::npos) << o << " missing from docs/cli.md";

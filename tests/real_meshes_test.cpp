@@ -14,7 +14,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path cgal_mesh(const std::string& name) { return fs::path(TPMSFILL_CGAL_MESHES) / name; }
+fs::path cgal_mesh(const std::string& name) {
+  return fs::path(TPMSFILL_CGAL_MESHES) / name;
+}
 
 #define REQUIRE_FILE(path) \
   if (!fs::exists(path)) GTEST_SKIP() << (path) << " is missing: install libcgal-demo"

@@ -30,7 +30,9 @@ std::string point(const Vec3& p) {
   return s;
 }
 
-const char* yes_no(bool b) { return b ? "yes" : "no"; }
+const char* yes_no(bool b) {
+  return b ? "yes" : "no";
+}
 
 // Up to `limit` example locations under a problem line, so the user can find the spot.
 void print_edge_examples(const std::vector<EdgeLocation>& edges, std::size_t limit) {
@@ -46,8 +48,8 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
               path.c_str(), std::string(format_name(file.format)).c_str(),
               file.gzip ? " (gzip)" : "", c.triangles, c.vertices, c.points);
   if (!c.bbox.empty())
-    std::printf("  bounding box     %s to %s, size %.6g x %.6g x %.6g mm\n", point(c.bbox.min).c_str(),
-                point(c.bbox.max).c_str(), size.x, size.y, size.z);
+    std::printf("  bounding box     %s to %s, size %.6g x %.6g x %.6g mm\n",
+                point(c.bbox.min).c_str(), point(c.bbox.max).c_str(), size.x, size.y, size.z);
   // Holes are counted after non-manifold edges are split, so a closed but non-manifold mesh
   // can have some: say so rather than print "0 border edges in 2 holes".
   if (!c.closed())
@@ -62,9 +64,8 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
   std::printf("  2-manifold       %s (%" PRIu64 " non-manifold edges, %" PRIu64
               " non-manifold vertices)\n",
               yes_no(c.manifold()), c.non_manifold_edges, c.non_manifold_vertices);
-  std::printf("  oriented         %s", c.consistently_oriented()
-                                          ? "consistently"
-                                          : "inconsistently");
+  std::printf("  oriented         %s",
+              c.consistently_oriented() ? "consistently" : "inconsistently");
   if (!c.consistently_oriented()) std::printf(" (%" PRIu64 " edges)", c.inconsistent_edges);
   if (c.outward) std::printf(", %s", *c.outward ? "outward" : "INWARD (inside out)");
   std::printf("\n  degenerate       %" PRIu64 " triangles; %" PRIu64 " duplicate triangles\n",
@@ -82,8 +83,9 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
   if (c.genus) std::printf("  genus            %" PRId64 "\n", *c.genus);
 
   if (c.valid()) {
-    std::printf("verdict: VALID: a closed, outward-oriented 2-manifold without self-intersections "
-                "or degenerate faces\n");
+    std::printf(
+        "verdict: VALID: a closed, outward-oriented 2-manifold without self-intersections "
+        "or degenerate faces\n");
     return;
   }
   std::printf("verdict: NOT VALID\n");
@@ -126,14 +128,14 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
                   c.self_intersection_examples[i][1]);
     std::printf("\n");
   }
-  std::printf("  (triangles are numbered from 0 in file order, polygons counted after "
-              "triangulation)\n");
+  std::printf(
+      "  (triangles are numbered from 0 in file order, polygons counted after "
+      "triangulation)\n");
 }
 
 int run_check(const CheckArgs& args) {
   std::optional<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+  if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
 
   const MeshFile file = read_mesh_file(args.input);
   CheckOptions options;
@@ -153,7 +155,8 @@ int run_check(const CheckArgs& args) {
     for (const auto& [key, value] : facts.items()) j[key] = value;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    for (const std::string& w : file.warnings) std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+    for (const std::string& w : file.warnings)
+      std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
     print_text(args.input, file, check);
   }
   return check.valid() ? kOk : kNotValid;
@@ -163,8 +166,8 @@ int run_check(const CheckArgs& args) {
 
 Command add_check_command(CLI::App& app) {
   auto args = std::make_shared<CheckArgs>();
-  CLI::App* sub =
-      app.add_subcommand("check", "Is a mesh a closed 2-manifold ready to print? If not, where not?");
+  CLI::App* sub = app.add_subcommand(
+      "check", "Is a mesh a closed 2-manifold ready to print? If not, where not?");
   sub->footer(
       "Reports border edges and holes, non-manifold edges and vertices, orientation (consistent "
       "and outward), self-intersecting triangle pairs, degenerate and duplicate triangles, "
@@ -175,7 +178,8 @@ Command add_check_command(CLI::App& app) {
       "Example: tpmsfill check femur.stl --json > femur-check.json");
   sub->add_option("FILE", args->input, "Mesh file: STL, OBJ, PLY or OFF (gzip allowed)")
       ->required();
-  sub->add_flag("--json", args->json, "Print one JSON object instead of text (fields: docs/cli.md)");
+  sub->add_flag("--json", args->json,
+                "Print one JSON object instead of text (fields: docs/cli.md)");
   sub->add_flag("--no-self-intersections", args->skip_self_intersections,
                 "Skip the self-intersection search (the slowest check)");
   sub->add_option("--max-examples", args->max_examples,

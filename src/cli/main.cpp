@@ -15,8 +15,9 @@ int main(int argc, char** argv) {
       "tpmsfill"};
   app.set_version_flag("--version", "tpmsfill " TPMSFILL_VERSION);
   app.require_subcommand(1);
-  app.footer("Run 'tpmsfill COMMAND --help' for a command's options. Exit codes: 0 ok, 1 mesh "
-             "not valid (check), 2 unreadable input or bad arguments, 3 internal error.");
+  app.footer(
+      "Run 'tpmsfill COMMAND --help' for a command's options. Exit codes: 0 ok, 1 mesh "
+      "not valid (check), 2 unreadable input or bad arguments, 3 internal error.");
 
   Command check = add_check_command(app);
 

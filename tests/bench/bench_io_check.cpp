@@ -54,7 +54,8 @@ int main(int argc, char** argv) {
                         {"PLY binary", MeshFormat::Ply, ".ply"},
                         {"OFF", MeshFormat::Off, ".off"}};
   for (const Case& c : cases) {
-    const fs::path file = dir / (std::string("sphere-") + format_name(c.format).data() + c.extension);
+    const fs::path file =
+        dir / (std::string("sphere-") + format_name(c.format).data() + c.extension);
     auto t0 = std::chrono::steady_clock::now();
     write_mesh(file, sphere, {.format = c.format});
     const double write_s = seconds_since(t0);
