@@ -31,7 +31,7 @@ for f in "$tmp"/*; do
   /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill check "$f" >/dev/null 2>"$tmp/err.txt"
   code=$?
   set -e
-  read -r wall kb <"$tmp/time.txt"
+  read -r wall kb < <(tail -n 1 "$tmp/time.txt")
   printf '| %s | %s | %s | %.0f | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" \
     "$(head -1 "$tmp/err.txt" | sed "s|$tmp/||")"
 done
@@ -47,7 +47,7 @@ if [[ -d ../shared/meshes ]]; then
     /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill check --json "$f" >"$tmp/out.json" 2>/dev/null
     code=$?
     set -e
-    read -r wall kb <"$tmp/time.txt"
+    read -r wall kb < <(tail -n 1 "$tmp/time.txt")
     facts=$(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); print(" | ".join(str(j[k]) for k in ("triangles","holes","self_intersecting_pairs","components")))' "$tmp/out.json" 2>/dev/null || echo "- | - | - | -")
     printf '| %s | %s | %s | %.0f | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts"
   done
