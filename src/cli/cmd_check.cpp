@@ -41,6 +41,15 @@ void print_edge_examples(const std::vector<EdgeLocation>& edges, std::size_t lim
                 point(edges[i].ends[1]).c_str(), edges[i].triangle);
 }
 
+void print_triangle_examples(const char* what, const std::vector<std::uint32_t>& triangles,
+                             std::size_t limit) {
+  if (triangles.empty()) return;
+  std::printf("  %s:", what);
+  for (std::size_t i = 0; i < triangles.size() && i < limit; ++i)
+    std::printf(" %" PRIu32, triangles[i]);
+  std::printf("\n");
+}
+
 void print_text(const std::string& path, const MeshFile& file, const MeshCheck& c) {
   const Vec3 size = c.bbox.size();
   std::printf("%s: %s%s, %" PRIu64 " triangles, %" PRIu64 " vertices (%" PRIu64
@@ -109,18 +118,8 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
     for (std::size_t i = 0; i < c.non_manifold_vertex_examples.size() && i < n; ++i)
       std::printf("      at %s\n", point(c.non_manifold_vertex_examples[i]).c_str());
   }
-  if (!c.degenerate_triangle_examples.empty()) {
-    std::printf("  degenerate triangles:");
-    for (std::size_t i = 0; i < c.degenerate_triangle_examples.size() && i < n; ++i)
-      std::printf(" %" PRIu32, c.degenerate_triangle_examples[i]);
-    std::printf("\n");
-  }
-  if (!c.duplicate_triangle_examples.empty()) {
-    std::printf("  duplicate triangles:");
-    for (std::size_t i = 0; i < c.duplicate_triangle_examples.size() && i < n; ++i)
-      std::printf(" %" PRIu32, c.duplicate_triangle_examples[i]);
-    std::printf("\n");
-  }
+  print_triangle_examples("degenerate triangles", c.degenerate_triangle_examples, n);
+  print_triangle_examples("duplicate triangles", c.duplicate_triangle_examples, n);
   if (!c.self_intersection_examples.empty()) {
     std::printf("  self-intersecting triangle pairs:");
     for (std::size_t i = 0; i < c.self_intersection_examples.size() && i < n; ++i)
