@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "detail/cgal_types.hpp"
+#include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -28,14 +29,9 @@ namespace {
 using detail::SoupTopology;
 
 void check_indices(const TriangleSoup& soup) {
-  const std::size_t n = soup.points.size();
-  for (std::size_t t = 0; t < soup.triangles.size(); ++t)
-    for (std::uint32_t v : soup.triangles[t])
-      if (v >= n)
-        throw InputError("triangle " + std::to_string(t) + " refers to point " + std::to_string(v) +
-                         ", but there are only " + std::to_string(n) + " points");
+  detail::require_indices_in_range(soup);
   // Corner slots (3 per triangle) are numbered with 32-bit integers.
-  if (soup.triangles.size() > 0xffffffffu / 3 || n > 0xffffffffu)
+  if (soup.triangles.size() > 0xffffffffu / 3 || soup.points.size() > 0xffffffffu)
     throw InputError("too many triangles or points to check (at most 1431655765 triangles)");
 }
 

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "detail/soup_indices.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
@@ -214,12 +215,7 @@ void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
   if (format == MeshFormat::Auto)
     throw InputError("cannot write " + path.string() +
                      ": unknown extension (use .stl, .obj, .ply or .off)");
-  for (std::size_t i = 0; i < soup.triangles.size(); ++i)
-    for (const std::uint32_t v : soup.triangles[i])
-      if (v >= soup.points.size())
-        throw InputError("cannot write " + path.string() + ": triangle " + std::to_string(i) +
-                         " has index " + std::to_string(v) + " but there are only " +
-                         std::to_string(soup.points.size()) + " points");
+  detail::require_indices_in_range(soup, "cannot write " + path.string() + ": ");
   if ((format == MeshFormat::StlBinary && soup.triangles.size() > UINT32_MAX) ||
       (format == MeshFormat::Ply && soup.points.size() > UINT32_MAX))
     throw InputError("cannot write " + path.string() + ": too many elements for the format");
