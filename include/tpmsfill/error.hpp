@@ -68,4 +68,24 @@ class InputError : public Error {
   using Error::Error;
 };
 
+/// A job would need more memory than its budget allows. The message names the budget, the
+/// estimate and, where one exists, a setting that would fit (e.g. the largest voxel size).
+class ResourceError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// fill() produced a mesh that failed validation (it is not written). The message says which
+/// check failed; this is a bug in tpmsfill, please report it with the input and options.
+class ValidationError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// The job was cancelled through a Progress callback.
+class Cancelled : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace tpmsfill

@@ -1,11 +1,13 @@
 /// @file types.hpp
-/// @brief Plain data passed between pipeline stages: points, boxes and triangle soups.
+/// @brief Plain data passed between pipeline stages: points, boxes, triangle soups, and the
+/// sampling grid with the masks and fields that live on its nodes.
 ///
 /// All lengths are millimetres. Nothing here owns behaviour beyond small arithmetic helpers:
 /// stages are free functions over these values (see the headers named after each stage).
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -68,5 +70,55 @@ inline Box3 bounding_box(const TriangleSoup& soup) {
     for (std::uint32_t v : t) box.extend(soup.points[v]);
   return box;
 }
+
+/// A regular grid of sample nodes: node (i, j, k) sits at origin + spacing·(i, j, k), for
+/// 0 <= i < dims[0], 0 <= j < dims[1], 0 <= k < dims[2]. Cells (voxels) are the cubes between
+/// nodes; cell (i, j, k) has node (i, j, k) as its lowest corner. Per-node data is stored flat
+/// with x fastest: index(i, j, k) = i + dims[0]·(j + dims[1]·k).
+///
+/// Every stage computes a node's coordinate with coordinate()/node(), so a node has one set of
+/// bit-identical coordinates everywhere (classification, distances, marching cubes).
+struct Grid {
+  Vec3 origin;                 ///< position of node (0, 0, 0), mm
+  double spacing = 1.0;        ///< voxel size a (same on all axes), mm
+  std::array<int, 3> dims{};   ///< nodes along x, y, z
+
+  std::size_t node_count() const {
+    return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
+           static_cast<std::size_t>(dims[2]);
+  }
+  std::size_t index(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(dims[0]) *
+               (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims[1]) *
+                                                  static_cast<std::size_t>(k));
+  }
+  /// Coordinate of node number i along axis (0 = x, 1 = y, 2 = z), mm.
+  double coordinate(int axis, int i) const { return origin[axis] + spacing * i; }
+  Vec3 node(int i, int j, int k) const {
+    return {coordinate(0, i), coordinate(1, j), coordinate(2, k)};
+  }
+  friend bool operator==(const Grid&, const Grid&) = default;
+};
+
+/// One byte per grid node (Grid's index order): 1 where the node is set (e.g. inside the
+/// model), 0 elsewhere. Bytes rather than bits so threads write disjoint nodes freely.
+struct Mask {
+  Grid grid;
+  std::vector<std::uint8_t> values;
+};
+
+/// One float per grid node (Grid's index order): a signed field in mm, negative inside the
+/// solid it describes.
+struct Field {
+  Grid grid;
+  std::vector<float> values;
+};
+
+/// A sparse set of grid nodes: node indices (Grid's index order), strictly increasing.
+struct Band {
+  Grid grid;
+  std::vector<std::uint64_t> nodes;
+};
 
 }  // namespace tpmsfill

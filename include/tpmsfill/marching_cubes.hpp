@@ -1,0 +1,34 @@
+/// @file marching_cubes.hpp
+/// @brief Stage "marching cubes": the iso-surface of a sampled field as an indexed triangle
+/// mesh (Lorensen & Cline 1987, written here).
+///
+/// Guarantees, for any field whose nodes on the grid's six faces are all above the iso-value
+/// and which has no node exactly at the iso-value:
+/// - the mesh is a closed 2-manifold: ambiguous cube faces are resolved by the asymptotic
+///   decider (Nielson & Hamann 1991), which depends only on the face's four values, so the two
+///   cubes sharing a face always agree;
+/// - vertices lie on grid edges and belong to them: one vertex per crossed edge, shared by
+///   every triangle using that edge (no welding tolerance anywhere), strictly inside the edge;
+/// - triangles are oriented outward: their normals point from the solid (values below the
+///   iso-value) to the outside;
+/// - no degenerate triangle, and no two triangles intersect except along shared edges and
+///   vertices;
+/// - the output (point and triangle order) is the same whatever the thread count.
+/// Nodes exactly at the iso-value are treated as outside (above).
+#pragma once
+
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+struct McOptions {
+  float iso = 0.0f;              ///< iso-value; the solid is where field < iso
+  Progress* progress = nullptr;  ///< reports per slab of cells; may cancel
+};
+
+/// Extracts the iso-surface of `field`.
+/// @throws Cancelled  when options.progress says so
+TriangleSoup marching_cubes(const Field& field, const McOptions& options = {});
+
+}  // namespace tpmsfill

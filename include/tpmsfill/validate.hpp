@@ -1,0 +1,85 @@
+/// @file validate.hpp
+/// @brief Stage "validate": is an indexed triangle mesh (typically marching-cubes output) a
+/// closed, consistently and outwardly oriented 2-manifold without degenerate faces or
+/// self-intersections, and which connected components does it have?
+///
+/// Unlike check_mesh() (which accepts any soup and merges bit-identical points first), this
+/// judges the mesh exactly as indexed, fast enough for multi-million-triangle outputs: the
+/// topology is integer sorting, geometric decisions use CGAL's exact predicates (Epick).
+/// Returns data; fill() turns a failing report into a ValidationError.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+struct ValidateOptions {
+  bool self_intersections = true;  ///< search for intersecting triangle pairs (exact)
+  /// When set, every triangle must lie in one closed cell of this grid (true of
+  /// marching_cubes() output on that grid): the intersection search then only pairs triangles
+  /// of the same or 26-adjacent cells. Otherwise a general box-intersection search is used.
+  std::optional<Grid> cell_grid;
+  std::size_t max_examples = 10;  ///< example locations kept per defect class
+  Progress* progress = nullptr;
+};
+
+struct ValidationReport {
+  std::uint64_t vertices = 0;   ///< points referenced by triangles
+  std::uint64_t triangles = 0;
+  std::uint64_t border_edges = 0;        ///< undirected edges used by one triangle
+  std::uint64_t non_manifold_edges = 0;  ///< used by three or more
+  std::uint64_t non_manifold_vertices = 0;  ///< whose triangles form more than one fan
+  std::uint64_t inconsistent_edges = 0;  ///< two triangles walking it the same way
+  std::uint64_t degenerate_triangles = 0;  ///< repeated corner or collinear (exact)
+  std::uint64_t duplicate_points = 0;  ///< referenced points whose position another has
+  std::optional<std::uint64_t> self_intersecting_pairs;  ///< unset when not searched
+  std::uint64_t components = 0;  ///< connected through shared vertices
+  double area = 0;               ///< mm^2
+  double volume = 0;             ///< signed, mm^3 (divergence theorem)
+  /// Every component has a non-zero volume and the total is positive (with the mesh closed
+  /// and consistently oriented, normals then point out of the solid).
+  bool outward = false;
+
+  std::vector<std::array<std::uint32_t, 2>> self_intersection_examples;  ///< triangle pairs
+  std::vector<std::uint32_t> degenerate_examples;                       ///< triangles
+  std::vector<std::array<Vec3, 2>> bad_edge_examples;  ///< border/non-manifold/inconsistent
+
+  bool closed() const { return border_edges == 0; }
+  bool manifold() const { return non_manifold_edges == 0 && non_manifold_vertices == 0; }
+  bool valid() const;
+  /// One sentence per failed condition, in the order checked; empty when valid().
+  std::vector<std::string> problems() const;
+};
+
+/// Validates `mesh` as indexed.
+/// @throws InputError  an index is out of range
+/// @throws Cancelled   when options.progress says so
+ValidationReport validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options = {});
+
+/// Connected components (through shared vertices) of a mesh, with their size and extent.
+struct Components {
+  std::vector<std::uint32_t> triangle_component;  ///< per triangle, numbered from 0
+  struct Info {
+    std::uint64_t triangles = 0;
+    double volume = 0;  ///< signed, mm^3
+    double area = 0;    ///< mm^2
+    std::uint32_t first_triangle = 0;  ///< lowest triangle index in the component
+  };
+  /// Numbered in order of their first triangle, so numbering is deterministic.
+  std::vector<Info> info;
+};
+Components mesh_components(const TriangleSoup& mesh);
+
+/// The mesh with only the triangles whose component has keep[component] set; unreferenced
+/// points are dropped, the remaining points and triangles keep their relative order.
+TriangleSoup keep_components(const TriangleSoup& mesh, const Components& components,
+                             const std::vector<bool>& keep);
+
+}  // namespace tpmsfill
