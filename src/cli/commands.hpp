@@ -10,7 +10,7 @@ namespace tpmsfill::cli {
 /// Exit codes shared by all commands.
 enum ExitCode : int {
   kOk = 0,        ///< the command did what was asked (check: the mesh is valid)
-  kNotValid = 1,  ///< check: the mesh was read but is not a valid closed 2-manifold
+  kNotValid = 1,  ///< check: the mesh is not a valid closed 2-manifold; fill: the lattice failed validation
   kBadInput = 2,  ///< the input cannot be read, or the command line is wrong
   kInternal = 3,  ///< a bug: an unexpected exception
 };
@@ -18,5 +18,6 @@ enum ExitCode : int {
 using Command = std::function<int()>;
 
 Command add_check_command(CLI::App& app);
+Command add_fill_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

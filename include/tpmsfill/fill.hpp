@@ -1,0 +1,62 @@
+/// @file fill.hpp
+/// @brief The whole pipeline: a TPMS lattice clipped to a closed mesh, validated.
+///
+///   grid → spatial → classify → voxel band → band distances → compose (with the TPMS) →
+///   marching cubes → islands → validate
+///
+/// Each stage is public (its own header) for callers who compose their own pipeline; fill()
+/// is the sequence with the report filled in. Inside/outside uses the parity of exact ray
+/// crossings, so the input should be closed; rows with an odd crossing count are reported.
+#pragma once
+
+#include <cstdint>
+
+#include "tpmsfill/grid.hpp"
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/report.hpp"
+#include "tpmsfill/tpms.hpp"
+#include "tpmsfill/types.hpp"
+#include "tpmsfill/voxel.hpp"
+
+namespace tpmsfill {
+
+struct FillOptions {
+  GridOptions grid;     ///< voxel size (mm) and padding
+  TpmsOptions lattice;  ///< type, network/sheet, cell size, level or thickness (mm)
+  BandOptions band;     ///< band half-width in voxels
+  /// Compute the model's distance at every node instead of the band only (the paper's
+  /// reference, for comparing distance-query counts; same surface, much slower).
+  bool full_field = false;
+  /// Keep lattice pieces that do not touch the main body of their part of the model
+  /// (by default they are removed: they cannot be printed).
+  bool keep_islands = false;
+  /// Search the output for self-intersections before accepting it (exact predicates).
+  bool check_self_intersections = true;
+  /// Refuse jobs estimated to need more bytes than this; 0 = half of physical memory.
+  std::uint64_t memory_budget = 0;
+  Progress* progress = nullptr;
+};
+
+struct FillResult {
+  TriangleSoup mesh;  ///< closed, 2-manifold, outward, no self-intersections (validated)
+  FillReport report;
+};
+
+/// Fills `model` with the lattice.
+/// @param[in] model  a closed triangle mesh, mm (any orientation; parity decides inside)
+/// @throws InputError       bad options, or a model without a usable triangle
+/// @throws ResourceError    the job exceeds the memory budget (message names a voxel size
+///                          that fits)
+/// @throws ValidationError  the output failed validation (nothing to write; a bug)
+/// @throws Cancelled        options.progress cancelled the job
+FillResult fill(const TriangleSoup& model, const FillOptions& options);
+
+/// Bytes fill() is estimated to need at most for a model with this bounding box and
+/// triangle count (grid, fields, tree and output), without allocating anything.
+std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
+                                   const FillOptions& options);
+
+/// Half of the physical memory (the default budget), bytes.
+std::uint64_t default_memory_budget();
+
+}  // namespace tpmsfill

@@ -1,0 +1,56 @@
+/// @file voxel.hpp
+/// @brief Stage "voxel": 26-neighbour morphology on occupancy masks and the narrow band on
+/// which the model's distance is computed (paper eq. 6–7). Pure byte-grid code, no CGAL.
+///
+/// Nodes beyond the grid count as unset. Two nodes are 26-neighbours when they differ by at
+/// most one in every index (Chebyshev distance 1).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+/// Nodes within `voxels` 26-steps of a set node (the set nodes included).
+/// Separable: a box structuring element is a pass along x, then y, then z.
+/// @throws InputError  voxels < 0, or mask.values does not match mask.grid
+Mask dilate(const Mask& mask, int voxels = 1);
+
+/// bw(·) of the paper: set nodes with fewer than 26 set neighbours, i.e. with an unset
+/// 26-neighbour (nodes on the grid's faces always qualify).
+Mask boundary_voxels(const Mask& mask);
+
+struct BandOptions {
+  /// Half-width in voxels. 1 is the paper's band: inside nodes with an outside 26-neighbour
+  /// (bw(I)) and outside nodes with an inside 26-neighbour. k > 1 widens both sides to k
+  /// 26-steps.
+  int width = 1;
+};
+
+/// The band B on which φ_model is computed exactly: (I ∧ dilate(¬I, k)) ∪ (¬I ∧ dilate(I, k)).
+/// For k = 1 this contains the paper's bw(I) ∪ bw(dil(I)) and, in addition, outside nodes
+/// enclosed by inside ones (a gap one voxel wide), which bw(dil(I)) misses. Every cell that has
+/// both inside and outside corners has all eight corners in the band, so the surface that
+/// marching cubes extracts near the model's boundary is always computed from true distances.
+/// @throws InputError  width < 1, or inside.values does not match inside.grid
+Band band_voxels(const Mask& inside, const BandOptions& options = {});
+
+/// Connected regions of a mask's set nodes under 26-connectivity, stored as runs along x.
+struct Regions {
+  struct Run {
+    int begin = 0, end = 0;  ///< x range [begin, end) of set nodes in one row
+    std::uint32_t region = 0;
+  };
+  Grid grid;
+  std::vector<std::uint64_t> row_start;  ///< runs of row (j, k) are runs[row_start[r] .. row_start[r+1])
+  std::vector<Run> runs;
+  std::uint32_t count = 0;  ///< regions, numbered 0.. in order of their first node
+
+  /// Region of node (i, j, k), or UINT32_MAX when the node is not set.
+  std::uint32_t region_at(int i, int j, int k) const;
+};
+Regions label_regions(const Mask& mask);
+
+}  // namespace tpmsfill

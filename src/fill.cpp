@@ -1,0 +1,259 @@
+// The whole pipeline, stage by stage, timing each into the report.
+#include "tpmsfill/fill.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "tpmsfill/classify.hpp"
+#include "tpmsfill/compose.hpp"
+#include "tpmsfill/distance.hpp"
+#include "tpmsfill/error.hpp"
+#include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/validate.hpp"
+
+namespace tpmsfill {
+namespace {
+
+// Bytes per grid node at the peak: occupancy, the band stage's three temporary masks, and the
+// composed field (plus the full distance field with --full-field).
+constexpr double kBytesPerNode = 8.0;
+constexpr double kBytesPerFullFieldNode = 4.0;
+// Bytes per input triangle: the soup (three points, STL-style), the tree's copy and nodes.
+constexpr double kBytesPerInputTriangle = 260.0;
+// Bytes per output triangle: indices, half a vertex, validation's edge table and buckets.
+constexpr double kBytesPerOutputTriangle = 110.0;
+
+double estimate_bytes(const Box3& bounds, std::uint64_t triangles, const FillOptions& o) {
+  const double nodes = static_cast<double>(grid_node_count(bounds, o.grid));
+  const Vec3 size = bounds.size();
+  const double a = o.grid.voxel_size;
+  const double cell = std::fmin(o.lattice.cell.x, std::fmin(o.lattice.cell.y, o.lattice.cell.z));
+  // Lattice area ≈ 3.1/T per unit volume (gyroid; the others are close), the clipped
+  // boundary at most the box's surface; marching cubes makes about 2.6 triangles per a².
+  const double area = 3.1 / cell * size.x * size.y * size.z +
+                      2.0 * (size.x * size.y + size.y * size.z + size.z * size.x);
+  const double out_triangles = 2.6 * area / (a * a);
+  return nodes * (kBytesPerNode + (o.full_field ? kBytesPerFullFieldNode : 0.0)) +
+         static_cast<double>(triangles) * kBytesPerInputTriangle +
+         out_triangles * kBytesPerOutputTriangle + 64.0 * 1024 * 1024;
+}
+
+std::string gigabytes(double bytes) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.2f GB", bytes / 1e9);
+  return s;
+}
+
+void require_budget(const Box3& bounds, std::uint64_t triangles, const FillOptions& o,
+                    std::uint64_t* estimate) {
+  const double budget =
+      static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
+  const double need = estimate_bytes(bounds, triangles, o);
+  *estimate = need >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max()
+                             : static_cast<std::uint64_t>(need);
+  if (need <= budget) return;
+  // The estimate falls as the voxel grows: bisect for the smallest voxel size that fits.
+  FillOptions trial = o;
+  double lo = o.grid.voxel_size, hi = o.grid.voxel_size;
+  do {
+    hi *= 2;
+    trial.grid.voxel_size = hi;
+  } while (estimate_bytes(bounds, triangles, trial) > budget && hi < 1e12);
+  for (int it = 0; it < 60; ++it) {
+    trial.grid.voxel_size = 0.5 * (lo + hi);
+    (estimate_bytes(bounds, triangles, trial) > budget ? lo : hi) = trial.grid.voxel_size;
+  }
+  char fit[64];
+  std::snprintf(fit, sizeof fit, "%.4g mm", hi * 1.0001);
+  const bool input_alone = static_cast<double>(triangles) * kBytesPerInputTriangle > budget;
+  throw ResourceError("the job needs about " + gigabytes(need) + " but the memory budget is " +
+                      gigabytes(budget) +
+                      (input_alone ? "; the input alone exceeds it"
+                                   : "; a voxel size of " + std::string(fit) + " or more fits"));
+}
+
+class StageClock {
+ public:
+  explicit StageClock(FillReport& report) : report_(report) {}
+  template <class F>
+  auto operator()(const char* name, F&& work) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if constexpr (std::is_void_v<decltype(work())>) {
+      work();
+      record(name, t0);
+    } else {
+      auto result = work();
+      record(name, t0);
+      return result;
+    }
+  }
+
+ private:
+  void record(const char* name, std::chrono::steady_clock::time_point t0) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report_.stages.push_back({name, s, peak_memory_mb()});
+  }
+  FillReport& report_;
+};
+
+// Islands: lattice components that are not the largest piece within their part of the model
+// (a 26-connected region of inside nodes). A component's part is found from a corner with
+// φ < 0 of the cell holding its first triangle (φ < 0 implies the node is inside).
+std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Field& phi,
+                              const Regions& regions) {
+  const Grid& g = phi.grid;
+  const std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> part(comps.info.size(), none);
+  for (std::size_t c = 0; c < comps.info.size(); ++c) {
+    const Triangle& t = mesh.triangles[comps.info[c].first_triangle];
+    const Vec3 centroid = (1.0 / 3.0) * (mesh.points[t[0]] + mesh.points[t[1]] + mesh.points[t[2]]);
+    int cell[3];
+    for (int axis = 0; axis < 3; ++axis)
+      cell[axis] = std::clamp(static_cast<int>(std::floor((centroid[axis] - g.origin[axis]) /
+                                                          g.spacing)),
+                              0, g.dims[axis] - 2);
+    for (int corner = 0; corner < 8 && part[c] == none; ++corner) {
+      const int i = cell[0] + (corner & 1), j = cell[1] + (corner >> 1 & 1),
+                k = cell[2] + (corner >> 2 & 1);
+      if (phi.values[g.index(i, j, k)] < 0) part[c] = regions.region_at(i, j, k);
+    }
+  }
+  std::vector<std::size_t> largest(regions.count, std::numeric_limits<std::size_t>::max());
+  for (std::size_t c = 0; c < comps.info.size(); ++c) {
+    if (part[c] == none) continue;
+    std::size_t& best = largest[part[c]];
+    if (best == std::numeric_limits<std::size_t>::max() ||
+        std::fabs(comps.info[c].volume) > std::fabs(comps.info[best].volume))
+      best = c;
+  }
+  std::vector<bool> keep(comps.info.size(), false);
+  for (std::size_t c = 0; c < comps.info.size(); ++c)
+    keep[c] = part[c] == none || largest[part[c]] == c;
+  return keep;
+}
+
+std::string lattice_label(const TpmsOptions& o) {
+  return std::string(lattice_name(o.type)) +
+         (o.style == LatticeStyle::Network ? " network" : " sheet");
+}
+
+}  // namespace
+
+std::uint64_t default_memory_budget() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 4ull << 30;
+  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2;
+}
+
+std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
+                                   const FillOptions& options) {
+  const double b = estimate_bytes(bounds, triangles, options);
+  return b >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(b);
+}
+
+FillResult fill(const TriangleSoup& model, const FillOptions& options) {
+  validate(options.lattice);
+  FillResult result;
+  FillReport& r = result.report;
+  StageClock stage(r);
+  r.input_triangles = model.triangles.size();
+  r.input_bbox = bounding_box(model);
+  r.lattice = lattice_label(options.lattice);
+  r.cell = options.lattice.cell;
+  r.level = options.lattice.level;
+  r.thickness = options.lattice.thickness;
+  r.full_field = options.full_field;
+  r.unclipped_porosity = 1.0 - lattice_solid_fraction(options.lattice);
+
+  const Grid grid = make_grid(r.input_bbox, options.grid);  // validates the options first
+  require_budget(r.input_bbox, model.triangles.size(), options, &r.estimated_memory_bytes);
+  r.grid = grid;
+  r.samples = grid.node_count();
+
+  std::optional<MeshIndex> tree;
+  stage("spatial", [&] { tree.emplace(build_index(model)); });
+  const MeshIndex& index = *tree;
+  Occupancy occupancy = stage("classify", [&] {
+    return classify_grid(index, grid, {.progress = options.progress});
+  });
+  r.rays = occupancy.rays;
+  r.crossings = occupancy.crossings;
+  r.odd_rays = occupancy.odd_rays;
+  r.model_volume = occupancy.volume;
+  if (occupancy.odd_rays)
+    r.warnings.push_back(std::to_string(occupancy.odd_rays) +
+                         " grid rows crossed the surface an odd number of times: the input is "
+                         "not closed, so inside and outside may be wrong near its holes");
+
+  const DistanceOptions distance_options{.progress = options.progress};
+  Field phi;
+  if (!options.full_field) {
+    const Band band = stage("band", [&] { return band_voxels(occupancy.inside, options.band); });
+    r.band_nodes = band.nodes.size();
+    r.distance_queries = band.nodes.size();
+    const std::vector<float> d = stage(
+        "distance", [&] { return band_distances(index, occupancy.inside, band, distance_options); });
+    phi = stage("compose", [&] {
+      return compose_field(occupancy.inside, band, d, options.lattice, options.progress);
+    });
+  } else {
+    const Field d = stage("distance", [&] {
+      return signed_distance_field(index, occupancy.inside, distance_options);
+    });
+    r.distance_queries = r.samples;
+    phi = stage("compose", [&] { return compose_field(d, options.lattice, options.progress); });
+  }
+  tree.reset();  // the tree is no longer needed: give its memory back
+
+  TriangleSoup mesh =
+      stage("marching cubes", [&] { return marching_cubes(phi, {.progress = options.progress}); });
+
+  if (!options.keep_islands) {
+    stage("islands", [&] {
+      const Components comps = mesh_components(mesh);
+      const std::vector<bool> keep =
+          main_bodies(mesh, comps, phi, label_regions(occupancy.inside));
+      for (std::size_t c = 0; c < keep.size(); ++c)
+        if (!keep[c]) {
+          ++r.islands_removed;
+          r.islands_volume += std::fabs(comps.info[c].volume);
+        }
+      if (r.islands_removed) mesh = keep_components(mesh, comps, keep);
+    });
+  }
+  phi = Field{};
+  occupancy = Occupancy{};
+
+  if (mesh.triangles.empty())
+    throw InputError("the lattice is empty: no part of the model is thicker than the lattice's "
+                     "struts at this voxel size (try a smaller --voxel or a larger --cell)");
+  r.validation = stage("validate", [&] {
+    return validate_mesh(mesh, {.self_intersections = options.check_self_intersections,
+                                .cell_grid = grid,
+                                .progress = options.progress});
+  });
+  if (!r.validation.valid()) {
+    std::string why;
+    for (const std::string& p : r.validation.problems()) why += (why.empty() ? "" : "; ") + p;
+    throw ValidationError("the lattice failed validation, nothing was written: " + why);
+  }
+  r.vertices = r.validation.vertices;
+  r.triangles = r.validation.triangles;
+  r.lattice_volume = r.validation.volume;
+  r.surface_area = r.validation.area;
+  r.components = r.validation.components;
+  r.porosity = r.model_volume > 0 ? 1.0 - r.lattice_volume / r.model_volume : 0.0;
+  result.mesh = std::move(mesh);
+  return result;
+}
+
+}  // namespace tpmsfill

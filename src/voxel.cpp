@@ -1,0 +1,241 @@
+// Stage "voxel": separable byte-grid morphology, the distance band, and run-based labelling.
+#include "tpmsfill/voxel.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+#include "detail/parallel.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace tpmsfill {
+namespace {
+
+void require_consistent(const Mask& mask) {
+  if (mask.values.size() != mask.grid.node_count())
+    throw InputError("mask size does not match its grid");
+}
+
+std::size_t row_count(const Grid& g) {
+  return static_cast<std::size_t>(g.dims[1]) * static_cast<std::size_t>(g.dims[2]);
+}
+
+// out = in dilated by r along x: a node is set when a set node lies within r along its row.
+void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
+  const int nx = g.dims[0];
+  detail::parallel_for(row_count(g), 256, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t row = begin; row < end; ++row) {
+      const std::uint8_t* a = in + row * nx;
+      std::uint8_t* b = out + row * nx;
+      int last = std::numeric_limits<int>::min() / 2;  // last set index at or before i
+      for (int i = 0; i < nx; ++i) {
+        if (a[i]) last = i;
+        b[i] = i - last <= r;
+      }
+      int next = std::numeric_limits<int>::max() / 2;  // next set index at or after i
+      for (int i = nx - 1; i >= 0; --i) {
+        if (a[i]) next = i;
+        b[i] |= next - i <= r;
+      }
+    }
+  });
+}
+
+// out row (j, k) = OR of in rows within r along y (step 1 row) or z (step dims[1] rows).
+void dilate_rows(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r, int axis) {
+  const std::size_t nx = g.dims[0];
+  const int n_axis = g.dims[axis];
+  detail::parallel_for(row_count(g), 64, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t row = begin; row < end; ++row) {
+      const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
+      const int at = axis == 1 ? j : k;
+      const std::ptrdiff_t step = axis == 1 ? 1 : g.dims[1];
+      std::uint8_t* b = out + row * nx;
+      std::fill(b, b + nx, std::uint8_t{0});
+      for (int d = std::max(-r, -at); d <= std::min(r, n_axis - 1 - at); ++d) {
+        const std::uint8_t* a = in + (static_cast<std::ptrdiff_t>(row) + d * step) * nx;
+        for (std::size_t i = 0; i < nx; ++i) b[i] |= a[i];
+      }
+    }
+  });
+}
+
+}  // namespace
+
+Mask dilate(const Mask& mask, int voxels) {
+  require_consistent(mask);
+  if (voxels < 0) throw InputError("dilation radius must not be negative");
+  if (voxels == 0) return mask;
+  Mask a{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
+  Mask b{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
+  dilate_x(mask.grid, mask.values.data(), a.values.data(), voxels);
+  dilate_rows(mask.grid, a.values.data(), b.values.data(), voxels, 1);
+  dilate_rows(mask.grid, b.values.data(), a.values.data(), voxels, 2);
+  return a;
+}
+
+namespace {
+
+Mask complement(const Mask& mask) {
+  Mask c{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
+  detail::parallel_for(c.values.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) c.values[i] = !mask.values[i];
+  });
+  return c;
+}
+
+// dilate(¬mask) with nodes beyond the grid counting as unset in `mask`, i.e. set in ¬mask:
+// the grid's face nodes are next to "outside".
+Mask dilate_complement(const Mask& mask, int voxels) {
+  Mask c = dilate(complement(mask), voxels);
+  const Grid& g = mask.grid;
+  const int nx = g.dims[0], v = voxels;
+  detail::parallel_for(row_count(g), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t row = b; row < e; ++row) {
+      const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
+      std::uint8_t* a = c.values.data() + row * nx;
+      const bool whole = j < v || k < v || j >= g.dims[1] - v || k >= g.dims[2] - v;
+      for (int i = 0; i < nx; ++i)
+        if (whole || i < v || i >= nx - v) a[i] = 1;
+    }
+  });
+  return c;
+}
+
+}  // namespace
+
+Mask boundary_voxels(const Mask& mask) {
+  require_consistent(mask);
+  Mask out = dilate_complement(mask, 1);
+  for (std::size_t i = 0; i < out.values.size(); ++i) out.values[i] &= mask.values[i];
+  return out;
+}
+
+Band band_voxels(const Mask& inside, const BandOptions& options) {
+  require_consistent(inside);
+  if (options.width < 1) throw InputError("the band width must be at least 1 voxel");
+  const Mask near_outside = dilate_complement(inside, options.width);
+  const Mask near_inside = dilate(inside, options.width);
+  const std::vector<std::uint8_t>& I = inside.values;
+  auto in_band = [&](std::size_t n) {
+    return I[n] ? near_outside.values[n] != 0 : near_inside.values[n] != 0;
+  };
+  // Count per chunk, exclusive scan, fill: the order is the node order for any thread count.
+  const std::size_t n = I.size(), chunk = 1 << 16, chunks = (n + chunk - 1) / chunk;
+  std::vector<std::uint64_t> offset(chunks + 1, 0);
+  detail::parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::uint64_t count = 0;
+      for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) count += in_band(i);
+      offset[c + 1] = count;
+    }
+  });
+  std::partial_sum(offset.begin(), offset.end(), offset.begin());
+  Band band{inside.grid, std::vector<std::uint64_t>(offset.back())};
+  detail::parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::uint64_t out = offset[c];
+      for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
+        if (in_band(i)) band.nodes[out++] = i;
+    }
+  });
+  return band;
+}
+
+// --- labelling ------------------------------------------------------------------------
+
+std::uint32_t Regions::region_at(int i, int j, int k) const {
+  const std::size_t row = static_cast<std::size_t>(j) + static_cast<std::size_t>(grid.dims[1]) * k;
+  const auto first = runs.begin() + static_cast<std::ptrdiff_t>(row_start[row]);
+  const auto last = runs.begin() + static_cast<std::ptrdiff_t>(row_start[row + 1]);
+  auto it = std::upper_bound(first, last, i, [](int x, const Run& r) { return x < r.begin; });
+  if (it == first) return std::numeric_limits<std::uint32_t>::max();
+  --it;
+  return i < it->end ? it->region : std::numeric_limits<std::uint32_t>::max();
+}
+
+namespace {
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller id (earlier run) wins
+  }
+};
+
+}  // namespace
+
+Regions label_regions(const Mask& mask) {
+  require_consistent(mask);
+  const Grid& g = mask.grid;
+  Regions r;
+  r.grid = g;
+  const std::size_t rows = row_count(g);
+  r.row_start.assign(rows + 1, 0);
+  // Runs per row, counted then filled, so the run order is the node order.
+  std::vector<std::uint64_t> counts(rows, 0);
+  detail::parallel_for(rows, 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t row = b; row < e; ++row) {
+      const std::uint8_t* a = mask.values.data() + row * g.dims[0];
+      std::uint64_t n = 0;
+      for (int i = 0; i < g.dims[0]; ++i) n += a[i] && (i == 0 || !a[i - 1]);
+      counts[row] = n;
+    }
+  });
+  for (std::size_t row = 0; row < rows; ++row) r.row_start[row + 1] = r.row_start[row] + counts[row];
+  if (r.row_start.back() >= std::numeric_limits<std::uint32_t>::max())
+    throw InputError("too many runs to label");
+  r.runs.resize(r.row_start.back());
+  detail::parallel_for(rows, 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t row = b; row < e; ++row) {
+      const std::uint8_t* a = mask.values.data() + row * g.dims[0];
+      std::uint64_t out = r.row_start[row];
+      for (int i = 0; i < g.dims[0]; ++i)
+        if (a[i] && (i == 0 || !a[i - 1])) {
+          int end = i;
+          while (end < g.dims[0] && a[end]) ++end;
+          r.runs[out++] = {i, end, 0};
+        }
+    }
+  });
+  // Union each run with the runs of the 9 rows "before" it (j−1..j+1 at k−1, and j−1 at k)
+  // that overlap it when widened by one node (26-connectivity).
+  UnionFind uf(r.runs.size());
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j) {
+      const std::size_t row = static_cast<std::size_t>(j) + static_cast<std::size_t>(g.dims[1]) * k;
+      for (std::uint64_t a = r.row_start[row]; a < r.row_start[row + 1]; ++a) {
+        const Regions::Run& run = r.runs[a];
+        for (int dk = -1; dk <= 0; ++dk)
+          for (int dj = -1; dj <= 1; ++dj) {
+            if (dk == 0 && dj >= 0) continue;
+            const int jj = j + dj, kk = k + dk;
+            if (jj < 0 || jj >= g.dims[1] || kk < 0) continue;
+            const std::size_t other =
+                static_cast<std::size_t>(jj) + static_cast<std::size_t>(g.dims[1]) * kk;
+            for (std::uint64_t b = r.row_start[other]; b < r.row_start[other + 1]; ++b) {
+              const Regions::Run& o = r.runs[b];
+              if (o.begin > run.end) break;  // widened overlap: o.begin <= run.end
+              if (o.end >= run.begin) uf.unite(static_cast<std::uint32_t>(a),
+                                               static_cast<std::uint32_t>(b));
+            }
+          }
+      }
+    }
+  // Roots are the earliest run of each region; number regions in root order.
+  std::vector<std::uint32_t> number(r.runs.size(), std::numeric_limits<std::uint32_t>::max());
+  for (std::size_t a = 0; a < r.runs.size(); ++a) {
+    const std::uint32_t root = uf.find(static_cast<std::uint32_t>(a));
+    if (number[root] == std::numeric_limits<std::uint32_t>::max()) number[root] = r.count++;
+    r.runs[a].region = number[root];
+  }
+  return r;
+}
+
+}  // namespace tpmsfill

@@ -1,0 +1,96 @@
+// Stage "compose": the band field (eq. 10) against the full field, and no sample on zero.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tpmsfill/compose.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/voxel.hpp>
+
+using namespace tpmsfill;
+
+namespace {
+
+// A ball's exact signed distance on a grid, its occupancy and band.
+struct Ball {
+  Grid grid;
+  Field distance;
+  Mask inside;
+  Band band;
+  std::vector<float> band_distance;
+};
+
+Ball make_ball(double radius, double spacing) {
+  Ball b;
+  const int n = static_cast<int>(std::ceil(2 * radius / spacing)) + 7;
+  b.grid.origin = {-(n / 2) * spacing, -(n / 2) * spacing, -(n / 2) * spacing};
+  b.grid.spacing = spacing;
+  b.grid.dims = {n, n, n};
+  b.distance = {b.grid, std::vector<float>(b.grid.node_count())};
+  b.inside = {b.grid, std::vector<std::uint8_t>(b.grid.node_count())};
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::size_t id = b.grid.index(i, j, k);
+        b.distance.values[id] = static_cast<float>(norm(b.grid.node(i, j, k)) - radius);
+        b.inside.values[id] = b.distance.values[id] < 0;
+      }
+  b.band = band_voxels(b.inside);
+  for (std::uint64_t id : b.band.nodes) b.band_distance.push_back(b.distance.values[id]);
+  return b;
+}
+
+}  // namespace
+
+TEST(Compose, BandFieldHasTheSignsOfTheFullField) {
+  const Ball b = make_ball(5.0, 0.2);
+  for (Lattice type : {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond}) {
+    const TpmsOptions lattice{.type = type, .cell = {2, 2, 2}};
+    const Field band = compose_field(b.inside, b.band, b.band_distance, lattice);
+    const Field full = compose_field(b.distance, lattice);
+    std::size_t solid = 0;
+    for (std::size_t n = 0; n < band.values.size(); ++n) {
+      ASSERT_EQ(band.values[n] < 0, full.values[n] < 0) << n;
+      ASSERT_GE(band.values[n], b.distance.values[n] < 0 ? -1e30f : 0.0f);
+      solid += band.values[n] < 0;
+    }
+    // About half the ball's nodes are lattice.
+    const double ball_nodes = 4.0 / 3.0 * M_PI * 125 / (0.2 * 0.2 * 0.2);
+    EXPECT_NEAR(solid / ball_nodes, 0.5, 0.05) << lattice_name(type);
+  }
+}
+
+TEST(Compose, OffBandValuesBracketTheLattice) {
+  for (TpmsOptions o : {TpmsOptions{}, TpmsOptions{.level = 0.7},
+                        TpmsOptions{.style = LatticeStyle::Sheet, .thickness = 0.5}}) {
+    const FieldRange t = tpms_range(o), off = off_band_values(o);
+    EXPECT_LT(off.low, t.low);
+    EXPECT_GT(off.high, t.high);
+  }
+}
+
+TEST(Compose, NoSampleEqualsZero) {
+  // A slab whose faces lie on grid planes: its distance is exactly 0 on two planes of nodes,
+  // and the gyroid's zero set passes through nodes at the lattice's symmetry points.
+  Grid g;
+  g.spacing = 0.25;
+  g.dims = {24, 24, 24};
+  g.origin = {-3, -3, -3};
+  Field slab{g, std::vector<float>(g.node_count())};
+  int zeros = 0;
+  for (int k = 0; k < 24; ++k)
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        const double z = g.coordinate(2, k);
+        slab.values[g.index(i, j, k)] = static_cast<float>(std::fabs(z) - 1.0);
+        zeros += std::fabs(z) == 1.0;
+      }
+  ASSERT_GT(zeros, 0);
+  const Field phi = compose_field(slab, TpmsOptions{.level = -5});  // the model decides
+  for (float v : phi.values) ASSERT_NE(v, 0.0f);
+}
+
+TEST(Compose, RejectsMismatchedInputs) {
+  const Ball b = make_ball(2.0, 0.5);
+  std::vector<float> short_distances(b.band_distance.begin(), b.band_distance.end() - 1);
+  EXPECT_THROW(compose_field(b.inside, b.band, short_distances, {}), InputError);
+}

@@ -1,0 +1,140 @@
+// Stage "tpms": the normalised fields, their separable evaluation and the unclipped porosity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/tpms.hpp>
+
+using namespace tpmsfill;
+
+namespace {
+
+// The formulas of DESIGN.md, written out independently of the separable kernel.
+double raw_f(Lattice type, Vec3 p, Vec3 cell) {
+  const double X = 2 * M_PI * p.x / cell.x, Y = 2 * M_PI * p.y / cell.y,
+               Z = 2 * M_PI * p.z / cell.z;
+  switch (type) {
+    case Lattice::Gyroid:
+      return std::cos(X) * std::sin(Y) + std::cos(Y) * std::sin(Z) + std::cos(Z) * std::sin(X);
+    case Lattice::Primitive:
+      return std::cos(X) + std::cos(Y) + std::cos(Z);
+    case Lattice::Diamond:
+      return std::cos(X) * std::cos(Y) * std::cos(Z) - std::sin(X) * std::sin(Y) * std::sin(Z);
+  }
+  return 0;
+}
+
+Vec3 numeric_gradient(Lattice type, Vec3 p, Vec3 cell) {
+  const double h = 1e-6;
+  return {(raw_f(type, {p.x + h, p.y, p.z}, cell) - raw_f(type, {p.x - h, p.y, p.z}, cell)) / (2 * h),
+          (raw_f(type, {p.x, p.y + h, p.z}, cell) - raw_f(type, {p.x, p.y - h, p.z}, cell)) / (2 * h),
+          (raw_f(type, {p.x, p.y, p.z + h}, cell) - raw_f(type, {p.x, p.y, p.z - h}, cell)) / (2 * h)};
+}
+
+const Lattice kTypes[] = {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond};
+
+}  // namespace
+
+TEST(Tpms, NetworkValueIsFOverItsGradientNorm) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-5, 5);
+  for (Lattice type : kTypes) {
+    const TpmsOptions o{.type = type, .cell = {2, 2.5, 3}};
+    for (int n = 0; n < 500; ++n) {
+      const Vec3 p{u(rng), u(rng), u(rng)};
+      const double f = raw_f(type, p, o.cell), g = norm(numeric_gradient(type, p, o.cell));
+      const double expected = std::fabs(f) >= 3 * g ? std::copysign(3.0, f) : f / g;  // clamp: max T
+      EXPECT_NEAR(tpms_value(p, o), expected, 1e-4 * (1 + std::fabs(expected))) << lattice_name(type);
+    }
+  }
+}
+
+TEST(Tpms, NormalisedFieldIsADistanceNearTheSurface) {
+  // Walk from a point on the surface along the normal: the value grows like the distance.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 2);
+  for (Lattice type : kTypes) {
+    const TpmsOptions o{.type = type, .cell = {2, 2, 2}};
+    int checked = 0;
+    for (int n = 0; n < 200 && checked < 40; ++n) {
+      Vec3 p{u(rng), u(rng), u(rng)};
+      // Newton steps onto f = 0.
+      for (int it = 0; it < 30; ++it) {
+        const Vec3 g = numeric_gradient(type, p, o.cell);
+        p = p - (raw_f(type, p, o.cell) / dot(g, g)) * g;
+      }
+      const Vec3 g = numeric_gradient(type, p, o.cell);
+      if (std::fabs(raw_f(type, p, o.cell)) > 1e-9 || norm(g) < 1.0) continue;
+      const Vec3 normal = (1.0 / norm(g)) * g;
+      for (double h : {0.01, 0.02, 0.04}) {
+        EXPECT_NEAR(tpms_value(p + h * normal, o), h, 0.15 * h) << lattice_name(type);
+        EXPECT_NEAR(tpms_value(p - h * normal, o), -h, 0.15 * h) << lattice_name(type);
+      }
+      ++checked;
+    }
+    EXPECT_GE(checked, 20);
+  }
+}
+
+TEST(Tpms, LevelAndSheetShiftTheField) {
+  const Vec3 p{0.3, 0.7, 1.1};
+  const float base = tpms_value(p, {});
+  EXPECT_FLOAT_EQ(tpms_value(p, {.level = 0.25}), base + 0.25f);
+  EXPECT_FLOAT_EQ(tpms_value(p, {.style = LatticeStyle::Sheet, .thickness = 0.4}),
+                  std::fabs(base) - 0.2f);
+  const FieldRange r = tpms_range({.cell = {1, 4, 2}, .level = 0.5});
+  EXPECT_FLOAT_EQ(r.low, -3.5f);
+  EXPECT_FLOAT_EQ(r.high, 4.5f);
+}
+
+TEST(Tpms, FieldEqualsPointValues) {
+  Grid g;
+  g.origin = {-1.3, 0.2, 5.0};
+  g.spacing = 0.17;
+  g.dims = {13, 9, 7};
+  for (Lattice type : kTypes) {
+    const TpmsOptions o{.type = type, .cell = {1.5, 2, 2.5}, .level = 0.1};
+    const Field f = tpms_field(g, o);
+    ASSERT_EQ(f.values.size(), g.node_count());
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i)
+          ASSERT_EQ(f.values[g.index(i, j, k)], tpms_value(g.node(i, j, k), o));
+  }
+}
+
+TEST(Tpms, BalancedNetworksAreHalfSolid) {
+  // Gyroid and diamond are odd under a symmetry, Schwarz P under a half-cell shift: C = 0
+  // splits space into two congruent labyrinths.
+  for (Lattice type : kTypes)
+    EXPECT_NEAR(lattice_solid_fraction({.type = type}), 0.5, 0.005) << lattice_name(type);
+}
+
+TEST(Tpms, SolidFractionFallsAsTheLevelRises) {
+  double last = 1.0;
+  for (double level : {-0.4, -0.2, 0.0, 0.2, 0.4}) {
+    const double fraction = lattice_solid_fraction({.level = level});
+    EXPECT_LT(fraction, last);
+    last = fraction;
+  }
+}
+
+TEST(Tpms, ThinSheetVolumeIsAreaTimesThickness) {
+  // Gyroid area per unit cell is about 3.0915·T² (Schoen), so a thin sheet fills
+  // 3.0915·t/T of space.
+  for (double t : {0.05, 0.1}) {
+    const double fraction =
+        lattice_solid_fraction({.style = LatticeStyle::Sheet, .cell = {2, 2, 2}, .thickness = t}, 160);
+    EXPECT_NEAR(fraction, 3.0915 * t / 2, 0.03 * 3.0915 * t / 2);
+  }
+}
+
+TEST(Tpms, NamesAndValidation) {
+  for (Lattice type : kTypes) EXPECT_EQ(lattice_from_name(lattice_name(type)), type);
+  EXPECT_EQ(lattice_from_name("schwarz-p"), Lattice::Primitive);
+  EXPECT_THROW(lattice_from_name("kelvin"), InputError);
+  EXPECT_THROW(validate(TpmsOptions{.cell = {0, 1, 1}}), InputError);
+  EXPECT_THROW(validate(TpmsOptions{.style = LatticeStyle::Sheet, .thickness = -1}), InputError);
+  EXPECT_THROW(validate(TpmsOptions{.level = std::nan("")}), InputError);
+}
