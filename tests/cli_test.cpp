@@ -119,7 +119,7 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
   const std::string docs =
       test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
-  for (const std::string command : {"", "check"}) {
+  for (const std::string command : {"", "check", "fill"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
     // Every "--word" in the help text (no std::regex: GCC 12 warns inside it under ASan).
@@ -136,4 +136,44 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
       EXPECT_NE(docs.find("`" + o), std::string::npos) << o << " missing from docs/cli.md";
     }
   }
+}
+
+TEST(Cli, FillWritesAValidLatticeAndReport) {
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 5.0, 4));
+  std::string out;
+  ASSERT_EQ(test::run_command(cli() + " fill '" + (dir / "ball.stl").string() + "' '" +
+                                  (dir / "lattice.stl").string() +
+                                  "' --cell 2 --voxel 0.25 --report '" +
+                                  (dir / "r.json").string() + "'",
+                              &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("porosity"), std::string::npos) << out;
+  const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_TRUE(report["valid"].get<bool>());
+  EXPECT_GT(report["output"]["triangles"].get<double>(), 1000);
+  EXPECT_GT(report["band_nodes"].get<double>(), 0);
+  EXPECT_FALSE(report["stages"].empty());
+  // What was written is what `check` calls valid.
+  EXPECT_EQ(check(dir / "lattice.stl", "", &out), 0) << out;
+}
+
+TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 5.0, 3));
+  const std::string in = "'" + (dir / "ball.stl").string() + "' ";
+  const std::string lattice = "'" + (dir / "lattice.stl").string() + "'";
+  std::string out;
+  for (const std::string args :
+       {in + lattice + " --lattice kelvin", in + lattice + " --voxel 0",
+        in + lattice + " --cell 1 2", in + lattice + " --thickness 0.2",
+        in + lattice + " --voxel 0.001 --memory 64M", in + "'" + (dir / "x.xyz").string() + "'",
+        "'" + (dir / "missing.stl").string() + "' " + lattice}) {
+    EXPECT_EQ(test::run_command(cli() + " fill " + args, &out), 2) << args << "\n" << out;
+    EXPECT_EQ(count_lines(out), 1u) << out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "lattice.stl")) << args;
+  }
+  EXPECT_EQ(test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 64M", &out), 2);
+  EXPECT_NE(out.find("voxel size of"), std::string::npos) << out;
 }

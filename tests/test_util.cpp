@@ -70,6 +70,36 @@ TriangleSoup make_torus(double R, double r, int nu, int nv) {
   return torus;
 }
 
+TriangleSoup make_tube(double outer_radius, double inner_radius, double height, int segments,
+                       int rings) {
+  TriangleSoup tube;
+  const double two_pi = 2 * std::numbers::pi;
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double u = two_pi * s / segments, z = height * r / (rings - 1);
+      tube.points.push_back({outer_radius * std::cos(u), outer_radius * std::sin(u), z});
+      tube.points.push_back({inner_radius * std::cos(u), inner_radius * std::sin(u), z});
+    }
+  auto outer = [&](int s, int r) { return static_cast<std::uint32_t>(2 * (r * segments + s % segments)); };
+  auto inner = [&](int s, int r) { return outer(s, r) + 1; };
+  for (int r = 0; r + 1 < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      // (angle, z) is right-handed with the normal pointing away from the axis.
+      tube.triangles.push_back({outer(s, r), outer(s + 1, r), outer(s + 1, r + 1)});
+      tube.triangles.push_back({outer(s, r), outer(s + 1, r + 1), outer(s, r + 1)});
+      tube.triangles.push_back({inner(s, r), inner(s + 1, r + 1), inner(s + 1, r)});
+      tube.triangles.push_back({inner(s, r), inner(s, r + 1), inner(s + 1, r + 1)});
+    }
+  const int top = rings - 1;
+  for (int s = 0; s < segments; ++s) {
+    tube.triangles.push_back({outer(s, top), outer(s + 1, top), inner(s + 1, top)});
+    tube.triangles.push_back({outer(s, top), inner(s + 1, top), inner(s, top)});
+    tube.triangles.push_back({outer(s, 0), inner(s + 1, 0), outer(s + 1, 0)});
+    tube.triangles.push_back({outer(s, 0), inner(s, 0), inner(s + 1, 0)});
+  }
+  return tube;
+}
+
 TriangleSoup make_box_with_hole(Vec3 min, Vec3 max) {
   TriangleSoup box = make_box(min, max);
   box.triangles.resize(10);  // the last two triangles are the +x side

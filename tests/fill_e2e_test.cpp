@@ -1,0 +1,179 @@
+// The whole pipeline: fill() on meshes made in code and on Debian's femur, judged by the
+// geometric truths the issue names (porosity, volume, distance to the input surface) and by
+// the independent checker (check_mesh).
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <tpmsfill/check.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
+#include <tpmsfill/io.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+
+namespace {
+
+FillOptions options(double voxel, Lattice type = Lattice::Gyroid) {
+  FillOptions o;
+  o.grid.voxel_size = voxel;
+  o.lattice.type = type;
+  o.lattice.cell = {2, 2, 2};
+  return o;
+}
+
+// The independent check: CGAL PMP on the soup, bit-identical points merged.
+void expect_printable(const TriangleSoup& mesh) {
+  const MeshCheck c = check_mesh(mesh);
+  EXPECT_TRUE(c.valid()) << (c.problems().empty() ? std::string("?") : c.problems().front());
+  EXPECT_EQ(c.duplicate_points, 0u);
+  EXPECT_EQ(c.self_intersecting_pairs.value_or(1), 0u);
+}
+
+}  // namespace
+
+TEST(FillE2E, GyroidInACubeIsHalfSolid) {
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {20, 20, 20});
+  const FillResult r = fill(cube, options(0.2));
+  EXPECT_TRUE(r.report.validation.valid());
+  EXPECT_NEAR(r.report.model_volume, 8000.0, 1e-6);  // faces on grid planes: exact spans
+  EXPECT_NEAR(r.report.porosity, 0.5, 0.01);
+  EXPECT_NEAR(r.report.unclipped_porosity, 0.5, 0.005);
+  EXPECT_EQ(r.report.components, 1u);
+  expect_printable(r.mesh);
+}
+
+TEST(FillE2E, SphereLatticeVolumeMatchesPorosity) {
+  const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 10.0, 5);
+  for (Lattice type : {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond}) {
+    const FillResult r = fill(sphere, options(0.2, type));
+    const double polyhedron = test::signed_volume(sphere);
+    EXPECT_NEAR(r.report.model_volume, polyhedron, 0.002 * polyhedron);
+    const double expected = (1.0 - r.report.unclipped_porosity) * 4.0 / 3.0 * M_PI * 1000.0;
+    EXPECT_NEAR(r.report.lattice_volume, expected, 0.02 * expected) << lattice_name(type);
+    EXPECT_NEAR(r.report.porosity, r.report.unclipped_porosity, 0.02) << lattice_name(type);
+    // The outer boundary lies within one voxel of the input surface.
+    double reach = 0;
+    for (const Vec3& p : r.mesh.points) {
+      EXPECT_LE(norm(p), 10.0 + 0.2);
+      reach = std::max(reach, norm(p));
+    }
+    EXPECT_GE(reach, 10.0 - 0.2 - 0.1);  // the tessellation is up to 0.1 mm inside the sphere
+    expect_printable(r.mesh);
+  }
+}
+
+TEST(FillE2E, SheetLatticeIsValidAndAsThickAsAsked) {
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {10, 10, 10});
+  FillOptions o = options(0.1);
+  o.lattice.style = LatticeStyle::Sheet;
+  o.lattice.thickness = 0.4;
+  const FillResult r = fill(cube, o);
+  // A thin sheet's solid fraction is about area·t: 3.09·0.4/2 ≈ 0.62 of the cube, less the
+  // curvature terms; the unclipped sample says what to expect.
+  EXPECT_NEAR(1 - r.report.porosity, 1 - r.report.unclipped_porosity, 0.02);
+  expect_printable(r.mesh);
+}
+
+TEST(FillE2E, BandAndFullFieldAgree) {
+  const TriangleSoup torus = test::make_torus(8, 3, 96, 48);
+  FillOptions o = options(0.25);
+  const FillResult band = fill(torus, o);
+  o.full_field = true;
+  const FillResult full = fill(torus, o);
+  EXPECT_EQ(full.report.distance_queries, full.report.samples);
+  EXPECT_GT(full.report.distance_queries, 10 * band.report.distance_queries);
+  EXPECT_NEAR(band.report.lattice_volume, full.report.lattice_volume,
+              0.005 * full.report.lattice_volume);
+  EXPECT_EQ(band.report.triangles, full.report.triangles);  // same signs at every node
+}
+
+TEST(FillE2E, OrientationAndWeldingOfTheInputDoNotMatter) {
+  const TriangleSoup sphere = test::make_sphere({1, 2, 3}, 6.0, 4);
+  const FillResult a = fill(sphere, options(0.25));
+  const FillResult b = fill(test::unshare_points(test::flip(sphere)), options(0.25));
+  EXPECT_EQ(a.mesh.points, b.mesh.points);
+  EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
+}
+
+TEST(FillE2E, SameBytesForAnyThreadCount) {
+  const TriangleSoup torus = test::make_torus(6, 2.5, 64, 32);
+  FillResult one, many;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = fill(torus, options(0.2));
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+    many = fill(torus, options(0.2));
+  }
+  EXPECT_EQ(one.mesh.points, many.mesh.points);
+  EXPECT_EQ(one.mesh.triangles, many.mesh.triangles);
+  EXPECT_EQ(one.report.lattice_volume, many.report.lattice_volume);
+}
+
+TEST(FillE2E, IslandsAreRemovedPerPartOfTheModel) {
+  // Two disjoint balls: each keeps its own main body, fragments cut off by the surface go.
+  const TriangleSoup two = test::concat(test::make_sphere({0, 0, 0}, 4.0, 4),
+                                        test::make_sphere({12, 0, 0}, 3.0, 4));
+  FillOptions o = options(0.2);
+  const FillResult kept = [&] {
+    FillOptions k = o;
+    k.keep_islands = true;
+    return fill(two, k);
+  }();
+  const FillResult cleaned = fill(two, o);
+  EXPECT_EQ(cleaned.report.components, 2u);
+  EXPECT_EQ(kept.report.components, cleaned.report.components + cleaned.report.islands_removed);
+  EXPECT_NEAR(kept.report.lattice_volume,
+              cleaned.report.lattice_volume + cleaned.report.islands_volume, 1e-6);
+  for (const Vec3& p : cleaned.mesh.points) EXPECT_TRUE(norm(p) <= 4.2 || norm(p - Vec3{12, 0, 0}) <= 3.2);
+  expect_printable(cleaned.mesh);
+}
+
+TEST(FillE2E, OverTheMemoryBudgetIsRefusedWithAVoxelSizeThatFits) {
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {50, 50, 50});
+  FillOptions o = options(0.01);
+  o.memory_budget = 256ull << 20;
+  try {
+    fill(cube, o);
+    FAIL() << "no ResourceError";
+  } catch (const ResourceError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("voxel size of"), std::string::npos) << what;
+    // The suggested voxel size does fit.
+    const double suggested = std::stod(what.substr(what.find("voxel size of") + 14));
+    o.grid.voxel_size = suggested;
+    EXPECT_LE(estimate_fill_memory(bounding_box(cube), cube.triangles.size(), o), o.memory_budget);
+  }
+}
+
+TEST(FillE2E, BadOptionsThrowInputError) {
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {5, 5, 5});
+  FillOptions o = options(0.1);
+  o.lattice.cell = {0, 1, 1};
+  EXPECT_THROW(fill(cube, o), InputError);
+  o = options(-1);
+  EXPECT_THROW(fill(cube, o), InputError);
+  EXPECT_THROW(fill(TriangleSoup{}, options(0.1)), InputError);
+}
+
+TEST(FillE2E, DebianFemurIsFilledAndPrintable) {
+  const std::filesystem::path femur = std::filesystem::path(TPMSFILL_CGAL_MESHES) / "femur.off";
+  if (!std::filesystem::exists(femur)) GTEST_SKIP() << "libcgal-demo is not installed";
+  TriangleSoup soup = read_mesh(femur);
+  // Scaled so the longest side is 35 mm, as in the benchmark, at a coarser voxel.
+  const Box3 box = bounding_box(soup);
+  const Vec3 size = box.size();
+  const double scale = 35.0 / std::max({size.x, size.y, size.z});
+  for (Vec3& p : soup.points) p = scale * (p - box.min);
+  const FillResult r = fill(soup, options(0.2));
+  EXPECT_NEAR(r.report.model_volume, test::signed_volume(soup), 0.01 * r.report.model_volume);
+  EXPECT_NEAR(r.report.porosity, r.report.unclipped_porosity, 0.02);
+  EXPECT_EQ(r.report.odd_rays, 0u);
+  expect_printable(r.mesh);
+}
