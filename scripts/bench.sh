@@ -1,23 +1,34 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill] [SPHERE_LEVELS]
+#  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
 #  3. `tpmsfill check` on the real meshes in ../shared/meshes, when that folder exists
+#  fill:
+#  4. `tpmsfill fill` end to end (read -> validated STL written) on the paper's two cases at our
+#     scale: Debian's femur scaled to 35 mm and a 4.7-million-triangle thin-walled tube, gyroid
+#     network T = 2 mm, C = 0, a = 0.1 mm; per-stage time and peak memory from --report
+#  5. the femur with --full-field: the distance computations the band saves
+#  6. `tpmsfill fill` on every closed mesh of ../shared/meshes, checked afterwards
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
+section="${1:-all}"
+[[ "$section" =~ ^(all|io|fill)$ ]] || { levels_arg="$section"; section=all; }
+levels="${levels_arg:-${2:-8}}"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
 
 echo "## machine: $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB, $(uname -m)"
+if [[ "$section" != fill ]]; then
 echo
 echo "## 1. formats and check_mesh"
-./build/tests/bench_io_check "${1:-8}"
+./build/tests/bench_io_check "$levels"
 
 echo
 echo "## 2. malformed files (exit code, wall time, peak RSS)"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0123' >"$tmp/huge-count.ply"
 printf 'OFF\n2000000000 2000000000 0\n0 0 0\n' >"$tmp/huge-count.off"
 { head -c 80 /dev/zero; printf '\xff\xff\xff\x7f'; head -c 500 /dev/zero; } >"$tmp/huge-count.stl"
@@ -51,4 +62,72 @@ if [[ -d ../shared/meshes ]]; then
     facts=$(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); print(" | ".join(str(j[k]) for k in ("triangles","holes","self_intersecting_pairs","components")))' "$tmp/out.json" 2>/dev/null || echo "- | - | - | -")
     printf '| %s | %s | %s | %.0f | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts"
   done
+fi
+fi
+
+# One `tpmsfill fill` run: wall time and peak RSS of the whole process, then the per-stage
+# table from its report.
+fill_case() {
+  local name=$1 in=$2
+  shift 2
+  /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill fill "$in" "$tmp/$name-out.stl" \
+    --quiet --report "$tmp/$name.json" "$@"
+  read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+  python3 - "$tmp/$name.json" "$name" "$wall" "$kb" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+name, wall, kb = sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
+print(f"### {name}: {wall:.2f} s wall, {kb/1024:.0f} MB peak RSS (whole process)")
+print(f"grid {r['grid']['dims']} = {r['grid']['samples']:,} samples; band {r['band_nodes']:,}; "
+      f"distance queries {r['distance_queries']:,}; output {r['output']['triangles']:,} triangles; "
+      f"porosity {100*r['porosity']:.2f} % (unclipped {100*r['unclipped_porosity']:.2f} %); "
+      f"valid {r['valid']}, self-intersecting pairs {r['validation']['self_intersecting_pairs']}")
+print()
+print("| stage | s | peak MB |")
+print("|---|---:|---:|")
+for s in r["stages"]:
+    print(f"| {s['name']} | {s['seconds']:.3f} | {s['peak_memory_mb']:.0f} |")
+print(f"| **sum of stages** | **{r['total_seconds']:.3f}** | |")
+print()
+PY
+}
+
+if [[ "$section" != io ]]; then
+  echo
+  echo "## 4. fill, end to end (gyroid network, T = 2 mm, C = 0, a = 0.1 mm)"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+  ./build/tests/bench_fill_inputs "$tmp/femur.off" "$tmp"
+  echo
+  fill_case femur35 "$tmp/femur35.stl" --cell 2 --voxel 0.1
+  fill_case tube "$tmp/tube.stl" --cell 2 --voxel 0.1
+
+  echo "## 5. femur with --full-field (distance at every node, the paper's reference)"
+  fill_case femur35-full-field "$tmp/femur35.stl" --cell 2 --voxel 0.1 --full-field
+
+  if [[ -d ../shared/meshes ]]; then
+    echo "## 6. fill on the closed meshes of ../shared/meshes (cell and voxel scaled to each mesh)"
+    echo "| file | exit | wall s | peak MB | triangles out | porosity % | unclipped % | check of output |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---|"
+    for f in ../shared/meshes/*.{off,stl,STL,obj,ply}; do
+      [[ -f "$f" ]] || continue
+      ./build/tpmsfill check --no-self-intersections --json "$f" >"$tmp/c.json" 2>/dev/null || true
+      # Closed inputs only; cell = longest side / 15, voxel = cell / 10.
+      read -r closed cell voxel < <(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); b=j["bbox"]; L=max(b["max"][i]-b["min"][i] for i in range(3)); print(j["closed"], L/15, L/150)' "$tmp/c.json" 2>/dev/null || echo "False 0 0")
+      [[ "$closed" == True ]] || continue
+      set +e
+      /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill fill "$f" "$tmp/shared-out.stl" --quiet \
+        --cell "$cell" --voxel "$voxel" --report "$tmp/shared.json" 2>"$tmp/err.txt"
+      code=$?
+      set -e
+      read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+      verdict="-"
+      if [[ $code == 0 ]]; then
+        ./build/tpmsfill check "$tmp/shared-out.stl" >/dev/null && verdict="valid" || verdict="NOT VALID"
+        facts=$(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); print("%d | %.2f | %.2f" % (r["output"]["triangles"], 100*r["porosity"], 100*r["unclipped_porosity"]))' "$tmp/shared.json")
+      else
+        facts="$(head -c 80 "$tmp/err.txt") | - | -"
+      fi
+      printf '| %s | %s | %s | %.0f | %s | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts" "$verdict"
+    done
+  fi
 fi

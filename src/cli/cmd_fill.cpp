@@ -27,6 +27,7 @@ struct FillArgs {
   std::vector<double> cell{2.0};
   std::optional<double> level, thickness;
   double voxel = 0.1;
+  double scale = 1.0;
   int band = 1;
   bool full_field = false, keep_islands = false, no_self_intersections = false, quiet = false;
   std::string memory;
@@ -134,7 +135,9 @@ int run_fill(const FillArgs& args) {
   options.progress = progress.get();
 
   auto t0 = std::chrono::steady_clock::now();
-  const MeshFile file = read_mesh_file(args.input);
+  MeshFile file = read_mesh_file(args.input);
+  if (args.scale != 1.0)
+    for (Vec3& p : file.soup.points) p = args.scale * p;
   const StageTime read{"read", seconds_since(t0), peak_memory_mb()};
   for (const std::string& w : file.warnings)
     std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
@@ -188,6 +191,10 @@ Command add_fill_command(CLI::App& app) {
                   "(default 0)");
   sub->add_option("--thickness", args->thickness, "Sheet wall thickness in mm (default 0.3)");
   sub->add_option("--voxel", args->voxel, "Grid spacing in mm (default 0.1)");
+  sub->add_option("--scale", args->scale,
+                  "Multiply the input's coordinates by this first, e.g. 25.4 for inches or 1000 "
+                  "for metres (default 1)")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--band", args->band,
                   "Half-width of the exact-distance band in voxels (default 1, the paper's)")
       ->check(CLI::Range(1, 64));
