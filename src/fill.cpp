@@ -236,6 +236,9 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   if (mesh.triangles.empty())
     throw InputError("the lattice is empty: no part of the model is thicker than the lattice's "
                      "struts at this voxel size (try a smaller --voxel or a larger --cell)");
+  if (options.float_coordinates)
+    for (Vec3& p : mesh.points)
+      p = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
   r.validation = stage("validate", [&] {
     return validate_mesh(mesh, {.self_intersections = options.check_self_intersections,
                                 .cell_grid = grid,

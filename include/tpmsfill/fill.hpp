@@ -32,6 +32,9 @@ struct FillOptions {
   bool keep_islands = false;
   /// Search the output for self-intersections before accepting it (exact predicates).
   bool check_self_intersections = true;
+  /// Round the output's coordinates to float before validating, so that formats storing
+  /// floats (binary STL, PLY) hold exactly the mesh that was validated.
+  bool float_coordinates = true;
   /// Refuse jobs estimated to need more bytes than this; 0 = half of physical memory.
   std::uint64_t memory_budget = 0;
   Progress* progress = nullptr;
