@@ -5,6 +5,7 @@
 #include "tpmsfill/marching_cubes.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -40,14 +41,23 @@ struct Extractor {
 
   bool inside(std::size_t n) const { return v[n] < iso; }  // == iso counts as outside
 
-  // Corner configuration of cell (i, j, k): bit c set when corner c is inside.
-  unsigned config(std::size_t base) const {
-    unsigned c = 0;
-    for (unsigned corner = 0; corner < 8; ++corner)
-      c |= static_cast<unsigned>(
-               inside(base + (corner & 1) * sx + (corner >> 1 & 1) * sy + (corner >> 2) * sz))
-           << corner;
-    return c;
+  // Calls f(i, config) for the cells (i, j, k), i = 0 .. nx - 2, where bit c of config is set
+  // when corner c is inside. The x = 1 face of a cell is the x = 0 face of the next, so each
+  // node is read once per row.
+  template <class F>
+  void for_cells_in_row(int j, int k, const F& f) const {
+    const float* r = v + grid.index(0, j, k);
+    auto column = [&](int i) {
+      return static_cast<unsigned>(r[i] < iso) | static_cast<unsigned>(r[i + sy] < iso) << 2 |
+             static_cast<unsigned>(r[i + sz] < iso) << 4 |
+             static_cast<unsigned>(r[i + sy + sz] < iso) << 6;
+    };
+    unsigned left = column(0);
+    for (int i = 0; i + 1 < nx; ++i) {
+      const unsigned right = column(i + 1);
+      f(i, left | right << 1);
+      left = right;
+    }
   }
 
   std::size_t corner_index(std::size_t base, int corner) const {
@@ -92,24 +102,32 @@ struct Extractor {
     return {p[0], p[1], p[2]};
   }
 
+  // Crossed edges owned by node (i, j, k), the slow general way (grid borders only).
+  int node_edges(int i, int j, int k) const {
+    const std::size_t n = grid.index(i, j, k);
+    return (i + 1 < nx && crossed(n, sx)) + (j + 1 < ny && crossed(n, sy)) +
+           (k + 1 < nz && crossed(n, sz));
+  }
+
   LayerCounts count(int k) const {
     LayerCounts r;
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const std::size_t n = grid.index(i, j, k);
-        r.edge_vertices += (i + 1 < nx && crossed(n, sx)) + (j + 1 < ny && crossed(n, sy)) +
-                           (k + 1 < nz && crossed(n, sz));
-      }
-    if (k + 1 < nz)
-      for (int j = 0; j + 1 < ny; ++j)
-        for (int i = 0; i + 1 < nx; ++i) {
-          const std::size_t base = grid.index(i, j, k);
-          const unsigned c = config(base);
-          if (c == 0 || c == 255) continue;
-          const detail::McCase& mc = tables.cases[key(base, c)];
-          r.triangles += mc.triangle_count;
-          r.centroids += mc.centroid_count;
-        }
+    if (k + 1 == nz) {
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) r.edge_vertices += node_edges(i, j, k);
+      return r;
+    }
+    for (int j = 0; j + 1 < ny; ++j) {
+      for_cells_in_row(j, k, [&](int i, unsigned c) {
+        if (c == 0 || c == 255) return;
+        // Cube edges 0, 4 and 8 leave corner 0: the +x, +y, +z edges that node (i, j, k) owns.
+        r.edge_vertices += (c ^ c >> 1) % 2 + (c ^ c >> 2) % 2 + (c ^ c >> 4) % 2;
+        const detail::McCase& mc = tables.cases[key(grid.index(i, j, k), c)];
+        r.triangles += mc.triangle_count;
+        r.centroids += mc.centroid_count;
+      });
+      r.edge_vertices += node_edges(nx - 1, j, k);
+    }
+    for (int i = 0; i < nx; ++i) r.edge_vertices += node_edges(i, ny - 1, k);
     return r;
   }
 
@@ -119,52 +137,60 @@ struct Extractor {
     const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     for (auto& e : ids.edge) e.assign(layer, kNone);
     std::uint32_t id = first;
-    for (int j = 0; j < ny; ++j)
+    for (int j = 0; j < ny; ++j) {
+      const std::size_t row = grid.index(0, j, k), m0 = sy * static_cast<std::size_t>(j);
+      const bool has_y = j + 1 < ny, has_z = k + 1 < nz;
       for (int i = 0; i < nx; ++i) {
-        const std::size_t n = grid.index(i, j, k), m = static_cast<std::size_t>(i) + sy * j;
-        const bool has[3] = {i + 1 < nx, j + 1 < ny, k + 1 < nz};
-        const std::size_t stride[3] = {sx, sy, sz};
+        const bool in = v[row + i] < iso;
+        const bool cross[3] = {i + 1 < nx && (v[row + i + 1] < iso) != in,
+                               has_y && (v[row + i + sy] < iso) != in,
+                               has_z && (v[row + i + sz] < iso) != in};
         for (int a = 0; a < 3; ++a)
-          if (has[a] && crossed(n, stride[a])) {
+          if (cross[a]) {
             if (points) points[id] = edge_point(i, j, k, a);
-            ids.edge[a][m] = id++;
+            ids.edge[a][m0 + i] = id++;
           }
       }
+    }
   }
 
   // Triangles of cell layer k (between node layers k and k + 1).
   void fill(int k, const LayerIds& lower, const LayerIds& upper, std::uint32_t first_centroid,
             Vec3* points, Triangle* triangles) const {
+    // Where cube edge e's vertex id lives: layer, axis and offset from the cell's id index.
+    const std::uint32_t* base_ids[12];
+    std::size_t offset[12];
+    for (int e = 0; e < 12; ++e) {
+      const int c0 = tables.edge_corners[e][0];
+      base_ids[e] = ((c0 >> 2) ? upper : lower).edge[e / 4].data();
+      offset[e] = static_cast<std::size_t>(c0 & 1) + sy * static_cast<std::size_t>(c0 >> 1 & 1);
+    }
     std::uint32_t centroid = first_centroid;
-    for (int j = 0; j + 1 < ny; ++j)
-      for (int i = 0; i + 1 < nx; ++i) {
-        const std::size_t base = grid.index(i, j, k);
-        const unsigned c = config(base);
-        if (c == 0 || c == 255) continue;
-        const detail::McCase& mc = tables.cases[key(base, c)];
+    for (int j = 0; j + 1 < ny; ++j) {
+      const std::size_t m0 = sy * static_cast<std::size_t>(j);
+      for_cells_in_row(j, k, [&](int i, unsigned c) {
+        if (c == 0 || c == 255) return;
+        const detail::McCase& mc = tables.cases[key(grid.index(i, j, k), c)];
         std::uint32_t slot[14];
-        for (int e = 0; e < 12; ++e) {
-          const int c0 = tables.edge_corners[e][0], axis = e / 4;
-          const std::size_t m = static_cast<std::size_t>(i + (c0 & 1)) +
-                                sy * static_cast<std::size_t>(j + (c0 >> 1 & 1));
-          slot[e] = ((c0 >> 2) ? upper : lower).edge[axis][m];
+        for (unsigned m = tables.crossed_edges[c]; m; m &= m - 1) {
+          const int e = std::countr_zero(m);
+          slot[e] = base_ids[e][m0 + static_cast<std::size_t>(i) + offset[e]];
         }
         for (int cc = 0; cc < mc.centroid_count; ++cc) {
           Vec3 sum;
           int n = 0;
-          for (int e = 0; e < 12; ++e)
-            if (mc.centroid_edges[cc] >> e & 1) {
-              const int c0 = tables.edge_corners[e][0];
-              sum = sum + edge_point(i + (c0 & 1), j + (c0 >> 1 & 1), k + (c0 >> 2), e / 4);
-              ++n;
-            }
+          for (unsigned m = mc.centroid_edges[cc]; m; m &= m - 1, ++n) {
+            const int e = std::countr_zero(m), c0 = tables.edge_corners[e][0];
+            sum = sum + edge_point(i + (c0 & 1), j + (c0 >> 1 & 1), k + (c0 >> 2), e / 4);
+          }
           points[centroid] = (1.0 / n) * sum;
           slot[12 + cc] = centroid++;
         }
         for (int t = 0; t < mc.triangle_count; ++t)
           *triangles++ = {slot[mc.triangles[t][0]], slot[mc.triangles[t][1]],
                           slot[mc.triangles[t][2]]};
-      }
+      });
+    }
   }
 };
 

@@ -54,6 +54,10 @@ McTables build() {
     }
   }
   for (int config = 0; config < 256; ++config)
+    for (int e = 0; e < 12; ++e)
+      if (corner_bit(config, t.edge_corners[e][0]) != corner_bit(config, t.edge_corners[e][1]))
+        t.crossed_edges[config] |= static_cast<std::uint16_t>(1 << e);
+  for (int config = 0; config < 256; ++config)
     for (int f = 0; f < 6; ++f) {
       const auto& q = t.face_corners[f];
       const int in[4] = {corner_bit(config, q[0]), corner_bit(config, q[1]),

@@ -29,6 +29,8 @@ struct McTables {
   /// Bit f set when face f is ambiguous in configuration `config` (bit c = corner c inside):
   /// its two inside corners sit on one diagonal.
   std::array<std::uint8_t, 256> ambiguous_faces{};
+  /// Bit e set when cube edge e joins an inside and an outside corner in `config`.
+  std::array<std::uint16_t, 256> crossed_edges{};
   /// cases[config | decisions << 8]; decisions bit f = 1: on ambiguous face f the two inside
   /// corners are connected (the segments cut off the outside corners). Bits of faces that are
   /// not ambiguous in `config` must be 0.
