@@ -8,7 +8,13 @@
 ///   decider (Nielson & Hamann 1991), which depends only on the face's four values, so the two
 ///   cubes sharing a face always agree;
 /// - vertices lie on grid edges and belong to them: one vertex per crossed edge, shared by
-///   every triangle using that edge (no welding tolerance anywhere), strictly inside the edge;
+///   every triangle using that edge (no welding tolerance anywhere), strictly inside the edge
+///   (the edge parameter is clamped to [1e-4, 1 - 1e-4]); the two coordinates across the edge
+///   are exactly Grid::coordinate() values. A cube whose surface piece is bounded by five or
+///   more edge vertices also gets one vertex at their centroid, strictly inside the cube, and
+///   the piece is a fan around it;
+/// - the surface meets each cube face only in that face's segments (never a chord lying in a
+///   face), so triangles of neighbouring cubes meet only along shared edges and vertices;
 /// - triangles are oriented outward: their normals point from the solid (values below the
 ///   iso-value) to the outside;
 /// - no degenerate triangle, and no two triangles intersect except along shared edges and
@@ -27,8 +33,13 @@ struct McOptions {
   Progress* progress = nullptr;  ///< reports per slab of cells; may cancel
 };
 
-/// Extracts the iso-surface of `field`.
-/// @throws Cancelled  when options.progress says so
+/// Extracts the iso-surface of `field`. Points are numbered by layer of grid nodes along z
+/// (edge vertices, then that layer's cube centroids), triangles by layer of cells.
+/// Memory beyond the output: two layers of vertex ids per worker thread (24·dims[0]·dims[1]
+/// bytes) and a few counters per layer.
+/// @throws InputError  when field.values.size() != field.grid.node_count(), a grid dimension
+///                     is below 2, or the mesh would need 2^32 or more points
+/// @throws Cancelled   when options.progress says so
 TriangleSoup marching_cubes(const Field& field, const McOptions& options = {});
 
 }  // namespace tpmsfill

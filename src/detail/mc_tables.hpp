@@ -1,0 +1,45 @@
+/// @file mc_tables.hpp
+/// @brief Marching-cubes case table, built in code from a loop-linking rule (see mc_tables.cpp).
+///
+/// Cube numbering. Corner c sits at (c & 1, (c >> 1) & 1, (c >> 2) & 1). Edge e = 4·a + ub + 2·vb
+/// runs along axis a from the corner with bit a = 0, bit u = ub and bit v = vb (u = (a + 1) % 3,
+/// v = (a + 2) % 3) to the corner with bit a = 1. Face f = 2·a + s is the face at coordinate s
+/// on axis a; its corners are listed counter-clockwise seen from outside the cube.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace tpmsfill::detail {
+
+/// Triangles of one cube for one corner configuration and one set of ambiguous-face decisions.
+/// Triangle corners are slots: 0..11 the vertex on that cube edge, 12 + c the extra vertex of
+/// centroid c (the mean of the edge vertices in centroid_edges[c]; it lies inside the cube).
+struct McCase {
+  std::uint8_t triangle_count = 0;
+  std::uint8_t centroid_count = 0;
+  std::array<std::uint16_t, 2> centroid_edges{};  ///< bit e: cube edge e is in that loop
+  std::array<std::array<std::uint8_t, 3>, 12> triangles{};
+};
+
+struct McTables {
+  std::array<std::array<std::uint8_t, 4>, 6> face_corners{};  ///< counter-clockwise from outside
+  std::array<std::array<std::uint8_t, 2>, 12> edge_corners{};
+  /// Bit f set when face f is ambiguous in configuration `config` (bit c = corner c inside):
+  /// its two inside corners sit on one diagonal.
+  std::array<std::uint8_t, 256> ambiguous_faces{};
+  /// Bit e set when cube edge e joins an inside and an outside corner in `config`.
+  std::array<std::uint16_t, 256> crossed_edges{};
+  /// cases[config | decisions << 8]; decisions bit f = 1: on ambiguous face f the two inside
+  /// corners are connected (the segments cut off the outside corners). Bits of faces that are
+  /// not ambiguous in `config` must be 0.
+  std::vector<McCase> cases;
+  /// Loops of each case as cube-edge lists in traversal order (for tests and documentation).
+  std::vector<std::vector<std::vector<std::uint8_t>>> loops;
+};
+
+/// The tables, built once (thread-safe) on first use.
+const McTables& mc_tables();
+
+}  // namespace tpmsfill::detail

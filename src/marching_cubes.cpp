@@ -1,0 +1,258 @@
+// Marching cubes in two passes over layers of nodes along z, so that the output order does not
+// depend on the thread count: count (edge vertices, triangles and centroid vertices per layer)
+// → exclusive scan → fill by index. Memory beyond the output is a few rows of vertex ids per
+// task: each task rolls two layers of edge-vertex ids instead of one id per grid edge.
+#include "tpmsfill/marching_cubes.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "detail/mc_tables.hpp"
+#include "detail/parallel.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace tpmsfill {
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// Edge parameters are clamped to [kDelta, 1 - kDelta] so a vertex never sits on a grid node
+// and two vertices on edges sharing a node never coincide.
+constexpr double kDelta = 1e-4;
+
+/// Vertex ids of the +x, +y, +z edges of every node (i + nx·j) of one node layer.
+struct LayerIds {
+  std::vector<std::uint32_t> edge[3];
+};
+
+struct LayerCounts {
+  std::size_t edge_vertices = 0, centroids = 0, triangles = 0;
+};
+
+struct Extractor {
+  const Grid& grid;
+  const float* v;
+  float iso;
+  int nx, ny, nz;
+  std::size_t sx, sy, sz;  // index strides
+  const detail::McTables& tables;
+
+  bool inside(std::size_t n) const { return v[n] < iso; }  // == iso counts as outside
+
+  // Calls f(i, config) for the cells (i, j, k), i = 0 .. nx - 2, where bit c of config is set
+  // when corner c is inside. The x = 1 face of a cell is the x = 0 face of the next, so each
+  // node is read once per row.
+  template <class F>
+  void for_cells_in_row(int j, int k, const F& f) const {
+    const float* r = v + grid.index(0, j, k);
+    auto column = [&](int i) {
+      return static_cast<unsigned>(r[i] < iso) | static_cast<unsigned>(r[i + sy] < iso) << 2 |
+             static_cast<unsigned>(r[i + sz] < iso) << 4 |
+             static_cast<unsigned>(r[i + sy + sz] < iso) << 6;
+    };
+    unsigned left = column(0);
+    for (int i = 0; i + 1 < nx; ++i) {
+      const unsigned right = column(i + 1);
+      f(i, left | right << 1);
+      left = right;
+    }
+  }
+
+  std::size_t corner_index(std::size_t base, int corner) const {
+    return base + (corner & 1) * sx + (corner >> 1 & 1) * sy + (corner >> 2) * sz;
+  }
+
+  // Table key: configuration plus the asymptotic decider on each ambiguous face: inside
+  // corners (a, c) are connected when (a - iso)(c - iso) > (b - iso)(d - iso). Each difference
+  // is rounded to float once, the same way for every cube (its sign is kept: two distinct
+  // floats never differ by less than the smallest subnormal), and the product of two floats
+  // is exact in double, so the comparison is exact: both cubes sharing a face agree, and on
+  // the checkerboard configurations opposite faces cannot contradict each other (see the
+  // table test). A tie counts as separated: the saddle at the iso-value is outside, as nodes
+  // at the iso-value are.
+  unsigned key(std::size_t base, unsigned config) const {
+    unsigned decisions = 0;
+    for (unsigned amb = tables.ambiguous_faces[config]; amb; amb &= amb - 1) {
+      const int f = __builtin_ctz(amb);
+      const auto& q = tables.face_corners[f];
+      double d[4];
+      for (int i = 0; i < 4; ++i) d[i] = static_cast<float>(v[corner_index(base, q[i])] - iso);
+      const bool first_diagonal_inside = (config >> q[0] & 1) != 0;
+      const double in = first_diagonal_inside ? d[0] * d[2] : d[1] * d[3];
+      const double out = first_diagonal_inside ? d[1] * d[3] : d[0] * d[2];
+      if (in > out) decisions |= 1u << f;
+    }
+    return config | decisions << 8;
+  }
+
+  bool crossed(std::size_t n, std::size_t stride) const { return inside(n) != inside(n + stride); }
+
+  Vec3 edge_point(int i, int j, int k, int axis) const {
+    const int at[3] = {i, j, k};
+    const std::size_t n = grid.index(i, j, k);
+    const std::size_t stride = axis == 0 ? sx : (axis == 1 ? sy : sz);
+    const double v0 = v[n], v1 = v[n + stride];
+    const double t = std::clamp((static_cast<double>(iso) - v0) / (v1 - v0), kDelta, 1 - kDelta);
+    double p[3];
+    for (int a = 0; a < 3; ++a) p[a] = grid.coordinate(a, at[a]);
+    const double c1 = grid.coordinate(axis, at[axis] + 1);
+    p[axis] = p[axis] + t * (c1 - p[axis]);
+    return {p[0], p[1], p[2]};
+  }
+
+  // Crossed edges owned by node (i, j, k), the slow general way (grid borders only).
+  int node_edges(int i, int j, int k) const {
+    const std::size_t n = grid.index(i, j, k);
+    return (i + 1 < nx && crossed(n, sx)) + (j + 1 < ny && crossed(n, sy)) +
+           (k + 1 < nz && crossed(n, sz));
+  }
+
+  LayerCounts count(int k) const {
+    LayerCounts r;
+    if (k + 1 == nz) {
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) r.edge_vertices += node_edges(i, j, k);
+      return r;
+    }
+    for (int j = 0; j + 1 < ny; ++j) {
+      for_cells_in_row(j, k, [&](int i, unsigned c) {
+        if (c == 0 || c == 255) return;
+        // Cube edges 0, 4 and 8 leave corner 0: the +x, +y, +z edges that node (i, j, k) owns.
+        r.edge_vertices += (c ^ c >> 1) % 2 + (c ^ c >> 2) % 2 + (c ^ c >> 4) % 2;
+        const detail::McCase& mc = tables.cases[key(grid.index(i, j, k), c)];
+        r.triangles += mc.triangle_count;
+        r.centroids += mc.centroid_count;
+      });
+      r.edge_vertices += node_edges(nx - 1, j, k);
+    }
+    for (int i = 0; i < nx; ++i) r.edge_vertices += node_edges(i, ny - 1, k);
+    return r;
+  }
+
+  // Numbers the crossed edges of node layer k from `first` on, in index order (x, y, z edge of
+  // each node); writes their points when `points` is given (the layer's owner does).
+  void number(int k, std::uint32_t first, LayerIds& ids, Vec3* points) const {
+    const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+    for (auto& e : ids.edge) e.assign(layer, kNone);
+    std::uint32_t id = first;
+    for (int j = 0; j < ny; ++j) {
+      const std::size_t row = grid.index(0, j, k), m0 = sy * static_cast<std::size_t>(j);
+      const bool has_y = j + 1 < ny, has_z = k + 1 < nz;
+      for (int i = 0; i < nx; ++i) {
+        const bool in = v[row + i] < iso;
+        const bool cross[3] = {i + 1 < nx && (v[row + i + 1] < iso) != in,
+                               has_y && (v[row + i + sy] < iso) != in,
+                               has_z && (v[row + i + sz] < iso) != in};
+        for (int a = 0; a < 3; ++a)
+          if (cross[a]) {
+            if (points) points[id] = edge_point(i, j, k, a);
+            ids.edge[a][m0 + i] = id++;
+          }
+      }
+    }
+  }
+
+  // Triangles of cell layer k (between node layers k and k + 1).
+  void fill(int k, const LayerIds& lower, const LayerIds& upper, std::uint32_t first_centroid,
+            Vec3* points, Triangle* triangles) const {
+    // Where cube edge e's vertex id lives: layer, axis and offset from the cell's id index.
+    const std::uint32_t* base_ids[12];
+    std::size_t offset[12];
+    for (int e = 0; e < 12; ++e) {
+      const int c0 = tables.edge_corners[e][0];
+      base_ids[e] = ((c0 >> 2) ? upper : lower).edge[e / 4].data();
+      offset[e] = static_cast<std::size_t>(c0 & 1) + sy * static_cast<std::size_t>(c0 >> 1 & 1);
+    }
+    std::uint32_t centroid = first_centroid;
+    for (int j = 0; j + 1 < ny; ++j) {
+      const std::size_t m0 = sy * static_cast<std::size_t>(j);
+      for_cells_in_row(j, k, [&](int i, unsigned c) {
+        if (c == 0 || c == 255) return;
+        const detail::McCase& mc = tables.cases[key(grid.index(i, j, k), c)];
+        std::uint32_t slot[14];
+        for (unsigned m = tables.crossed_edges[c]; m; m &= m - 1) {
+          const int e = std::countr_zero(m);
+          slot[e] = base_ids[e][m0 + static_cast<std::size_t>(i) + offset[e]];
+        }
+        for (int cc = 0; cc < mc.centroid_count; ++cc) {
+          Vec3 sum;
+          int n = 0;
+          for (unsigned m = mc.centroid_edges[cc]; m; m &= m - 1, ++n) {
+            const int e = std::countr_zero(m), c0 = tables.edge_corners[e][0];
+            sum = sum + edge_point(i + (c0 & 1), j + (c0 >> 1 & 1), k + (c0 >> 2), e / 4);
+          }
+          points[centroid] = (1.0 / n) * sum;
+          slot[12 + cc] = centroid++;
+        }
+        for (int t = 0; t < mc.triangle_count; ++t)
+          *triangles++ = {slot[mc.triangles[t][0]], slot[mc.triangles[t][1]],
+                          slot[mc.triangles[t][2]]};
+      });
+    }
+  }
+};
+
+}  // namespace
+
+TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
+  const Grid& grid = field.grid;
+  if (grid.dims[0] < 2 || grid.dims[1] < 2 || grid.dims[2] < 2)
+    throw InputError("marching_cubes: the grid needs at least 2 nodes along each axis");
+  if (field.values.size() != grid.node_count())
+    throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
+                     " values for " + std::to_string(grid.node_count()) + " grid nodes");
+
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  const std::size_t sy = static_cast<std::size_t>(nx), sz = sy * static_cast<std::size_t>(ny);
+  const Extractor ex{grid, field.values.data(), options.iso, nx, ny, nz, 1, sy,
+                     sz,   detail::mc_tables()};
+  const std::size_t layers = static_cast<std::size_t>(nz);
+  detail::ProgressCounter progress(options.progress, "marching cubes", 2 * layers);
+
+  std::vector<LayerCounts> counts(layers);
+  detail::parallel_for(layers, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      counts[k] = ex.count(static_cast<int>(k));
+      progress.add(1);
+    }
+  });
+
+  // Layer k's vertices: its edge vertices, then the centroid vertices of cell layer k.
+  std::vector<std::size_t> first_vertex(layers + 1, 0), first_triangle(layers + 1, 0);
+  for (std::size_t k = 0; k < layers; ++k) {
+    first_vertex[k + 1] = first_vertex[k] + counts[k].edge_vertices + counts[k].centroids;
+    first_triangle[k + 1] = first_triangle[k] + counts[k].triangles;
+  }
+  if (first_vertex[layers] >= kNone)
+    throw InputError("marching_cubes: more than 2^32 - 1 vertices; use a coarser grid");
+
+  TriangleSoup soup;
+  soup.points.resize(first_vertex[layers]);
+  soup.triangles.resize(first_triangle[layers]);
+  // Ranges of several layers, so that each task numbers the layer above its range only once.
+  detail::parallel_for(layers, 8, [&](std::size_t b, std::size_t e) {
+    LayerIds lower, upper;
+    for (std::size_t k = b; k < e; ++k) {
+      const int kk = static_cast<int>(k);
+      if (k == b)
+        ex.number(kk, static_cast<std::uint32_t>(first_vertex[k]), lower, soup.points.data());
+      else
+        std::swap(lower, upper);
+      if (k + 1 < layers) {
+        // The next layer's points are written by whichever task owns it.
+        ex.number(kk + 1, static_cast<std::uint32_t>(first_vertex[k + 1]), upper,
+                  k + 1 < e ? soup.points.data() : nullptr);
+        ex.fill(kk, lower, upper,
+                static_cast<std::uint32_t>(first_vertex[k] + counts[k].edge_vertices),
+                soup.points.data(), soup.triangles.data() + first_triangle[k]);
+      }
+      progress.add(1);
+    }
+  });
+  progress.finish();
+  return soup;
+}
+
+}  // namespace tpmsfill
