@@ -156,8 +156,15 @@ void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const No
   detail::ProgressCounter progress(options.progress, "distance", n);
   detail::parallel_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
     Nearest nearest(impl.triangles, slack);
+    // Hints: the previous node's answer when it is the x-neighbour, else the last answer in
+    // the same grid column (i) of this chunk, usually one row (one voxel in y) away. Band
+    // nodes come in short runs across each wall, so "the previous node" alone is often on
+    // the other wall.
+    std::vector<std::uint32_t> column(nx, kNoTriangle);
     for (std::size_t c = cb; c < ce; ++c) {
+      std::fill(column.begin(), column.end(), kNoTriangle);
       std::uint32_t hint = kNoTriangle;
+      std::uint64_t previous = ~std::uint64_t{0};
       const std::size_t end = std::min(n, (c + 1) * kChunk);
       for (std::size_t q = c * kChunk; q < end; ++q) {
         const std::uint64_t node = node_of(q);
@@ -165,9 +172,12 @@ void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const No
         const auto j = static_cast<int>((node / nx) % ny);
         const auto k = static_cast<int>(node / (nx * ny));
         const Vec3 p = grid.node(i, j, k);
+        if (node != previous + 1 || hint == kNoTriangle) hint = column[static_cast<std::size_t>(i)];
         nearest.start(p, options.reuse_hints ? hint : kNoTriangle);
         for (const auto& tree : impl.trees) tree->traversal_with_priority(p, nearest);
         hint = nearest.best_id();
+        column[static_cast<std::size_t>(i)] = hint;
+        previous = node;
         const auto d = static_cast<float>(std::sqrt(nearest.best()));
         out[q] = inside.values[node] ? -d : d;
       }

@@ -71,8 +71,11 @@ struct SplitAtMedian {
   }
 };
 
-std::unique_ptr<Tree> build_tree(const std::uint32_t* first, const std::uint32_t* beyond,
+std::unique_ptr<Tree> build_tree(std::uint32_t* first, std::uint32_t* beyond,
                                  const detail::TriangleArray& triangles) {
+  // Ids in memory order: the primitives' boxes are then computed reading the coordinates
+  // sequentially (the median split leaves each half shuffled).
+  std::sort(first, beyond);
   auto tree = std::make_unique<Tree>();
   tree->insert(first, beyond, &triangles);
   tree->custom_build(ComputeBox{}, SplitAtMedian{});
@@ -103,9 +106,27 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions&) {
     throw InputError("cannot build the search tree: no triangle has three distinct corners");
   triangles.shrink_to_fit();
 
+  // Bounds per fixed chunk in parallel, combined in order (min/max: exact either way).
+  constexpr std::size_t kBoxChunk = 1 << 16;
+  std::vector<Box3> boxes((triangles.size() + kBoxChunk - 1) / kBoxChunk);
+  detail::parallel_for(boxes.size(), 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      Vec3 lo = triangles[c * kBoxChunk].v[0], hi = lo;
+      const std::size_t end = std::min(triangles.size(), (c + 1) * kBoxChunk);
+      for (std::size_t t = c * kBoxChunk; t < end; ++t)
+        for (const Vec3& p : triangles[t].v) {
+          lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+          hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+        }
+      boxes[c].min = lo;
+      boxes[c].max = hi;
+    }
+  });
   Box3 box;
-  for (const auto& t : triangles)
-    for (const Vec3& p : t.v) box.extend(p);
+  for (const Box3& b : boxes) {
+    box.extend(b.min);
+    box.extend(b.max);
+  }
   impl->bounds = box;
   impl->magnitude = std::max({std::fabs(box.min.x), std::fabs(box.min.y), std::fabs(box.min.z),
                               std::fabs(box.max.x), std::fabs(box.max.y), std::fabs(box.max.z)});
@@ -113,8 +134,8 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions&) {
   // Triangle ids, split in two halves at the median box centre along the longest axis.
   std::vector<std::uint32_t> ids(triangles.size());
   for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<std::uint32_t>(i);
-  const std::uint32_t* begin = ids.data();
-  const std::uint32_t* end = ids.data() + ids.size();
+  std::uint32_t* begin = ids.data();
+  std::uint32_t* end = ids.data() + ids.size();
   if (ids.size() < kSplitThreshold) {
     impl->trees.push_back(build_tree(begin, end, triangles));
   } else {
@@ -129,7 +150,7 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions&) {
       const double cp = centre(p), cq = centre(q);
       return cp < cq || (cp == cq && p < q);
     });
-    const std::uint32_t* mid = ids.data() + ids.size() / 2;
+    std::uint32_t* mid = ids.data() + ids.size() / 2;
     std::unique_ptr<Tree> low, high;
     tbb::parallel_invoke([&] { low = build_tree(begin, mid, triangles); },
                          [&] { high = build_tree(mid, end, triangles); });
