@@ -6,6 +6,7 @@
 // built below). fill() runs the whole pipeline and validates the result; the report says
 // how it went.
 #include <cstdio>
+#include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <tpmsfill/classify.hpp>
 #include <tpmsfill/compose.hpp>
+#include <tpmsfill/error.hpp>
 #include <tpmsfill/distance.hpp>
 #include <tpmsfill/grid.hpp>
 #include <tpmsfill/io.hpp>

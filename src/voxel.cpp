@@ -27,6 +27,12 @@ void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
     for (std::size_t row = begin; row < end; ++row) {
       const std::uint8_t* a = in + row * nx;
       std::uint8_t* b = out + row * nx;
+      if (r == 1) {  // the common case, as a loop the compiler vectorises
+        b[0] = a[0] | (nx > 1 ? a[1] : 0);
+        for (int i = 1; i + 1 < nx; ++i) b[i] = a[i - 1] | a[i] | a[i + 1];
+        if (nx > 1) b[nx - 1] = a[nx - 2] | a[nx - 1];
+        continue;
+      }
       int last = std::numeric_limits<int>::min() / 2;  // last set index at or before i
       for (int i = 0; i < nx; ++i) {
         if (a[i]) last = i;
