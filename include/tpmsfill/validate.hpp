@@ -22,34 +22,52 @@ namespace tpmsfill {
 
 struct ValidateOptions {
   bool self_intersections = true;  ///< search for intersecting triangle pairs (exact)
-  /// When set, every triangle must lie in one closed cell of this grid (true of
+  /// When set, every triangle should lie in one closed cell of this grid (true of
   /// marching_cubes() output on that grid): the intersection search then only pairs triangles
-  /// of the same or 26-adjacent cells. Otherwise a general box-intersection search is used.
+  /// of the same or 26-adjacent cells (each triangle belongs to the cell of its centroid).
+  /// If some triangle does not lie in its cell (beyond a tolerance of 1e-7 cells), the general
+  /// search runs instead, so the answer never depends on this promise. Without a grid a
+  /// general box-intersection search (CGAL::box_self_intersection_d) is used.
   std::optional<Grid> cell_grid;
   std::size_t max_examples = 10;  ///< example locations kept per defect class
   Progress* progress = nullptr;
 };
 
 struct ValidationReport {
-  std::uint64_t vertices = 0;   ///< points referenced by triangles
+  std::uint64_t vertices = 0;  ///< points referenced by triangles
   std::uint64_t triangles = 0;
-  std::uint64_t border_edges = 0;        ///< undirected edges used by one triangle
-  std::uint64_t non_manifold_edges = 0;  ///< used by three or more
+  std::uint64_t border_edges = 0;           ///< undirected edges used by one triangle
+  std::uint64_t non_manifold_edges = 0;     ///< used by three or more
   std::uint64_t non_manifold_vertices = 0;  ///< whose triangles form more than one fan
-  std::uint64_t inconsistent_edges = 0;  ///< two triangles walking it the same way
-  std::uint64_t degenerate_triangles = 0;  ///< repeated corner or collinear (exact)
-  std::uint64_t duplicate_points = 0;  ///< referenced points whose position another has
-  std::optional<std::uint64_t> self_intersecting_pairs;  ///< unset when not searched
+  std::uint64_t inconsistent_edges = 0;     ///< two triangles walking it the same way
+  std::uint64_t degenerate_triangles = 0;   ///< repeated corner or collinear (exact)
+  /// Referenced points whose position (bit for bit; -0.0 == +0.0) an earlier referenced point
+  /// already has.
+  std::uint64_t duplicate_points = 0;
+  /// Pairs of non-degenerate triangles that intersect with exact predicates, as CGAL's
+  /// PMP::self_intersections decides it with shared corners taken by index: sharing an edge,
+  /// only if they overlap (coplanar, opposite corners on the same side); sharing one corner,
+  /// only if they also meet elsewhere; otherwise if they meet at all. Degenerate triangles are
+  /// counted above and left out of the search. Unset when not searched.
+  std::optional<std::uint64_t> self_intersecting_pairs;
+  /// The search paired triangles by options.cell_grid; false when it was not set, when some
+  /// triangle did not lie in its cell (then the general search ran: for marching-cubes output
+  /// on that grid this means a bug upstream), or when not searched.
+  bool searched_by_cells = false;
   std::uint64_t components = 0;  ///< connected through shared vertices
   double area = 0;               ///< mm^2
-  double volume = 0;             ///< signed, mm^3 (divergence theorem)
+  double volume = 0;             ///< signed, mm^3 (divergence theorem, summed in fixed order)
   /// Every component has a non-zero volume and the total is positive (with the mesh closed
   /// and consistently oriented, normals then point out of the solid).
   bool outward = false;
 
-  std::vector<std::array<std::uint32_t, 2>> self_intersection_examples;  ///< triangle pairs
-  std::vector<std::uint32_t> degenerate_examples;                       ///< triangles
-  std::vector<std::array<Vec3, 2>> bad_edge_examples;  ///< border/non-manifold/inconsistent
+  /// Triangle pairs (i < j), the smallest in lexicographic order.
+  std::vector<std::array<std::uint32_t, 2>> self_intersection_examples;
+  std::vector<std::uint32_t> degenerate_examples;  ///< triangles, in index order
+  /// Up to max_examples border edges, then up to max_examples non-manifold edges, then up to
+  /// max_examples inconsistent edges, each in order of (smaller, larger) point index; the ends
+  /// in the direction the edge's first triangle (lowest index) walks it.
+  std::vector<std::array<Vec3, 2>> bad_edge_examples;
 
   bool closed() const { return border_edges == 0; }
   bool manifold() const { return non_manifold_edges == 0 && non_manifold_vertices == 0; }
@@ -64,11 +82,12 @@ struct ValidationReport {
 ValidationReport validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options = {});
 
 /// Connected components (through shared vertices) of a mesh, with their size and extent.
+/// @throws InputError  an index is out of range
 struct Components {
   std::vector<std::uint32_t> triangle_component;  ///< per triangle, numbered from 0
   struct Info {
     std::uint64_t triangles = 0;
-    double volume = 0;  ///< signed, mm^3
+    double volume = 0;  ///< signed, mm^3 (about the mesh's bounding-box centre if open)
     double area = 0;    ///< mm^2
     std::uint32_t first_triangle = 0;  ///< lowest triangle index in the component
   };
@@ -79,6 +98,7 @@ Components mesh_components(const TriangleSoup& mesh);
 
 /// The mesh with only the triangles whose component has keep[component] set; unreferenced
 /// points are dropped, the remaining points and triangles keep their relative order.
+/// @throws InputError  an index is out of range, or `components` / `keep` do not fit `mesh`
 TriangleSoup keep_components(const TriangleSoup& mesh, const Components& components,
                              const std::vector<bool>& keep);
 
