@@ -255,14 +255,18 @@ std::optional<std::vector<Pair>> intersecting_pairs_in_cells(
   if (!(s > 0) || !std::isfinite(s)) return std::nullopt;
   const std::size_t nt = mesh.triangles.size();
 
-  // One tolerance for all cells, so that neighbouring cells agree on their common bound.
+  // One tolerance for all cells, so that neighbouring cells agree on their common bound. It
+  // covers coordinates rounded to float (fill validates what binary STL stores): a float
+  // ulp relative to the largest coordinate. Any tolerance below a quarter cell keeps the
+  // search complete; a larger one only adds candidate pairs.
   double magnitude =
       std::max({std::fabs(grid.origin.x), std::fabs(grid.origin.y), std::fabs(grid.origin.z)});
   for (const Triangle& t : mesh.triangles)
     for (std::uint32_t v : t)
       magnitude = std::max({magnitude, std::fabs(mesh.points[v].x), std::fabs(mesh.points[v].y),
                             std::fabs(mesh.points[v].z)});
-  const double tol = 1e-7 * s + 256 * std::numeric_limits<double>::epsilon() * (magnitude + s);
+  const double tol = 1e-7 * s + static_cast<double>(std::numeric_limits<float>::epsilon()) *
+                                    (magnitude + s);
   if (!(tol < 0.25 * s) || !std::isfinite(magnitude)) return std::nullopt;
 
   // Cell of each kept triangle, the containment check, and the faces it reaches:
