@@ -80,6 +80,10 @@ std::string to_json(const FillReport& r) {
                       {"self_intersecting_pairs", v.self_intersecting_pairs
                                                       ? json(*v.self_intersecting_pairs)
                                                       : json(nullptr)},
+                      {"self_intersection_search",
+                       !v.self_intersecting_pairs ? json(nullptr)
+                       : v.searched_by_cells      ? json("cells")
+                                                  : json("general")},
                       {"outward", v.outward}}},
       {"stages", stages},
       {"total_seconds", r.total_seconds()},

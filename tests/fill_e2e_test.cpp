@@ -40,6 +40,8 @@ TEST(FillE2E, GyroidInACubeIsHalfSolid) {
   const TriangleSoup cube = test::make_box({0, 0, 0}, {20, 20, 20});
   const FillResult r = fill(cube, options(0.2));
   EXPECT_TRUE(r.report.validation.valid());
+  // The float-rounded output still lies in its cells: the grid-local search was used.
+  EXPECT_TRUE(r.report.validation.searched_by_cells);
   EXPECT_NEAR(r.report.model_volume, 8000.0, 1e-6);  // faces on grid planes: exact spans
   EXPECT_NEAR(r.report.porosity, 0.5, 0.01);
   EXPECT_NEAR(r.report.unclipped_porosity, 0.5, 0.005);
