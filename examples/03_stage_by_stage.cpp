@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <tpmsfill/classify.hpp>
 #include <tpmsfill/compose.hpp>
-#include <tpmsfill/error.hpp>
 #include <tpmsfill/distance.hpp>
+#include <tpmsfill/error.hpp>
 #include <tpmsfill/grid.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/marching_cubes.hpp>
@@ -33,11 +33,12 @@ int main(int argc, char** argv) {
     const Field phi = compose_field(occupancy.inside, band, distance, lattice);  // eq. 5, 10
     const TriangleSoup mesh = marching_cubes(phi);                               // iso-surface
     const ValidationReport check = validate_mesh(mesh, {.cell_grid = grid});     // proof
-    std::printf("grid %d x %d x %d, %zu band nodes of %zu, %zu triangles, volume %.1f of %.1f "
-                "mm3: %s\n",
-                grid.dims[0], grid.dims[1], grid.dims[2], band.nodes.size(), grid.node_count(),
-                mesh.triangles.size(), check.volume, occupancy.volume,
-                check.valid() ? "valid" : check.problems().front().c_str());
+    std::printf(
+        "grid %d x %d x %d, %zu band nodes of %zu, %zu triangles, volume %.1f of %.1f "
+        "mm3: %s\n",
+        grid.dims[0], grid.dims[1], grid.dims[2], band.nodes.size(), grid.node_count(),
+        mesh.triangles.size(), check.volume, occupancy.volume,
+        check.valid() ? "valid" : check.problems().front().c_str());
     if (argc > 2 && check.valid()) write_mesh(argv[2], mesh);
     return check.valid() ? 0 : 1;
   } catch (const Error& e) {

@@ -58,8 +58,8 @@ void require_budget(const Box3& bounds, std::uint64_t triangles, const FillOptio
   const double budget =
       static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
   const double need = estimate_bytes(bounds, triangles, o);
-  *estimate = need >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max()
-                             : static_cast<std::uint64_t>(need);
+  *estimate =
+      need >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(need);
   if (need <= budget) return;
   // The estimate falls as the voxel grows: bisect for the smallest voxel size that fits.
   FillOptions trial = o;
@@ -118,9 +118,9 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
     const Vec3 centroid = (1.0 / 3.0) * (mesh.points[t[0]] + mesh.points[t[1]] + mesh.points[t[2]]);
     int cell[3];
     for (int axis = 0; axis < 3; ++axis)
-      cell[axis] = std::clamp(static_cast<int>(std::floor((centroid[axis] - g.origin[axis]) /
-                                                          g.spacing)),
-                              0, g.dims[axis] - 2);
+      cell[axis] =
+          std::clamp(static_cast<int>(std::floor((centroid[axis] - g.origin[axis]) / g.spacing)), 0,
+                     g.dims[axis] - 2);
     for (int corner = 0; corner < 8 && part[c] == none; ++corner) {
       const int i = cell[0] + (corner & 1), j = cell[1] + (corner >> 1 & 1),
                 k = cell[2] + (corner >> 2 & 1);
@@ -182,9 +182,8 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   std::optional<MeshIndex> tree;
   stage("spatial", [&] { tree.emplace(build_index(model)); });
   const MeshIndex& index = *tree;
-  Occupancy occupancy = stage("classify", [&] {
-    return classify_grid(index, grid, {.progress = options.progress});
-  });
+  Occupancy occupancy =
+      stage("classify", [&] { return classify_grid(index, grid, {.progress = options.progress}); });
   r.rays = occupancy.rays;
   r.crossings = occupancy.crossings;
   r.odd_rays = occupancy.odd_rays;
@@ -200,8 +199,9 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
     const Band band = stage("band", [&] { return band_voxels(occupancy.inside, options.band); });
     r.band_nodes = band.nodes.size();
     r.distance_queries = band.nodes.size();
-    const std::vector<float> d = stage(
-        "distance", [&] { return band_distances(index, occupancy.inside, band, distance_options); });
+    const std::vector<float> d = stage("distance", [&] {
+      return band_distances(index, occupancy.inside, band, distance_options);
+    });
     phi = stage("compose", [&] {
       return compose_field(occupancy.inside, band, d, options.lattice, options.progress);
     });
@@ -220,8 +220,7 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   if (!options.keep_islands) {
     stage("islands", [&] {
       const Components comps = mesh_components(mesh);
-      const std::vector<bool> keep =
-          main_bodies(mesh, comps, phi, label_regions(occupancy.inside));
+      const std::vector<bool> keep = main_bodies(mesh, comps, phi, label_regions(occupancy.inside));
       for (std::size_t c = 0; c < keep.size(); ++c)
         if (!keep[c]) {
           ++r.islands_removed;
@@ -234,8 +233,9 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   occupancy = Occupancy{};
 
   if (mesh.triangles.empty())
-    throw InputError("the lattice is empty: no part of the model is thicker than the lattice's "
-                     "struts at this voxel size (try a smaller --voxel or a larger --cell)");
+    throw InputError(
+        "the lattice is empty: no part of the model is thicker than the lattice's "
+        "struts at this voxel size (try a smaller --voxel or a larger --cell)");
   if (options.float_coordinates)
     for (Vec3& p : mesh.points)
       p = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};

@@ -44,8 +44,9 @@ Grid make_grid(const Box3& bounds, const GridOptions& options) {
   for (int axis = 0; axis < 3; ++axis) {
     const double n = nodes_along(bounds.max[axis] - bounds.min[axis], options);
     if (n > std::numeric_limits<int>::max())
-      throw InputError("the grid would have more than 2^31 nodes along one axis; use a larger "
-                       "voxel size");
+      throw InputError(
+          "the grid would have more than 2^31 nodes along one axis; use a larger "
+          "voxel size");
     grid.dims[axis] = static_cast<int>(n);
   }
   return grid;

@@ -39,21 +39,27 @@ std::string to_json(const FillReport& r) {
   const ValidationReport& v = r.validation;
   json stages = json::array();
   for (const StageTime& t : r.stages)
-    stages.push_back({{"name", t.name}, {"seconds", t.seconds}, {"peak_memory_mb", t.peak_memory_mb}});
+    stages.push_back(
+        {{"name", t.name}, {"seconds", t.seconds}, {"peak_memory_mb", t.peak_memory_mb}});
   json j = {
       {"valid", v.valid()},
       {"problems", v.problems()},
       {"warnings", r.warnings},
-      {"input", {{"triangles", r.input_triangles},
-                 {"bbox", r.input_bbox.empty()
-                              ? json(nullptr)
-                              : json{{"min", point(r.input_bbox.min)}, {"max", point(r.input_bbox.max)}}}}},
-      {"lattice", {{"type", r.lattice}, {"cell", point(r.cell)}, {"level", r.level},
-                   {"thickness", r.thickness}}},
-      {"grid", {{"origin", point(r.grid.origin)},
-                {"voxel", r.grid.spacing},
-                {"dims", r.grid.dims},
-                {"samples", r.samples}}},
+      {"input",
+       {{"triangles", r.input_triangles},
+        {"bbox", r.input_bbox.empty()
+                     ? json(nullptr)
+                     : json{{"min", point(r.input_bbox.min)}, {"max", point(r.input_bbox.max)}}}}},
+      {"lattice",
+       {{"type", r.lattice},
+        {"cell", point(r.cell)},
+        {"level", r.level},
+        {"thickness", r.thickness}}},
+      {"grid",
+       {{"origin", point(r.grid.origin)},
+        {"voxel", r.grid.spacing},
+        {"dims", r.grid.dims},
+        {"samples", r.samples}}},
       {"band_nodes", r.band_nodes},
       {"distance_queries", r.distance_queries},
       {"full_field", r.full_field},
@@ -61,30 +67,32 @@ std::string to_json(const FillReport& r) {
       {"crossings", r.crossings},
       {"odd_rays", r.odd_rays},
       {"estimated_memory_bytes", r.estimated_memory_bytes},
-      {"output", {{"vertices", r.vertices}, {"triangles", r.triangles},
-                  {"components", r.components}, {"surface_area", r.surface_area}}},
+      {"output",
+       {{"vertices", r.vertices},
+        {"triangles", r.triangles},
+        {"components", r.components},
+        {"surface_area", r.surface_area}}},
       {"lattice_volume", r.lattice_volume},
       {"model_volume", r.model_volume},
       {"porosity", r.porosity},
       {"unclipped_porosity", r.unclipped_porosity},
       {"islands_removed", r.islands_removed},
       {"islands_volume", r.islands_volume},
-      {"validation", {{"closed", v.closed()},
-                      {"manifold", v.manifold()},
-                      {"border_edges", v.border_edges},
-                      {"non_manifold_edges", v.non_manifold_edges},
-                      {"non_manifold_vertices", v.non_manifold_vertices},
-                      {"inconsistent_edges", v.inconsistent_edges},
-                      {"degenerate_triangles", v.degenerate_triangles},
-                      {"duplicate_points", v.duplicate_points},
-                      {"self_intersecting_pairs", v.self_intersecting_pairs
-                                                      ? json(*v.self_intersecting_pairs)
-                                                      : json(nullptr)},
-                      {"self_intersection_search",
-                       !v.self_intersecting_pairs ? json(nullptr)
-                       : v.searched_by_cells      ? json("cells")
-                                                  : json("general")},
-                      {"outward", v.outward}}},
+      {"validation",
+       {{"closed", v.closed()},
+        {"manifold", v.manifold()},
+        {"border_edges", v.border_edges},
+        {"non_manifold_edges", v.non_manifold_edges},
+        {"non_manifold_vertices", v.non_manifold_vertices},
+        {"inconsistent_edges", v.inconsistent_edges},
+        {"degenerate_triangles", v.degenerate_triangles},
+        {"duplicate_points", v.duplicate_points},
+        {"self_intersecting_pairs",
+         v.self_intersecting_pairs ? json(*v.self_intersecting_pairs) : json(nullptr)},
+        {"self_intersection_search", !v.self_intersecting_pairs ? json(nullptr)
+                                     : v.searched_by_cells      ? json("cells")
+                                                                : json("general")},
+        {"outward", v.outward}}},
       {"stages", stages},
       {"total_seconds", r.total_seconds()},
       {"peak_memory_mb", peak_memory_mb()},
@@ -95,15 +103,16 @@ std::string to_json(const FillReport& r) {
 std::string to_text(const FillReport& r) {
   const ValidationReport& v = r.validation;
   std::string s;
-  s += "lattice      " + r.lattice + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z) +
-       "\n";
+  s += "lattice      " + r.lattice +
+       format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z) + "\n";
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
   s += format("distances    %.3g queries", static_cast<double>(r.distance_queries)) +
-       (r.full_field ? std::string(" (full field)\n")
-                     : format(" on the band (%.1fx fewer than the full field)\n",
-                              static_cast<double>(r.samples) /
-                                  static_cast<double>(std::max<std::uint64_t>(r.distance_queries, 1))));
+       (r.full_field
+            ? std::string(" (full field)\n")
+            : format(" on the band (%.1fx fewer than the full field)\n",
+                     static_cast<double>(r.samples) /
+                         static_cast<double>(std::max<std::uint64_t>(r.distance_queries, 1))));
   s += format("output       %.0f vertices, %.0f triangles", static_cast<double>(r.vertices),
               static_cast<double>(r.triangles)) +
        format(", %.0f component(s), area %.1f mm2\n", static_cast<double>(r.components),
@@ -116,16 +125,15 @@ std::string to_text(const FillReport& r) {
                 r.islands_volume);
   s += std::string("validation   ") +
        (v.valid() ? "closed 2-manifold, outward, no degenerate faces" : "FAILED") +
-       (v.self_intersecting_pairs ? (*v.self_intersecting_pairs == 0 ? ", no self-intersections"
-                                                                    : "")
-                                  : ", self-intersections not searched") +
+       (v.self_intersecting_pairs
+            ? (*v.self_intersecting_pairs == 0 ? ", no self-intersections" : "")
+            : ", self-intersections not searched") +
        "\n";
   for (const std::string& p : v.problems()) s += "  problem: " + p + "\n";
   for (const std::string& w : r.warnings) s += "warning      " + w + "\n";
   s += "stage            seconds   peak MB\n";
   for (const StageTime& t : r.stages)
-    s += "  " + t.name +
-         std::string(t.name.size() < 14 ? 14 - t.name.size() : 0, ' ') +
+    s += "  " + t.name + std::string(t.name.size() < 14 ? 14 - t.name.size() : 0, ' ') +
          format(" %8.3f  %8.0f\n", t.seconds, t.peak_memory_mb);
   s += format("  total          %8.3f\n", r.total_seconds());
   return s;

@@ -82,8 +82,8 @@ double lattice_solid_fraction(const TpmsOptions& options, int samples) {
   std::vector<detail::AxisTrig> t[3];
   for (int axis = 0; axis < 3; ++axis)
     for (int i = 0; i < samples; ++i)
-      t[axis].push_back(kernel.trig(
-          axis, options.origin[axis] + options.cell[axis] * (i + 0.5) / samples));
+      t[axis].push_back(
+          kernel.trig(axis, options.origin[axis] + options.cell[axis] * (i + 0.5) / samples));
   const std::size_t n = static_cast<std::size_t>(samples) * samples;
   const double solid = detail::deterministic_sum(n, 64, [&](std::size_t jk) {
     const std::size_t j = jk % samples, k = jk / samples;

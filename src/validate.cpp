@@ -265,8 +265,8 @@ std::optional<std::vector<Pair>> intersecting_pairs_in_cells(
     for (std::uint32_t v : t)
       magnitude = std::max({magnitude, std::fabs(mesh.points[v].x), std::fabs(mesh.points[v].y),
                             std::fabs(mesh.points[v].z)});
-  const double tol = 1e-7 * s + static_cast<double>(std::numeric_limits<float>::epsilon()) *
-                                    (magnitude + s);
+  const double tol =
+      1e-7 * s + static_cast<double>(std::numeric_limits<float>::epsilon()) * (magnitude + s);
   if (!(tol < 0.25 * s) || !std::isfinite(magnitude)) return std::nullopt;
 
   // Cell of each kept triangle, the containment check, and the faces it reaches:

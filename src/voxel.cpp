@@ -194,7 +194,8 @@ Regions label_regions(const Mask& mask) {
       counts[row] = n;
     }
   });
-  for (std::size_t row = 0; row < rows; ++row) r.row_start[row + 1] = r.row_start[row] + counts[row];
+  for (std::size_t row = 0; row < rows; ++row)
+    r.row_start[row + 1] = r.row_start[row] + counts[row];
   if (r.row_start.back() >= std::numeric_limits<std::uint32_t>::max())
     throw InputError("too many runs to label");
   r.runs.resize(r.row_start.back());
@@ -228,8 +229,8 @@ Regions label_regions(const Mask& mask) {
             for (std::uint64_t b = r.row_start[other]; b < r.row_start[other + 1]; ++b) {
               const Regions::Run& o = r.runs[b];
               if (o.begin > run.end) break;  // widened overlap: o.begin <= run.end
-              if (o.end >= run.begin) uf.unite(static_cast<std::uint32_t>(a),
-                                               static_cast<std::uint32_t>(b));
+              if (o.end >= run.begin)
+                uf.unite(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
             }
           }
       }

@@ -145,12 +145,12 @@ TEST(Cli, FillWritesAValidLatticeAndReport) {
   const auto dir = test::scratch_dir();
   write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 5.0, 4));
   std::string out;
-  ASSERT_EQ(test::run_command(cli() + " fill '" + (dir / "ball.stl").string() + "' '" +
-                                  (dir / "lattice.stl").string() +
-                                  "' --cell 2 --voxel 0.25 --report '" +
-                                  (dir / "r.json").string() + "'",
-                              &out),
-            0)
+  ASSERT_EQ(
+      test::run_command(cli() + " fill '" + (dir / "ball.stl").string() + "' '" +
+                            (dir / "lattice.stl").string() + "' --cell 2 --voxel 0.25 --report '" +
+                            (dir / "r.json").string() + "'",
+                        &out),
+      0)
       << out;
   EXPECT_NE(out.find("porosity"), std::string::npos) << out;
   const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
@@ -168,15 +168,19 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
   const std::string in = "'" + (dir / "ball.stl").string() + "' ";
   const std::string lattice = "'" + (dir / "lattice.stl").string() + "'";
   std::string out;
-  const std::vector<std::string> cases = {in + lattice + " --lattice kelvin", in + lattice + " --voxel 0",
-        in + lattice + " --cell 1 2", in + lattice + " --thickness 0.2",
-        in + lattice + " --voxel 0.001 --memory 64M", in + "'" + (dir / "x.xyz").string() + "'",
-        "'" + (dir / "missing.stl").string() + "' " + lattice};
+  const std::vector<std::string> cases = {in + lattice + " --lattice kelvin",
+                                          in + lattice + " --voxel 0",
+                                          in + lattice + " --cell 1 2",
+                                          in + lattice + " --thickness 0.2",
+                                          in + lattice + " --voxel 0.001 --memory 64M",
+                                          in + "'" + (dir / "x.xyz").string() + "'",
+                                          "'" + (dir / "missing.stl").string() + "' " + lattice};
   for (const std::string& args : cases) {
     EXPECT_EQ(test::run_command(cli() + " fill " + args, &out), 2) << args << "\n" << out;
     EXPECT_EQ(count_lines(out), 1u) << out;
     EXPECT_FALSE(std::filesystem::exists(dir / "lattice.stl")) << args;
   }
-  EXPECT_EQ(test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 64M", &out), 2);
+  EXPECT_EQ(
+      test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 64M", &out), 2);
   EXPECT_NE(out.find("voxel size of"), std::string::npos) << out;
 }

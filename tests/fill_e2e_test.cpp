@@ -120,8 +120,8 @@ TEST(FillE2E, SameBytesForAnyThreadCount) {
 
 TEST(FillE2E, IslandsAreRemovedPerPartOfTheModel) {
   // Two disjoint balls: each keeps its own main body, fragments cut off by the surface go.
-  const TriangleSoup two = test::concat(test::make_sphere({0, 0, 0}, 4.0, 4),
-                                        test::make_sphere({12, 0, 0}, 3.0, 4));
+  const TriangleSoup two =
+      test::concat(test::make_sphere({0, 0, 0}, 4.0, 4), test::make_sphere({12, 0, 0}, 3.0, 4));
   FillOptions o = options(0.2);
   const FillResult kept = [&] {
     FillOptions k = o;
@@ -133,7 +133,8 @@ TEST(FillE2E, IslandsAreRemovedPerPartOfTheModel) {
   EXPECT_EQ(kept.report.components, cleaned.report.components + cleaned.report.islands_removed);
   EXPECT_NEAR(kept.report.lattice_volume,
               cleaned.report.lattice_volume + cleaned.report.islands_volume, 1e-6);
-  for (const Vec3& p : cleaned.mesh.points) EXPECT_TRUE(norm(p) <= 4.2 || norm(p - Vec3{12, 0, 0}) <= 3.2);
+  for (const Vec3& p : cleaned.mesh.points)
+    EXPECT_TRUE(norm(p) <= 4.2 || norm(p - Vec3{12, 0, 0}) <= 3.2);
   expect_printable(cleaned.mesh);
 }
 

@@ -45,6 +45,6 @@ TEST(Grid, RejectsBadOptionsAndBoxes) {
   EXPECT_THROW(make_grid(box, {.voxel_size = std::nan("")}), InputError);
   EXPECT_THROW(make_grid(box, {.voxel_size = 0.1, .padding = 1}), InputError);
   EXPECT_THROW(make_grid(Box3{}, {}), InputError);
-  EXPECT_THROW(make_grid(box, {.voxel_size = 1e-12}), InputError);  // > 2^31 nodes per axis
+  EXPECT_THROW(make_grid(box, {.voxel_size = 1e-12}), InputError);     // > 2^31 nodes per axis
   EXPECT_EQ(grid_node_count(box, {.voxel_size = 1e-12}), UINT64_MAX);  // saturates
 }

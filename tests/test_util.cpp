@@ -80,7 +80,9 @@ TriangleSoup make_tube(double outer_radius, double inner_radius, double height, 
       tube.points.push_back({outer_radius * std::cos(u), outer_radius * std::sin(u), z});
       tube.points.push_back({inner_radius * std::cos(u), inner_radius * std::sin(u), z});
     }
-  auto outer = [&](int s, int r) { return static_cast<std::uint32_t>(2 * (r * segments + s % segments)); };
+  auto outer = [&](int s, int r) {
+    return static_cast<std::uint32_t>(2 * (r * segments + s % segments));
+  };
   auto inner = [&](int s, int r) { return outer(s, r) + 1; };
   for (int r = 0; r + 1 < rings; ++r)
     for (int s = 0; s < segments; ++s) {

@@ -27,9 +27,10 @@ double raw_f(Lattice type, Vec3 p, Vec3 cell) {
 
 Vec3 numeric_gradient(Lattice type, Vec3 p, Vec3 cell) {
   const double h = 1e-6;
-  return {(raw_f(type, {p.x + h, p.y, p.z}, cell) - raw_f(type, {p.x - h, p.y, p.z}, cell)) / (2 * h),
-          (raw_f(type, {p.x, p.y + h, p.z}, cell) - raw_f(type, {p.x, p.y - h, p.z}, cell)) / (2 * h),
-          (raw_f(type, {p.x, p.y, p.z + h}, cell) - raw_f(type, {p.x, p.y, p.z - h}, cell)) / (2 * h)};
+  return {
+      (raw_f(type, {p.x + h, p.y, p.z}, cell) - raw_f(type, {p.x - h, p.y, p.z}, cell)) / (2 * h),
+      (raw_f(type, {p.x, p.y + h, p.z}, cell) - raw_f(type, {p.x, p.y - h, p.z}, cell)) / (2 * h),
+      (raw_f(type, {p.x, p.y, p.z + h}, cell) - raw_f(type, {p.x, p.y, p.z - h}, cell)) / (2 * h)};
 }
 
 const Lattice kTypes[] = {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond};
@@ -44,8 +45,10 @@ TEST(Tpms, NetworkValueIsFOverItsGradientNorm) {
     for (int n = 0; n < 500; ++n) {
       const Vec3 p{u(rng), u(rng), u(rng)};
       const double f = raw_f(type, p, o.cell), g = norm(numeric_gradient(type, p, o.cell));
-      const double expected = std::fabs(f) >= 3 * g ? std::copysign(3.0, f) : f / g;  // clamp: max T
-      EXPECT_NEAR(tpms_value(p, o), expected, 1e-4 * (1 + std::fabs(expected))) << lattice_name(type);
+      const double expected =
+          std::fabs(f) >= 3 * g ? std::copysign(3.0, f) : f / g;  // clamp: max T
+      EXPECT_NEAR(tpms_value(p, o), expected, 1e-4 * (1 + std::fabs(expected)))
+          << lattice_name(type);
     }
   }
 }
@@ -124,8 +127,8 @@ TEST(Tpms, ThinSheetVolumeIsAreaTimesThickness) {
   // Gyroid area per unit cell is about 3.0915·T² (Schoen), so a thin sheet fills
   // 3.0915·t/T of space.
   for (double t : {0.05, 0.1}) {
-    const double fraction =
-        lattice_solid_fraction({.style = LatticeStyle::Sheet, .cell = {2, 2, 2}, .thickness = t}, 160);
+    const double fraction = lattice_solid_fraction(
+        {.style = LatticeStyle::Sheet, .cell = {2, 2, 2}, .thickness = t}, 160);
     EXPECT_NEAR(fraction, 3.0915 * t / 2, 0.03 * 3.0915 * t / 2);
   }
 }

@@ -23,10 +23,10 @@ struct FillReport {
   // --- input and settings ---------------------------------------------------------------
   std::uint64_t input_triangles = 0;
   Box3 input_bbox;
-  std::string lattice;      ///< "gyroid network", "diamond sheet", ...
-  Vec3 cell;                ///< mm
-  double level = 0;         ///< mm (network)
-  double thickness = 0;     ///< mm (sheet)
+  std::string lattice;   ///< "gyroid network", "diamond sheet", ...
+  Vec3 cell;             ///< mm
+  double level = 0;      ///< mm (network)
+  double thickness = 0;  ///< mm (sheet)
   // --- grid and field -------------------------------------------------------------------
   Grid grid;
   std::uint64_t samples = 0;           ///< grid nodes
@@ -34,15 +34,15 @@ struct FillReport {
   std::uint64_t distance_queries = 0;  ///< closest-point queries made
   bool full_field = false;             ///< distances at every node (--full-field)
   std::uint64_t rays = 0, crossings = 0;
-  std::uint64_t odd_rays = 0;          ///< rows with an odd crossing count (input not closed)
+  std::uint64_t odd_rays = 0;  ///< rows with an odd crossing count (input not closed)
   std::uint64_t estimated_memory_bytes = 0;
   // --- output ----------------------------------------------------------------------------
   std::uint64_t vertices = 0, triangles = 0;
-  double lattice_volume = 0;   ///< mm^3, of the written mesh
-  double model_volume = 0;     ///< mm^3, enclosed by the input (measured along the rays)
-  double porosity = 0;         ///< 1 − lattice_volume / model_volume
-  double unclipped_porosity = 0;  ///< of the infinite lattice (one cell, sampled)
-  double surface_area = 0;     ///< mm^2, of the written mesh
+  double lattice_volume = 0;          ///< mm^3, of the written mesh
+  double model_volume = 0;            ///< mm^3, enclosed by the input (measured along the rays)
+  double porosity = 0;                ///< 1 − lattice_volume / model_volume
+  double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)
+  double surface_area = 0;            ///< mm^2, of the written mesh
   std::uint64_t components = 0;       ///< of the written mesh
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3

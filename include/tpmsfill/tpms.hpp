@@ -5,8 +5,9 @@
 /// periodic function f (table in docs/method.md and DESIGN.md). f is not a distance, so
 /// tpmsfill uses f̃ = f/|∇f|, a first-order distance in mm, clamped to ±max(T) where |∇f|
 /// vanishes away from the surface. Then:
-///   network:  φ_TPMS = f̃ + level          (solid where φ < 0; level in mm, 0 = the minimal surface)
-///   sheet:    φ_TPMS = |f̃| − thickness/2  (solid within thickness/2 of the minimal surface)
+///   network:  φ_TPMS = f̃ + level          (solid where φ < 0; level in mm, 0 = the minimal
+///   surface) sheet:    φ_TPMS = |f̃| − thickness/2  (solid within thickness/2 of the minimal
+///   surface)
 /// Evaluation is separable: the per-axis sines and cosines are computed once per grid line,
 /// so a sample costs a few multiply-adds, a square root and a division.
 #pragma once
@@ -29,9 +30,9 @@ enum class LatticeStyle { Network, Sheet };
 struct TpmsOptions {
   Lattice type = Lattice::Gyroid;
   LatticeStyle style = LatticeStyle::Network;
-  Vec3 cell = {2, 2, 2};   ///< cell size T per axis, mm (> 0)
-  double level = 0;        ///< network: offset of the solid's boundary, mm (+ = thinner)
-  double thickness = 0.3;  ///< sheet: wall thickness, mm (> 0)
+  Vec3 cell = {2, 2, 2};    ///< cell size T per axis, mm (> 0)
+  double level = 0;         ///< network: offset of the solid's boundary, mm (+ = thinner)
+  double thickness = 0.3;   ///< sheet: wall thickness, mm (> 0)
   Vec3 origin = {0, 0, 0};  ///< where the phase is zero, mm (shifts the lattice)
 };
 

@@ -7,8 +7,8 @@
 #pragma once
 
 #include <array>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -79,9 +79,9 @@ inline Box3 bounding_box(const TriangleSoup& soup) {
 /// Every stage computes a node's coordinate with coordinate()/node(), so a node has one set of
 /// bit-identical coordinates everywhere (classification, distances, marching cubes).
 struct Grid {
-  Vec3 origin;                 ///< position of node (0, 0, 0), mm
-  double spacing = 1.0;        ///< voxel size a (same on all axes), mm
-  std::array<int, 3> dims{};   ///< nodes along x, y, z
+  Vec3 origin;                ///< position of node (0, 0, 0), mm
+  double spacing = 1.0;       ///< voxel size a (same on all axes), mm
+  std::array<int, 3> dims{};  ///< nodes along x, y, z
 
   std::size_t node_count() const {
     return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
@@ -90,8 +90,8 @@ struct Grid {
   std::size_t index(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(dims[0]) *
-               (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims[1]) *
-                                                  static_cast<std::size_t>(k));
+               (static_cast<std::size_t>(j) +
+                static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(k));
   }
   /// Coordinate of node number i along axis (0 = x, 1 = y, 2 = z), mm.
   double coordinate(int axis, int i) const { return origin[axis] + spacing * i; }

@@ -44,7 +44,8 @@ struct Regions {
     std::uint32_t region = 0;
   };
   Grid grid;
-  std::vector<std::uint64_t> row_start;  ///< runs of row (j, k) are runs[row_start[r] .. row_start[r+1])
+  std::vector<std::uint64_t>
+      row_start;  ///< runs of row (j, k) are runs[row_start[r] .. row_start[r+1])
   std::vector<Run> runs;
   std::uint32_t count = 0;  ///< regions, numbered 0.. in order of their first node
 

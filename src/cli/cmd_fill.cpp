@@ -45,7 +45,7 @@ std::uint64_t parse_bytes(const std::string& text) {
   }
   std::string unit = text.substr(used);
   if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
-  const double scale = unit.empty() ? 1.0
+  const double scale = unit.empty()                 ? 1.0
                        : unit == "K" || unit == "k" ? 1024.0
                        : unit == "M" || unit == "m" ? 1024.0 * 1024
                        : unit == "G" || unit == "g" ? 1024.0 * 1024 * 1024
@@ -117,7 +117,8 @@ int run_fill(const FillArgs& args) {
     throw InputError("--cell takes one size or three (x y z), in mm");
   options.lattice.cell = args.cell.size() == 1 ? Vec3{args.cell[0], args.cell[0], args.cell[0]}
                                                : Vec3{args.cell[0], args.cell[1], args.cell[2]};
-  if (args.sheet && args.level) throw InputError("--level is for network lattices; use --thickness with --sheet");
+  if (args.sheet && args.level)
+    throw InputError("--level is for network lattices; use --thickness with --sheet");
   if (!args.sheet && args.thickness) throw InputError("--thickness needs --sheet");
   if (args.level) options.lattice.level = *args.level;
   if (args.thickness) options.lattice.thickness = *args.thickness;
@@ -165,8 +166,8 @@ int run_fill(const FillArgs& args) {
 
 Command add_fill_command(CLI::App& app) {
   auto args = std::make_shared<FillArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "fill", "Fill a closed mesh with a TPMS lattice clipped to its surface");
+  CLI::App* sub =
+      app.add_subcommand("fill", "Fill a closed mesh with a TPMS lattice clipped to its surface");
   sub->footer(
       "The lattice is the zero level of max(model distance, TPMS field), meshed by marching "
       "cubes on a grid of --voxel mm, and validated before it is written: closed, 2-manifold, "
@@ -175,16 +176,19 @@ Command add_fill_command(CLI::App& app) {
       "sheet lattices are walls of --thickness around the minimal surface.\n\n"
       "Examples:\n"
       "  tpmsfill fill femur.stl scaffold.stl --lattice gyroid --cell 2 --voxel 0.1\n"
-      "  tpmsfill fill part.obj shell.stl --lattice diamond --sheet --thickness 0.4 --report r.json\n\n"
+      "  tpmsfill fill part.obj shell.stl --lattice diamond --sheet --thickness 0.4 --report "
+      "r.json\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input, "Closed mesh: STL, OBJ, PLY or OFF (gzip allowed), mm")
       ->required();
-  sub->add_option("OUT", args->output, "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
+  sub->add_option("OUT", args->output,
+                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
       ->required();
   sub->add_option("--lattice", args->lattice, "gyroid, primitive or diamond (default gyroid)");
   sub->add_flag("--sheet", args->sheet, "Sheet (shell) lattice instead of a network");
-  sub->add_option("--cell", args->cell, "Cell size in mm: one value, or three for x y z (default 2)")
+  sub->add_option("--cell", args->cell,
+                  "Cell size in mm: one value, or three for x y z (default 2)")
       ->expected(1, 3);
   sub->add_option("--level", args->level,
                   "Network level in mm: 0 is the minimal surface, positive thins the struts "

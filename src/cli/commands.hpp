@@ -9,8 +9,9 @@ namespace tpmsfill::cli {
 
 /// Exit codes shared by all commands.
 enum ExitCode : int {
-  kOk = 0,        ///< the command did what was asked (check: the mesh is valid)
-  kNotValid = 1,  ///< check: the mesh is not a valid closed 2-manifold; fill: the lattice failed validation
+  kOk = 0,  ///< the command did what was asked (check: the mesh is valid)
+  kNotValid =
+      1,  ///< check: the mesh is not a valid closed 2-manifold; fill: the lattice failed validation
   kBadInput = 2,  ///< the input cannot be read, or the command line is wrong
   kInternal = 3,  ///< a bug: an unexpected exception
 };

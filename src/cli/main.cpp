@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Run 'tpmsfill COMMAND --help' for a command's options. Exit codes: 0 ok, 1 mesh "
-      "not valid (check) or lattice failed validation (fill), 2 unreadable input or bad arguments, 3 internal error.");
+      "not valid (check) or lattice failed validation (fill), 2 unreadable input or bad arguments, "
+      "3 internal error.");
 
   Command check = add_check_command(app);
   Command fill = add_fill_command(app);
@@ -32,8 +33,10 @@ int main(int argc, char** argv) {
 
   try {
     for (CLI::App* sub : app.get_subcommands())
-      if (sub->get_name() == "check") return check();
-      else if (sub->get_name() == "fill") return fill();
+      if (sub->get_name() == "check")
+        return check();
+      else if (sub->get_name() == "fill")
+        return fill();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

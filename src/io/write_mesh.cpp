@@ -18,8 +18,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "detail/soup_indices.hpp"
 #include "detail/parallel.hpp"
+#include "detail/soup_indices.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
