@@ -11,16 +11,6 @@
 namespace tpmsfill {
 namespace {
 
-/// A grid with `spacing` that covers box grown by `pad` mm on every side.
-Grid grid_around(Box3 box, double spacing, double pad) {
-  Grid g;
-  g.origin = box.min - Vec3{pad, pad, pad};
-  g.spacing = spacing;
-  for (int a = 0; a < 3; ++a)
-    g.dims[a] = static_cast<int>(std::ceil((box.max[a] - box.min[a] + 2 * pad) / spacing)) + 1;
-  return g;
-}
-
 Occupancy classify(const TriangleSoup& soup, const Grid& grid) {
   return classify_grid(build_index(soup), grid);
 }
@@ -38,7 +28,7 @@ TEST(Classify, SphereNodesInsideIffInsideThePolyhedron) {
   const Vec3 c{0.13, -0.21, 0.37};
   const double r = 5.0;
   const TriangleSoup sphere = test::make_sphere(c, r, 4);  // 5,120 triangles
-  const Grid grid = grid_around(bounding_box(sphere), 0.2, 0.5);
+  const Grid grid = test::grid_around(bounding_box(sphere), 0.2, 0.5);
   const Occupancy occ = classify(sphere, grid);
   // The icosphere is inscribed: it lies inside the sphere and contains the sphere of radius
   // r - 0.02 (its largest sagitta at 4 levels is below 0.01 mm for r = 5).
@@ -87,7 +77,7 @@ TEST(Classify, CubeOnGridPlanesIsExact) {
 
 TEST(Classify, UnweldedSoupGivesTheSameMask) {
   const TriangleSoup torus = test::make_torus(3, 1, 48, 24);
-  const Grid grid = grid_around(bounding_box(torus), 0.1, 0.3);
+  const Grid grid = test::grid_around(bounding_box(torus), 0.1, 0.3);
   const Occupancy welded = classify(torus, grid);
   const Occupancy soup = classify(test::unshare_points(torus), grid);
   EXPECT_EQ(welded.inside.values, soup.inside.values);
@@ -97,7 +87,7 @@ TEST(Classify, UnweldedSoupGivesTheSameMask) {
 
 TEST(Classify, FlippedFacesDoNotChangeParity) {
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 2.0, 3);
-  const Grid grid = grid_around(bounding_box(sphere), 0.1, 0.2);
+  const Grid grid = test::grid_around(bounding_box(sphere), 0.1, 0.2);
   const Occupancy ref = classify(sphere, grid);
   EXPECT_EQ(classify(test::flip(sphere), grid).inside.values, ref.inside.values);
   EXPECT_EQ(classify(test::flip(sphere, 17), grid).inside.values, ref.inside.values);
@@ -106,7 +96,7 @@ TEST(Classify, FlippedFacesDoNotChangeParity) {
 TEST(Classify, TorusHoleIsOutside) {
   const double R = 3, r = 1;
   const TriangleSoup torus = test::make_torus(R, r, 64, 32);
-  const Grid grid = grid_around(bounding_box(torus), 0.05, 0.25);
+  const Grid grid = test::grid_around(bounding_box(torus), 0.05, 0.25);
   const Occupancy occ = classify(torus, grid);
   for_each_node(occ.inside, [&](int i, int j, int k, std::uint8_t v) {
     const Vec3 p = grid.node(i, j, k);
@@ -141,7 +131,7 @@ TEST(Classify, TwoDisjointSpheres) {
   const Vec3 c1{-3, 0, 0}, c2{3.5, 0.5, 0};
   const TriangleSoup two =
       test::concat(test::make_sphere(c1, 2.0, 4), test::make_sphere(c2, 2.5, 4));
-  const Grid grid = grid_around(bounding_box(two), 0.1, 0.3);
+  const Grid grid = test::grid_around(bounding_box(two), 0.1, 0.3);
   const Occupancy occ = classify(two, grid);
   for_each_node(occ.inside, [&](int i, int j, int k, std::uint8_t v) {
     const Vec3 p = grid.node(i, j, k);
@@ -170,7 +160,7 @@ TEST(Classify, GridSmallerThanTheModelStillCountsCrossingsOutsideIt) {
 
 TEST(Classify, DeterministicAcrossRuns) {
   const TriangleSoup sphere = test::make_sphere({0.3, 0.1, 0}, 3.0, 6);  // 81,920: two trees
-  const Grid grid = grid_around(bounding_box(sphere), 0.05, 0.1);
+  const Grid grid = test::grid_around(bounding_box(sphere), 0.05, 0.1);
   const Occupancy a = classify(sphere, grid), b = classify(sphere, grid);
   EXPECT_EQ(a.inside.values, b.inside.values);
   EXPECT_EQ(a.volume, b.volume);
@@ -181,7 +171,7 @@ TEST(Classify, CancelledByProgress) {
     bool report(double) override { return false; }
   } stop;
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 3.0, 3);
-  const Grid grid = grid_around(bounding_box(sphere), 0.05, 0.1);
+  const Grid grid = test::grid_around(bounding_box(sphere), 0.05, 0.1);
   EXPECT_THROW(classify_grid(build_index(sphere), grid, {.progress = &stop}), Cancelled);
 }
 

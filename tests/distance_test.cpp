@@ -14,15 +14,6 @@
 namespace tpmsfill {
 namespace {
 
-Grid grid_around(Box3 box, double spacing, double pad) {
-  Grid g;
-  g.origin = box.min - Vec3{pad, pad, pad};
-  g.spacing = spacing;
-  for (int a = 0; a < 3; ++a)
-    g.dims[a] = static_cast<int>(std::ceil((box.max[a] - box.min[a] + 2 * pad) / spacing)) + 1;
-  return g;
-}
-
 /// Inside nodes with an outside 26-neighbour, and outside nodes with an inside one.
 Band band_of(const Mask& mask) {
   const Grid& g = mask.grid;
@@ -56,7 +47,7 @@ struct SphereCase {
   double r = 4.0;
   TriangleSoup soup = test::make_sphere(c, r, 4);
   MeshIndex index = build_index(soup);
-  Grid grid = grid_around(bounding_box(soup), 0.1, 0.3);
+  Grid grid = test::grid_around(bounding_box(soup), 0.1, 0.3);
   Occupancy occ = classify_grid(index, grid);
   Band band = band_of(occ.inside);
 };
@@ -101,7 +92,7 @@ TEST(Distance, SameResultOnOneAndTwoThreadsAndWithTwoTrees) {
   // 81,920 triangles: the index holds two trees.
   const TriangleSoup soup = test::make_sphere({0.1, 0.2, 0.3}, 3.0, 6);
   const MeshIndex index = build_index(soup);
-  const Grid grid = grid_around(bounding_box(soup), 0.05, 0.1);
+  const Grid grid = test::grid_around(bounding_box(soup), 0.05, 0.1);
   const Occupancy occ = classify_grid(index, grid);
   const Band band = band_of(occ.inside);
   std::vector<float> one, two;

@@ -143,6 +143,19 @@ TriangleSoup unshare_points(const TriangleSoup& soup) {
   return s;
 }
 
+Grid grid_around(Box3 box, double spacing, double pad) {
+  Grid g;
+  g.origin = box.min - Vec3{pad, pad, pad};
+  g.spacing = spacing;
+  for (int a = 0; a < 3; ++a)
+    g.dims[a] = static_cast<int>(std::ceil((box.max[a] - box.min[a] + 2 * pad) / spacing)) + 1;
+  return g;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 double signed_volume(const TriangleSoup& soup) {
   double v = 0;
   for (Triangle t : soup.triangles)

@@ -1,6 +1,7 @@
 // Meshes made in code and small helpers shared by the test files.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <string>
 #include <tpmsfill/types.hpp>
@@ -29,6 +30,12 @@ TriangleSoup concat(const TriangleSoup& a, const TriangleSoup& b);
 TriangleSoup flip(TriangleSoup soup, long i = -1);
 /// Every triangle gets its own three points, as an STL file stores them.
 TriangleSoup unshare_points(const TriangleSoup& soup);
+
+/// A grid with `spacing` (mm) whose nodes cover `box` grown by `pad` mm on every side.
+Grid grid_around(Box3 box, double spacing, double pad);
+
+/// Seconds since t0 (benchmarks).
+double seconds_since(std::chrono::steady_clock::time_point t0);
 
 /// Signed volume by the divergence theorem (mm^3), positive for outward closed meshes.
 double signed_volume(const TriangleSoup& soup);

@@ -5,7 +5,6 @@
 // Builds an icosphere subdivided LEVELS times (20·4^LEVELS triangles; 7 gives 327,680),
 // writes it in every format to DIR, then times read_mesh on each file and check_mesh on the
 // soup. Prints a markdown table (wall time, file size, throughput, peak RSS so far).
-#include <sys/resource.h>
 
 #include <chrono>
 #include <cstdio>
@@ -13,25 +12,12 @@
 #include <string>
 #include <tpmsfill/check.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/report.hpp>
 
 #include "../test_util.hpp"
 
 using namespace tpmsfill;
 namespace fs = std::filesystem;
-
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double peak_rss_mb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const int levels = argc > 1 ? std::atoi(argv[1]) : 7;
@@ -58,30 +44,30 @@ int main(int argc, char** argv) {
         dir / (std::string("sphere-") + format_name(c.format).data() + c.extension);
     auto t0 = std::chrono::steady_clock::now();
     write_mesh(file, sphere, {.format = c.format});
-    const double write_s = seconds_since(t0);
+    const double write_s = test::seconds_since(t0);
     const double mb = static_cast<double>(fs::file_size(file)) / 1e6;
     t0 = std::chrono::steady_clock::now();
     const TriangleSoup back = read_mesh(file);
-    const double read_s = seconds_since(t0);
+    const double read_s = test::seconds_since(t0);
     if (back.triangles.size() != sphere.triangles.size()) {
       std::fprintf(stderr, "%s: read %zu triangles, wrote %zu\n", c.name, back.triangles.size(),
                    sphere.triangles.size());
       return 1;
     }
     std::printf("| write %s | %.1f | %.3f | %.0f | %.0f |\n", c.name, mb, write_s, mb / write_s,
-                peak_rss_mb());
+                peak_memory_mb());
     std::printf("| read %s | %.1f | %.3f | %.0f | %.0f |\n", c.name, mb, read_s, mb / read_s,
-                peak_rss_mb());
+                peak_memory_mb());
   }
 
   const TriangleSoup stl = read_mesh(dir / "sphere-stl-binary.stl");
   for (bool self_intersections : {false, true}) {
     auto t0 = std::chrono::steady_clock::now();
     const MeshCheck check = check_mesh(stl, {.self_intersections = self_intersections});
-    const double s = seconds_since(t0);
+    const double s = test::seconds_since(t0);
     std::printf("| check_mesh (STL soup%s) | | %.3f | | %.0f |\n",
                 self_intersections ? ", with self-intersections" : ", no self-intersections", s,
-                peak_rss_mb());
+                peak_memory_mb());
     if (!check.valid()) {
       std::fprintf(stderr, "the sphere should be valid\n");
       return 1;

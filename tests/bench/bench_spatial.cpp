@@ -8,7 +8,6 @@
 // (0.1 mm) and 2 voxels of padding; the band is every inside node with an outside
 // 26-neighbour and every outside node with an inside one. Prints wall times, peak RSS and
 // throughput; asserts nothing.
-#include <sys/resource.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -18,6 +17,7 @@
 #include <numbers>
 #include <tpmsfill/classify.hpp>
 #include <tpmsfill/distance.hpp>
+#include <tpmsfill/report.hpp>
 #include <tpmsfill/spatial.hpp>
 #include <tpmsfill/voxel.hpp>
 
@@ -26,16 +26,6 @@
 using namespace tpmsfill;
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double peak_rss_mb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
 
 double current_rss_mb() {
   long pages = 0, resident = 0;
@@ -60,9 +50,10 @@ int main(int argc, char** argv) {
 
   auto t0 = std::chrono::steady_clock::now();
   const MeshIndex index = build_index(soup);
-  const double t_build = seconds_since(t0);
+  const double t_build = test::seconds_since(t0);
   std::printf("build_index: %.3f s, %zu triangles; RSS %.0f MB (+%.0f), peak %.0f MB\n", t_build,
-              index.triangle_count(), current_rss_mb(), current_rss_mb() - rss_soup, peak_rss_mb());
+              index.triangle_count(), current_rss_mb(), current_rss_mb() - rss_soup,
+              peak_memory_mb());
 
   const Box3 box = index.bounds();
   Grid grid;
@@ -73,30 +64,30 @@ int main(int argc, char** argv) {
 
   t0 = std::chrono::steady_clock::now();
   const Occupancy occ = classify_grid(index, grid);
-  const double t_classify = seconds_since(t0);
+  const double t_classify = test::seconds_since(t0);
   std::printf(
       "classify_grid: %.3f s, %d x %d x %d nodes, %llu rays (%.2f M rays/s), %llu crossings, "
       "%llu odd rays, volume %.3f mm^3 (exact %.3f); peak RSS %.0f MB\n",
       t_classify, grid.dims[0], grid.dims[1], grid.dims[2],
       static_cast<unsigned long long>(occ.rays), occ.rays / t_classify / 1e6,
       static_cast<unsigned long long>(occ.crossings), static_cast<unsigned long long>(occ.odd_rays),
-      occ.volume, test::signed_volume(soup), peak_rss_mb());
+      occ.volume, test::signed_volume(soup), peak_memory_mb());
 
   t0 = std::chrono::steady_clock::now();
   const Band band = band_voxels(occ.inside);
   std::printf("band (test helper, not a stage): %zu nodes, %.3f s\n", band.nodes.size(),
-              seconds_since(t0));
+              test::seconds_since(t0));
 
   for (bool hints : {true, false}) {
     t0 = std::chrono::steady_clock::now();
     const std::vector<float> d = band_distances(index, occ.inside, band, {.reuse_hints = hints});
-    const double t_dist = seconds_since(t0);
+    const double t_dist = test::seconds_since(t0);
     float lo = 0, hi = 0;
     for (float v : d) lo = std::min(lo, v), hi = std::max(hi, v);
     std::printf(
         "band_distances (hints %s): %.3f s, %zu queries, %.2f M queries/s, d in [%.4f, %.4f]; "
         "peak RSS %.0f MB\n",
-        hints ? "on" : "off", t_dist, d.size(), d.size() / t_dist / 1e6, lo, hi, peak_rss_mb());
+        hints ? "on" : "off", t_dist, d.size(), d.size() / t_dist / 1e6, lo, hi, peak_memory_mb());
   }
   return 0;
 }
