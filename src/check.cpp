@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "detail/cgal_types.hpp"
+#include "detail/problem_text.hpp"
 #include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
@@ -25,6 +26,9 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 
 namespace tpmsfill {
 namespace {
+
+using detail::plural;
+using detail::short_number;
 
 using detail::SoupTopology;
 
@@ -75,25 +79,6 @@ double signed_volume(const TriangleSoup& soup, const SoupTopology& topo, Vec3 or
                  cross(soup.points[tri[1]] - origin, soup.points[tri[2]] - origin));
   }
   return six_v / 6.0;
-}
-
-std::string plural(std::uint64_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
-/// Three significant digits, never in exponent notation for everyday magnitudes.
-std::string short_number(double v) {
-  if (!std::isfinite(v) || v == 0) return v == 0 ? "0" : std::to_string(v);
-  double magnitude = std::floor(std::log10(std::fabs(v)));
-  if (magnitude < -6 || magnitude > 15) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.3g", v);
-    return buffer;
-  }
-  int decimals = std::max(0, 2 - static_cast<int>(magnitude));
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, v);
-  return buffer;
 }
 
 }  // namespace

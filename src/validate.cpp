@@ -28,6 +28,7 @@
 
 #include "detail/cgal_types.hpp"
 #include "detail/parallel.hpp"
+#include "detail/problem_text.hpp"
 #include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
@@ -35,7 +36,9 @@
 namespace tpmsfill {
 namespace {
 
+using detail::plural;
 using detail::Point3;
+using detail::short_number;
 using Pair = std::array<std::uint32_t, 2>;
 
 constexpr std::size_t kChunk = 4096;  // items per fixed chunk of every parallel loop
@@ -644,16 +647,6 @@ std::uint64_t duplicate_points(const TriangleSoup& mesh, const std::vector<std::
     i = j;
   }
   return duplicates;
-}
-
-std::string plural(std::uint64_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
-std::string short_number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", v);
-  return buffer;
 }
 
 }  // namespace
