@@ -22,31 +22,18 @@ namespace {
 template <class ModelRow>
 Field compose_rows(const Grid& grid, const TpmsOptions& lattice, Progress* progress,
                    const ModelRow& model_row) {
-  validate(lattice);
-  const detail::TpmsKernel kernel(lattice);
-  const auto tx = detail::grid_trig(kernel, grid, 0);
-  const auto ty = detail::grid_trig(kernel, grid, 1);
-  const auto tz = detail::grid_trig(kernel, grid, 2);
   const float tpms_high = tpms_range(lattice).high;
-  Field phi{grid, std::vector<float>(grid.node_count())};
-  const std::size_t rows = static_cast<std::size_t>(grid.dims[1]) * grid.dims[2];
-  detail::ProgressCounter counter(progress, "compose", rows);
-  detail::parallel_for(rows, 64, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t row = begin; row < end; ++row) {
-      const int j = static_cast<int>(row % grid.dims[1]);
-      const int k = static_cast<int>(row / grid.dims[1]);
-      float* out = phi.values.data() + row * grid.dims[0];
-      model_row(row, out);
-      for (int i = 0; i < grid.dims[0]; ++i) {
-        float v = out[i];
-        if (v < tpms_high) v = std::max(v, kernel(tx[i], ty[j], tz[k]));
-        out[i] = v == 0.0f ? std::numeric_limits<float>::min() : v;
-      }
-    }
-    counter.add(end - begin);
-  });
-  counter.finish();
-  return phi;
+  return detail::evaluate_rows(
+      grid, lattice, progress, "compose",
+      [&](std::size_t row, float* out, const std::vector<detail::AxisTrig>& x, detail::AxisTrig y,
+          detail::AxisTrig z, const detail::TpmsKernel& kernel) {
+        model_row(row, out);
+        for (int i = 0; i < grid.dims[0]; ++i) {
+          float v = out[i];
+          if (v < tpms_high) v = std::max(v, kernel(x[i], y, z));
+          out[i] = v == 0.0f ? std::numeric_limits<float>::min() : v;
+        }
+      });
 }
 
 }  // namespace

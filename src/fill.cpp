@@ -220,6 +220,7 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   if (!options.keep_islands) {
     stage("islands", [&] {
       const Components comps = mesh_components(mesh);
+      if (comps.info.size() < 2) return;  // one piece is the main body: no need to label parts
       const std::vector<bool> keep = main_bodies(mesh, comps, phi, label_regions(occupancy.inside));
       for (std::size_t c = 0; c < keep.size(); ++c)
         if (!keep[c]) {
@@ -249,12 +250,6 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
     for (const std::string& p : r.validation.problems()) why += (why.empty() ? "" : "; ") + p;
     throw ValidationError("the lattice failed validation, nothing was written: " + why);
   }
-  r.vertices = r.validation.vertices;
-  r.triangles = r.validation.triangles;
-  r.lattice_volume = r.validation.volume;
-  r.surface_area = r.validation.area;
-  r.components = r.validation.components;
-  r.porosity = r.model_volume > 0 ? 1.0 - r.lattice_volume / r.model_volume : 0.0;
   result.mesh = std::move(mesh);
   return result;
 }

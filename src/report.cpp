@@ -68,13 +68,13 @@ std::string to_json(const FillReport& r) {
       {"odd_rays", r.odd_rays},
       {"estimated_memory_bytes", r.estimated_memory_bytes},
       {"output",
-       {{"vertices", r.vertices},
-        {"triangles", r.triangles},
-        {"components", r.components},
-        {"surface_area", r.surface_area}}},
-      {"lattice_volume", r.lattice_volume},
+       {{"vertices", r.vertices()},
+        {"triangles", r.triangles()},
+        {"components", r.components()},
+        {"surface_area", r.surface_area()}}},
+      {"lattice_volume", r.lattice_volume()},
       {"model_volume", r.model_volume},
-      {"porosity", r.porosity},
+      {"porosity", r.porosity()},
       {"unclipped_porosity", r.unclipped_porosity},
       {"islands_removed", r.islands_removed},
       {"islands_volume", r.islands_volume},
@@ -113,12 +113,13 @@ std::string to_text(const FillReport& r) {
             : format(" on the band (%.1fx fewer than the full field)\n",
                      static_cast<double>(r.samples) /
                          static_cast<double>(std::max<std::uint64_t>(r.distance_queries, 1))));
-  s += format("output       %.0f vertices, %.0f triangles", static_cast<double>(r.vertices),
-              static_cast<double>(r.triangles)) +
-       format(", %.0f component(s), area %.1f mm2\n", static_cast<double>(r.components),
-              r.surface_area);
-  s += format("volume       lattice %.1f mm3, model %.1f mm3\n", r.lattice_volume, r.model_volume);
-  s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity,
+  s += format("output       %.0f vertices, %.0f triangles", static_cast<double>(r.vertices()),
+              static_cast<double>(r.triangles())) +
+       format(", %.0f component(s), area %.1f mm2\n", static_cast<double>(r.components()),
+              r.surface_area());
+  s +=
+      format("volume       lattice %.1f mm3, model %.1f mm3\n", r.lattice_volume(), r.model_volume);
+  s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
               100 * r.unclipped_porosity);
   if (r.islands_removed)
     s += format("islands      %.0f removed (%.3g mm3)\n", static_cast<double>(r.islands_removed),

@@ -55,25 +55,12 @@ FieldRange tpms_range(const TpmsOptions& options) {
 }
 
 Field tpms_field(const Grid& grid, const TpmsOptions& options, Progress* progress) {
-  validate(options);
-  const detail::TpmsKernel kernel(options);
-  const auto tx = detail::grid_trig(kernel, grid, 0);
-  const auto ty = detail::grid_trig(kernel, grid, 1);
-  const auto tz = detail::grid_trig(kernel, grid, 2);
-  Field field{grid, std::vector<float>(grid.node_count())};
-  const std::size_t rows = static_cast<std::size_t>(grid.dims[1]) * grid.dims[2];
-  detail::ProgressCounter counter(progress, "tpms", rows);
-  detail::parallel_for(rows, 64, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t row = begin; row < end; ++row) {
-      const int j = static_cast<int>(row % grid.dims[1]);
-      const int k = static_cast<int>(row / grid.dims[1]);
-      float* out = field.values.data() + grid.index(0, j, k);
-      for (int i = 0; i < grid.dims[0]; ++i) out[i] = kernel(tx[i], ty[j], tz[k]);
-    }
-    counter.add(end - begin);
-  });
-  counter.finish();
-  return field;
+  return detail::evaluate_rows(
+      grid, options, progress, "tpms",
+      [&](std::size_t, float* out, const std::vector<detail::AxisTrig>& x, detail::AxisTrig y,
+          detail::AxisTrig z, const detail::TpmsKernel& kernel) {
+        for (int i = 0; i < grid.dims[0]; ++i) out[i] = kernel(x[i], y, z);
+      });
 }
 
 double lattice_solid_fraction(const TpmsOptions& options, int samples) {

@@ -43,9 +43,9 @@ TEST(FillE2E, GyroidInACubeIsHalfSolid) {
   // The float-rounded output still lies in its cells: the grid-local search was used.
   EXPECT_TRUE(r.report.validation.searched_by_cells);
   EXPECT_NEAR(r.report.model_volume, 8000.0, 1e-6);  // faces on grid planes: exact spans
-  EXPECT_NEAR(r.report.porosity, 0.5, 0.01);
+  EXPECT_NEAR(r.report.porosity(), 0.5, 0.01);
   EXPECT_NEAR(r.report.unclipped_porosity, 0.5, 0.005);
-  EXPECT_EQ(r.report.components, 1u);
+  EXPECT_EQ(r.report.components(), 1u);
   expect_printable(r.mesh);
 }
 
@@ -56,8 +56,8 @@ TEST(FillE2E, SphereLatticeVolumeMatchesPorosity) {
     const double polyhedron = test::signed_volume(sphere);
     EXPECT_NEAR(r.report.model_volume, polyhedron, 0.002 * polyhedron);
     const double expected = (1.0 - r.report.unclipped_porosity) * 4.0 / 3.0 * M_PI * 1000.0;
-    EXPECT_NEAR(r.report.lattice_volume, expected, 0.02 * expected) << lattice_name(type);
-    EXPECT_NEAR(r.report.porosity, r.report.unclipped_porosity, 0.02) << lattice_name(type);
+    EXPECT_NEAR(r.report.lattice_volume(), expected, 0.02 * expected) << lattice_name(type);
+    EXPECT_NEAR(r.report.porosity(), r.report.unclipped_porosity, 0.02) << lattice_name(type);
     // The outer boundary lies within one voxel of the input surface.
     double reach = 0;
     for (const Vec3& p : r.mesh.points) {
@@ -77,7 +77,7 @@ TEST(FillE2E, SheetLatticeIsValidAndAsThickAsAsked) {
   const FillResult r = fill(cube, o);
   // A thin sheet's solid fraction is about area·t: 3.09·0.4/2 ≈ 0.62 of the cube, less the
   // curvature terms; the unclipped sample says what to expect.
-  EXPECT_NEAR(1 - r.report.porosity, 1 - r.report.unclipped_porosity, 0.02);
+  EXPECT_NEAR(1 - r.report.porosity(), 1 - r.report.unclipped_porosity, 0.02);
   expect_printable(r.mesh);
 }
 
@@ -89,9 +89,9 @@ TEST(FillE2E, BandAndFullFieldAgree) {
   const FillResult full = fill(torus, o);
   EXPECT_EQ(full.report.distance_queries, full.report.samples);
   EXPECT_GT(full.report.distance_queries, 4 * band.report.distance_queries);  // grows as 1/a
-  EXPECT_NEAR(band.report.lattice_volume, full.report.lattice_volume,
-              0.005 * full.report.lattice_volume);
-  EXPECT_EQ(band.report.triangles, full.report.triangles);  // same signs at every node
+  EXPECT_NEAR(band.report.lattice_volume(), full.report.lattice_volume(),
+              0.005 * full.report.lattice_volume());
+  EXPECT_EQ(band.report.triangles(), full.report.triangles());  // same signs at every node
 }
 
 TEST(FillE2E, OrientationAndWeldingOfTheInputDoNotMatter) {
@@ -115,7 +115,7 @@ TEST(FillE2E, SameBytesForAnyThreadCount) {
   }
   EXPECT_EQ(one.mesh.points, many.mesh.points);
   EXPECT_EQ(one.mesh.triangles, many.mesh.triangles);
-  EXPECT_EQ(one.report.lattice_volume, many.report.lattice_volume);
+  EXPECT_EQ(one.report.lattice_volume(), many.report.lattice_volume());
 }
 
 TEST(FillE2E, IslandsAreRemovedPerPartOfTheModel) {
@@ -129,10 +129,10 @@ TEST(FillE2E, IslandsAreRemovedPerPartOfTheModel) {
     return fill(two, k);
   }();
   const FillResult cleaned = fill(two, o);
-  EXPECT_EQ(cleaned.report.components, 2u);
-  EXPECT_EQ(kept.report.components, cleaned.report.components + cleaned.report.islands_removed);
-  EXPECT_NEAR(kept.report.lattice_volume,
-              cleaned.report.lattice_volume + cleaned.report.islands_volume, 1e-6);
+  EXPECT_EQ(cleaned.report.components(), 2u);
+  EXPECT_EQ(kept.report.components(), cleaned.report.components() + cleaned.report.islands_removed);
+  EXPECT_NEAR(kept.report.lattice_volume(),
+              cleaned.report.lattice_volume() + cleaned.report.islands_volume, 1e-6);
   for (const Vec3& p : cleaned.mesh.points)
     EXPECT_TRUE(norm(p) <= 4.2 || norm(p - Vec3{12, 0, 0}) <= 3.2);
   expect_printable(cleaned.mesh);
@@ -176,7 +176,7 @@ TEST(FillE2E, DebianFemurIsFilledAndPrintable) {
   for (Vec3& p : soup.points) p = scale * (p - box.min);
   const FillResult r = fill(soup, options(0.2));
   EXPECT_NEAR(r.report.model_volume, test::signed_volume(soup), 0.01 * r.report.model_volume);
-  EXPECT_NEAR(r.report.porosity, r.report.unclipped_porosity, 0.02);
+  EXPECT_NEAR(r.report.porosity(), r.report.unclipped_porosity, 0.02);
   EXPECT_EQ(r.report.odd_rays, 0u);
   expect_printable(r.mesh);
 }

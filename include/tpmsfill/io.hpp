@@ -88,4 +88,9 @@ struct WriteOptions {
 void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
                 const WriteOptions& options = {});
 
+/// Writes bytes (a report, say) the way write_mesh writes a mesh: to a temporary file beside
+/// `path`, flushed, then renamed over it, so `path` is never half-written.
+/// @throws IoError  the folder is not writable, the disk is full, ...
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
+
 }  // namespace tpmsfill

@@ -36,20 +36,22 @@ struct FillReport {
   std::uint64_t rays = 0, crossings = 0;
   std::uint64_t odd_rays = 0;  ///< rows with an odd crossing count (input not closed)
   std::uint64_t estimated_memory_bytes = 0;
-  // --- output ----------------------------------------------------------------------------
-  std::uint64_t vertices = 0, triangles = 0;
-  double lattice_volume = 0;          ///< mm^3, of the written mesh
+  // --- output (the written mesh's figures are its validation's) -------------------------
   double model_volume = 0;            ///< mm^3, enclosed by the input (measured along the rays)
-  double porosity = 0;                ///< 1 − lattice_volume / model_volume
   double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)
-  double surface_area = 0;            ///< mm^2, of the written mesh
-  std::uint64_t components = 0;       ///< of the written mesh
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3
   ValidationReport validation;        ///< of the written mesh
   std::vector<StageTime> stages;      ///< in pipeline order
   std::vector<std::string> warnings;  ///< one sentence each
 
+  std::uint64_t vertices() const { return validation.vertices; }
+  std::uint64_t triangles() const { return validation.triangles; }
+  std::uint64_t components() const { return validation.components; }
+  double lattice_volume() const { return validation.volume; }  ///< mm^3
+  double surface_area() const { return validation.area; }      ///< mm^2
+  /// 1 − lattice_volume / model_volume (0 without a model volume).
+  double porosity() const { return model_volume > 0 ? 1.0 - lattice_volume() / model_volume : 0.0; }
   double total_seconds() const;
 };
 

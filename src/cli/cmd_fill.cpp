@@ -91,18 +91,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Writes text to path atomically (temporary file beside it, then rename).
-void write_text_file(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw IoError(path + ": cannot create the report file");
-  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  if (std::fclose(f) != 0 || !ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw IoError(path + ": cannot write the report file");
-  }
-}
-
 int run_fill(const FillArgs& args) {
   std::optional<tbb::global_control> threads;
   if (args.threads > 0)
@@ -151,7 +139,7 @@ int run_fill(const FillArgs& args) {
   FillReport& report = result.report;
   report.stages.insert(report.stages.begin(), read);
   report.stages.push_back({"write", seconds_since(t0), peak_memory_mb()});
-  if (!args.report.empty()) write_text_file(args.report, to_json(report));
+  if (!args.report.empty()) write_file_atomically(args.report, to_json(report));
 
   if (!args.quiet) {
     std::printf("%s -> %s\n%s", args.input.c_str(), args.output.c_str(), to_text(report).c_str());

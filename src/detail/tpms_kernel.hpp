@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "detail/parallel.hpp"
+
 #include "tpmsfill/tpms.hpp"
 
 namespace tpmsfill::detail {
@@ -77,6 +79,31 @@ inline std::vector<AxisTrig> grid_trig(const TpmsKernel& kernel, const Grid& gri
   std::vector<AxisTrig> t(static_cast<std::size_t>(grid.dims[axis]));
   for (int i = 0; i < grid.dims[axis]; ++i) t[i] = kernel.trig(axis, grid.coordinate(axis, i));
   return t;
+}
+
+/// A Field on `grid` filled row by row in parallel: body(row, out, x, y, z, kernel) writes the
+/// dims[0] values of row (j, k) to out, with x the per-node trigonometry along the row and
+/// y, z that of the row itself. Serves tpms_field and compose_field alike.
+template <class RowBody>
+Field evaluate_rows(const Grid& grid, const TpmsOptions& lattice, Progress* progress,
+                    const char* stage, const RowBody& body) {
+  validate(lattice);
+  const TpmsKernel kernel(lattice);
+  const auto tx = grid_trig(kernel, grid, 0);
+  const auto ty = grid_trig(kernel, grid, 1);
+  const auto tz = grid_trig(kernel, grid, 2);
+  Field field{grid, std::vector<float>(grid.node_count())};
+  const std::size_t rows = static_cast<std::size_t>(grid.dims[1]) * grid.dims[2];
+  ProgressCounter counter(progress, stage, rows);
+  parallel_for(rows, 64, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t row = begin; row < end; ++row) {
+      const std::size_t j = row % grid.dims[1], k = row / grid.dims[1];
+      body(row, field.values.data() + row * grid.dims[0], tx, ty[j], tz[k], kernel);
+    }
+    counter.add(end - begin);
+  });
+  counter.finish();
+  return field;
 }
 
 }  // namespace tpmsfill::detail

@@ -183,7 +183,10 @@ std::string os_error() {
 
 // Temporary file beside the target, synced, then renamed over it. On any failure the temporary
 // is removed and the target is untouched.
-void write_atomically(const std::filesystem::path& path, const std::string& bytes) {
+
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
   const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
   std::string temp = (folder / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
   const int fd = ::mkstemp(temp.data());
@@ -219,8 +222,6 @@ void write_atomically(const std::filesystem::path& path, const std::string& byte
   }
 }
 
-}  // namespace
-
 void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
                 const WriteOptions& options) {
   MeshFormat format = options.format;
@@ -251,7 +252,7 @@ void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
       bytes = format_off(soup);
       break;
   }
-  write_atomically(path, bytes);
+  write_file_atomically(path, bytes);
 }
 
 }  // namespace tpmsfill
