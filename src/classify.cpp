@@ -1,20 +1,11 @@
 // Stage "classify": one line along x per grid row (j, k); the AABB trees hand over the
-// triangles whose box holds the line, each crossing is decided exactly in the yz plane with
-// a symbolic perturbation, the crossing x positions are sorted and the spans between odd and
-// even crossings filled.
+// triangles whose box holds the line, each crossing is decided exactly in the yz plane with a
+// symbolic perturbation (detail/row_crossing.hpp), the crossings are sorted and one pass
+// along the row turns them into parity or the winding number at every node.
 //
-// The perturbation. The row's point p = (y, z) is moved to p' = (y + ε, z + ε²), 0 < ε ≪ 1.
-// For an edge (a, b) of a projected triangle, orientation(a, b, p') is the sign of
-//   (b.y − a.y)(p.z + ε² − a.z) − (b.z − a.z)(p.y + ε − a.y)
-// = orientation(a, b, p) + (a.z − b.z)·ε + (b.y − a.y)·ε²,
-// so where orientation(a, b, p) = 0 it is sign(a.z − b.z) when a.z ≠ b.z, else
-// sign(b.y − a.y) (never 0: a ≠ b for an edge of a non-degenerate projected triangle).
-// p' lies on no line through two distinct input points, so it is strictly inside or strictly
-// outside every projected triangle of non-zero area: an edge shared by two triangles on
-// opposite sides is counted by exactly one, a vertex by exactly one of its fan, and a
-// triangle seen edge-on (zero projected area) by none. Parity of the perturbed line is then
-// the exact parity of the surface along it. All predicates are CGAL Epick's (exact); only the
-// crossing's x position is computed in double.
+// Only the crossing's x position is computed in double; which triangles are crossed, and in
+// which direction, is exact. The caps' winding number (holes) is floating point: it is a
+// smooth sum, compared against J − ½ only where its certified bound leaves the answer open.
 #include "tpmsfill/classify.hpp"
 
 #include <algorithm>
@@ -23,39 +14,28 @@
 
 #include "detail/mesh_index_impl.hpp"
 #include "detail/parallel.hpp"
+#include "detail/row_crossing.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
 namespace {
 
+using detail::RowCrossing;
 using detail::TreeNode;
 using detail::TrianglePrimitive;
-using Point2 = detail::Kernel::Point_2;
 
 /// The line {(x, y, z) : x ∈ ℝ} of one grid row.
 struct RowLine {
   double y, z;
 };
 
-/// Does the perturbed point p' = (p.y + ε, p.z + ε²) lie strictly left of a → b?
-bool left_of(const Point2& a, const Point2& b, const Point2& p) {
-  switch (CGAL::orientation(a, b, p)) {
-    case CGAL::LEFT_TURN:
-      return true;
-    case CGAL::RIGHT_TURN:
-      return false;
-    default:
-      if (a.y() != b.y()) return a.y() > b.y();  // sign(a.z − b.z), z is Point2::y()
-      return b.x() > a.x();                      // sign(b.y − a.y), y is Point2::x()
-  }
-}
-
-/// Traversal traits (AABB_tree::traversal): collects the x of every exact crossing of the
-/// perturbed row line with a triangle.
+/// Traversal traits (AABB_tree::traversal): collects every exact crossing of the perturbed
+/// row line with a triangle.
 class RowCrossings {
  public:
-  RowCrossings(const detail::TriangleArray& triangles, std::vector<double>& out)
-      : triangles_(triangles), out_(out) {}
+  RowCrossings(const detail::TriangleArray& triangles, std::size_t first_cap,
+               std::vector<RowCrossing>& out)
+      : triangles_(triangles), first_cap_(first_cap), out_(out) {}
 
   bool go_further() const { return true; }
 
@@ -65,59 +45,200 @@ class RowCrossings {
   }
 
   void intersection(const RowLine& q, const TrianglePrimitive& primitive) {
-    const auto& v = triangles_[primitive.id()].v;
-    // Cheap exact rejection: the perturbed point needs y ∈ [min, max) and z ∈ [min, max).
-    if (q.y < std::fmin(std::fmin(v[0].y, v[1].y), v[2].y) ||
-        q.y >= std::fmax(std::fmax(v[0].y, v[1].y), v[2].y) ||
-        q.z < std::fmin(std::fmin(v[0].z, v[1].z), v[2].z) ||
-        q.z >= std::fmax(std::fmax(v[0].z, v[1].z), v[2].z))
-      return;
-    int ia = 0, ib = 1, ic = 2;
-    Point2 a(v[ia].y, v[ia].z), b(v[ib].y, v[ib].z), c(v[ic].y, v[ic].z);
-    const CGAL::Orientation o = CGAL::orientation(a, b, c);
-    if (o == CGAL::COLLINEAR) return;  // seen edge-on: never a crossing
-    if (o == CGAL::CLOCKWISE) {
-      std::swap(b, c);
-      std::swap(ib, ic);
-    }
-    const Point2 p(q.y, q.z);
-    if (!left_of(a, b, p) || !left_of(b, c, p) || !left_of(c, a, p)) return;
-
-    // x of the crossing by barycentric coordinates in double; exact when the triangle's
-    // corners share one x (a face on a grid plane stays on it), clamped to the corners' range.
-    auto area2 = [](double ay, double az, double by, double bz, double cy, double cz) {
-      return (by - ay) * (cz - az) - (bz - az) * (cy - ay);
-    };
-    const Vec3 &A = v[ia], &B = v[ib], &C = v[ic];
-    const double total = area2(A.y, A.z, B.y, B.z, C.y, C.z);
-    const double wb = area2(A.y, A.z, q.y, q.z, C.y, C.z) / total;  // weight of B
-    const double wc = area2(A.y, A.z, B.y, B.z, q.y, q.z) / total;  // weight of C
-    double x = A.x + (wb * (B.x - A.x) + wc * (C.x - A.x));
-    x = std::clamp(x, std::fmin(std::fmin(A.x, B.x), C.x), std::fmax(std::fmax(A.x, B.x), C.x));
-    out_.push_back(x);
+    RowCrossing c = detail::row_crossing(triangles_[primitive.id()].v, q.y, q.z);
+    c.cap = primitive.id() >= first_cap_;
+    if (c.sign != 0) out_.push_back(c);
   }
 
  private:
   const detail::TriangleArray& triangles_;
-  std::vector<double>& out_;
+  std::size_t first_cap_;
+  std::vector<RowCrossing>& out_;
 };
-
-/// Index of the first node with coordinate > x (dims[0] if none).
-int first_node_after(const Grid& grid, double x) {
-  const int n = grid.dims[0];
-  double guess = std::floor((x - grid.origin.x) / grid.spacing);
-  int i = guess < -1.0 ? 0 : (guess > n ? n : static_cast<int>(guess));
-  while (i > 0 && grid.coordinate(0, i - 1) > x) --i;
-  while (i < n && !(grid.coordinate(0, i) > x)) ++i;
-  return i;
-}
 
 /// What one row contributes.
 struct RowResult {
   double length = 0;  ///< inside length within the grid's x range, mm
   std::uint32_t crossings = 0;
+  std::uint32_t disagreements = 0;
+  std::uint32_t cap_evaluations = 0;
   bool odd = false;
+  bool overlap = false;
 };
+
+/// Distance in the yz plane from a row line to a box (0 when the line passes through it).
+double row_distance(const Box3& box, const RowLine& line) {
+  const double dy = std::max({box.min.y - line.y, line.y - box.max.y, 0.0});
+  const double dz = std::max({box.min.z - line.z, line.z - box.max.z, 0.0});
+  return std::sqrt(dy * dy + dz * dz);
+}
+
+// Where hole caps close the model M, w_M = J_M + R (detail/cap_winding.hpp): J_M counts the
+// model's crossings and R, which depends only on the holes' rims, is continuous along the row
+// and varies on the scale of the distance to the nearest rim. R is therefore sampled, not
+// evaluated at every node: at both ends of the row's stretch near the caps and at midpoints,
+// recursively. Near a rim R turns like the angle around a wire, |R''| ≈ 1 / (2π d²) at
+// distance d, so linear interpolation over a stretch of length L errs by about
+// (L / d)² / (16π): a stretch is interpolated once L is at most kStrideToRim times its
+// distance to the nearest rim (error ≤ 0.02) and its midpoint agrees with the interpolation
+// to kRemainderTolerance. A node whose interpolated w_M lies within kThresholdGuard of ½ is
+// evaluated directly.
+//
+// R is continuous, but its formula has a cut where a rim's sweep to x = −∞ passes through the
+// row (a rim edge on a grid row, common in CAD parts): there both the strip's solid angle
+// and ω jump. R is therefore evaluated on the row moved off by kRowOffset times the caps'
+// size in y and z (differently), where the formula is well conditioned; R moves by a
+// negligible amount, and the crossings J_M stay exact on the row itself.
+constexpr double kRemainderTolerance = 0.01;
+constexpr double kStrideToRim = 1.0;
+constexpr double kThresholdGuard = 0.03;
+constexpr double kRowOffset = 1e-7;
+
+/// R at the nodes [first, last] of one row, sampled as above.
+class RowRemainder {
+ public:
+  RowRemainder(const Grid& grid, const RowLine& line, const detail::CapWinding& caps, int n,
+               RowResult& r)
+      : grid_(grid), caps_(caps), r_(r), values_(n, 0.0), rim_(n, 0.0), sampled_(n, false) {
+    const double size = norm(caps.bounds().size());
+    y_ = line.y + kRowOffset * size;
+    z_ = line.z + 0.61803 * kRowOffset * size;
+    shadow_ = caps.shadow_winding(y_, z_);
+  }
+
+  /// R at node i, evaluated.
+  double exact(int i) {
+    ++r_.cap_evaluations;
+    sampled_[i] = true;
+    return values_[i] = caps_.remainder({grid_.coordinate(0, i), y_, z_}, shadow_, &rim_[i]);
+  }
+
+  /// R at every node of [first, last].
+  void sample(int first, int last) {
+    exact(first);
+    if (last != first) exact(last);
+    fill(first, last);
+  }
+
+  double value(int i) const { return values_[i]; }
+  bool sampled(int i) const { return sampled_[i]; }
+
+ private:
+  void fill(int first, int last) {
+    if (last - first <= 1) return;
+    const int mid = (first + last) / 2;
+    exact(mid);
+    const double length = grid_.spacing * (last - first);
+    const double clearance = std::min(rim_[first], rim_[last]) - 0.5 * length;
+    const double t = static_cast<double>(mid - first) / (last - first);
+    const double lerp = values_[first] + t * (values_[last] - values_[first]);
+    if (length <= kStrideToRim * clearance &&
+        std::fabs(values_[mid] - lerp) <= kRemainderTolerance) {
+      for (int i = first + 1; i < last; ++i)
+        if (i != mid)
+          values_[i] = values_[first] + static_cast<double>(i - first) / (last - first) *
+                                            (values_[last] - values_[first]);
+      return;
+    }
+    fill(first, mid);
+    fill(mid, last);
+  }
+
+  const Grid& grid_;
+  const detail::CapWinding& caps_;
+  RowResult& r_;
+  std::vector<double> values_, rim_;
+  std::vector<bool> sampled_;
+  double y_ = 0, z_ = 0;  ///< the row, moved off
+  int shadow_ = 0;
+};
+
+/// One row: crossings sorted by x in, occupancy of the row's nodes out.
+void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing>& crossings,
+                  const detail::CapWinding& caps, InsideRule rule, std::uint8_t* out,
+                  RowResult& r) {
+  std::sort(crossings.begin(), crossings.end(), [](const RowCrossing& a, const RowCrossing& b) {
+    return a.x < b.x || (a.x == b.x && a.sign < b.sign);
+  });
+  r.crossings = static_cast<std::uint32_t>(crossings.size());
+  // Parity pairs crossings up; a row that enters and never leaves ignores its last crossing.
+  std::size_t parity_count = crossings.size();
+  if (parity_count % 2 == 1) {
+    r.odd = true;
+    --parity_count;
+  }
+
+  // Spans between consecutive crossings: the state after crossing c holds until c + 1.
+  const double x_first = grid.coordinate(0, 0), x_last = grid.coordinate(0, grid.dims[0] - 1);
+  int winding = 0;
+  for (std::size_t c = 0; c < crossings.size(); ++c) {
+    winding += crossings[c].sign;
+    const bool inside =
+        rule == InsideRule::Parity ? (c < parity_count && c % 2 == 0) : winding >= 1;
+    if (!inside || c + 1 == crossings.size()) continue;
+    const double lo = std::max(crossings[c].x, x_first), hi = std::min(crossings[c + 1].x, x_last);
+    if (hi > lo) r.length += hi - lo;
+  }
+
+  // Nodes: J below (crossings with x < node) and above (x ≤ node); a node on a crossing takes
+  // the lower J, and parity counts it as outside. J_M and J_C likewise for the model and caps.
+  const int n = grid.dims[0];
+  const bool near_caps = rule == InsideRule::Winding && !caps.empty() &&
+                         caps.bound_beyond(row_distance(caps.bounds(), line)) >= 0.5;
+  std::vector<int> model_j(near_caps ? n : 0);
+  std::vector<std::uint8_t> parity(rule == InsideRule::Winding ? n : 0);
+  winding = 0;
+  int model = 0;
+  std::size_t below = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = grid.coordinate(0, i);
+    for (; below < crossings.size() && crossings[below].x < x; ++below) {
+      winding += crossings[below].sign;
+      if (!crossings[below].cap) model += crossings[below].sign;
+    }
+    int j = winding, above = winding, model_above = model;
+    std::size_t on = below;
+    for (; on < crossings.size() && crossings[on].x == x; ++on) {
+      above += crossings[on].sign;
+      if (!crossings[on].cap) model_above += crossings[on].sign;
+    }
+    j = std::min(j, above);
+    const bool odd = on == below && below < parity_count && below % 2 == 1;
+    bool inside = odd;
+    if (rule == InsideRule::Winding) {
+      parity[i] = odd ? 1 : 0;
+      inside = j >= 1;
+      if (j < 0 || j > 1) r.overlap = true;
+      if (near_caps) model_j[i] = std::min(model, model_above);
+    }
+    out[i] = inside ? 1 : 0;
+  }
+  if (near_caps) {
+    // The stretch of the row where the caps' winding number could reach ½.
+    const Box3& box = caps.bounds();
+    const double dyz = row_distance(box, line);
+    auto near = [&](int i) {
+      const double x = grid.coordinate(0, i);
+      return caps.bound_beyond(std::hypot(std::max({box.min.x - x, x - box.max.x, 0.0}), dyz)) >=
+             0.5;
+    };
+    int first = 0, last = n - 1;
+    while (first < n && !near(first)) ++first;
+    while (last > first && !near(last)) --last;
+    if (first <= last) {
+      RowRemainder remainder(grid, line, caps, n, r);
+      remainder.sample(first, last);
+      for (int i = first; i <= last; ++i) {
+        double w = model_j[i] + remainder.value(i);
+        if (!remainder.sampled(i) && std::fabs(w - 0.5) < kThresholdGuard)
+          w = model_j[i] + remainder.exact(i);
+        out[i] = w >= 0.5 ? 1 : 0;
+      }
+    }
+  }
+  if (rule == InsideRule::Winding)
+    for (int i = 0; i < n; ++i) r.disagreements += out[i] != parity[i];
+}
 
 }  // namespace
 
@@ -133,37 +254,20 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
   result.rays = rows;
   if (rows == 0) return result;
 
-  const double x_first = grid.coordinate(0, 0);
-  const double x_last = grid.coordinate(0, grid.dims[0] - 1);
   std::vector<RowResult> per_row(rows);
   detail::ProgressCounter progress(options.progress, "classify", rows);
 
   detail::parallel_for(rows, 64, [&](std::size_t begin, std::size_t end) {
-    std::vector<double> crossings;
+    std::vector<RowCrossing> crossings;
     for (std::size_t row = begin; row < end; ++row) {
       const int j = static_cast<int>(row % static_cast<std::size_t>(grid.dims[1]));
       const int k = static_cast<int>(row / static_cast<std::size_t>(grid.dims[1]));
       const RowLine line{grid.coordinate(1, j), grid.coordinate(2, k)};
       crossings.clear();
-      RowCrossings traits(impl.triangles, crossings);
+      RowCrossings traits(impl.triangles, impl.triangles.size() - impl.cap_count, crossings);
       for (const auto& tree : impl.trees) tree->traversal(line, traits);
-      std::sort(crossings.begin(), crossings.end());
-
-      RowResult& r = per_row[row];
-      r.crossings = static_cast<std::uint32_t>(crossings.size());
-      if (crossings.size() % 2 == 1) {
-        r.odd = true;
-        crossings.pop_back();  // the line enters and never leaves: ignore the last crossing
-      }
-      std::uint8_t* out = result.inside.values.data() + grid.index(0, j, k);
-      for (std::size_t s = 0; s < crossings.size(); s += 2) {
-        const double enter = crossings[s], leave = crossings[s + 1];
-        // Nodes strictly between the two crossings are inside; one exactly on either is not.
-        const int i0 = first_node_after(grid, enter);
-        for (int i = i0; i < grid.dims[0] && grid.coordinate(0, i) < leave; ++i) out[i] = 1;
-        const double lo = std::max(enter, x_first), hi = std::min(leave, x_last);
-        if (hi > lo) r.length += hi - lo;
-      }
+      classify_row(grid, line, crossings, impl.caps, options.rule,
+                   result.inside.values.data() + grid.index(0, j, k), per_row[row]);
     }
     progress.add(end - begin);
   });
@@ -174,6 +278,11 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
     length += r.length;
     result.crossings += r.crossings;
     result.odd_rays += r.odd ? 1 : 0;
+    if (options.rule == InsideRule::Winding) {
+      result.overlap_rows += r.overlap ? 1 : 0;
+      result.parity_disagreements += r.disagreements;
+      result.cap_evaluations += r.cap_evaluations;
+    }
   }
   result.volume = length * grid.spacing * grid.spacing;
   return result;

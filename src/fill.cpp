@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "tpmsfill/classify.hpp"
+#include "tpmsfill/clean.hpp"
 #include "tpmsfill/compose.hpp"
 #include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
@@ -179,19 +180,45 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   r.grid = grid;
   r.samples = grid.node_count();
 
+  const bool winding = options.inside == InsideRule::Winding;
+  r.inside_rule = winding ? "winding" : "parity";
+  std::optional<CleanResult> cleaned;
+  if (winding) {
+    cleaned = stage("clean", [&] { return clean_soup(model, {.progress = options.progress}); });
+    r.clean = cleaned->report;
+  }
   std::optional<MeshIndex> tree;
-  stage("spatial", [&] { tree.emplace(build_index(model)); });
+  stage("spatial", [&] {
+    if (!winding) {
+      tree.emplace(build_index(model));
+    } else if (cleaned->soup.triangles.empty()) {
+      throw InputError("the mesh encloses no volume: no triangle has three distinct corners");
+    } else {
+      tree.emplace(build_index(cleaned->soup, {.hole_caps = &cleaned->caps}));
+    }
+  });
+  cleaned.reset();
   const MeshIndex& index = *tree;
-  Occupancy occupancy =
-      stage("classify", [&] { return classify_grid(index, grid, {.progress = options.progress}); });
+  Occupancy occupancy = stage("classify", [&] {
+    return classify_grid(index, grid, {.rule = options.inside, .progress = options.progress});
+  });
   r.rays = occupancy.rays;
   r.crossings = occupancy.crossings;
   r.odd_rays = occupancy.odd_rays;
+  r.overlap_rows = occupancy.overlap_rows;
+  r.parity_disagreements = occupancy.parity_disagreements;
+  r.cap_evaluations = occupancy.cap_evaluations;
   r.model_volume = occupancy.volume;
-  if (occupancy.odd_rays)
+  if (!winding && occupancy.odd_rays)
     r.warnings.push_back(std::to_string(occupancy.odd_rays) +
                          " grid rows crossed the surface an odd number of times: the input is "
-                         "not closed, so inside and outside may be wrong near its holes");
+                         "not closed, so inside and outside may be wrong near its holes "
+                         "(--inside winding handles holes)");
+  if (std::find(occupancy.inside.values.begin(), occupancy.inside.values.end(), 1) ==
+      occupancy.inside.values.end())
+    throw InputError(
+        "the mesh encloses no volume: no grid node is inside it (an open sheet, or a shell "
+        "thinner than the voxel size)");
 
   const DistanceOptions distance_options{.progress = options.progress};
   Field phi;

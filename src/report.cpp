@@ -21,6 +21,27 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
   return s;
 }
 
+std::string inside_summary(const FillReport& r) {
+  if (r.inside_rule != "winding") return "parity of ray crossings";
+  const CleanReport& c = r.clean;
+  std::string s = "winding number";
+  std::string what;
+  auto add = [&](std::uint64_t n, const char* text) {
+    if (n) what += (what.empty() ? "" : ", ") + format(text, static_cast<double>(n));
+  };
+  add(c.holes, "%.0f hole(s) capped");
+  add(c.flipped_triangles, "%.0f triangle(s) flipped");
+  add(c.reversed_pieces, "%.0f piece(s) turned outward");
+  add(c.repeated_corner_triangles + c.duplicate_triangles + c.cancelled_triangles,
+      "%.0f degenerate or duplicate triangle(s) dropped");
+  add(r.overlap_rows, "shells overlap along %.0f row(s)");
+  if (!what.empty()) s += " (" + what + ")";
+  s += r.parity_disagreements ? format("; parity would differ at %.0f node(s)",
+                                       static_cast<double>(r.parity_disagreements))
+                              : std::string("; agrees with parity at every node");
+  return s;
+}
+
 }  // namespace
 
 double peak_memory_mb() {
@@ -66,6 +87,22 @@ std::string to_json(const FillReport& r) {
       {"rays", r.rays},
       {"crossings", r.crossings},
       {"odd_rays", r.odd_rays},
+      {"inside",
+       {{"rule", r.inside_rule},
+        {"merged_points", r.clean.merged_points},
+        {"repeated_corner_triangles", r.clean.repeated_corner_triangles},
+        {"duplicate_triangles", r.clean.duplicate_triangles},
+        {"cancelled_triangles", r.clean.cancelled_triangles},
+        {"pieces", r.clean.pieces},
+        {"flipped_triangles", r.clean.flipped_triangles},
+        {"reversed_pieces", r.clean.reversed_pieces},
+        {"nested_pieces", r.clean.nested_pieces},
+        {"border_edges", r.clean.border_edges},
+        {"holes", r.clean.holes},
+        {"cap_triangles", r.clean.cap_triangles},
+        {"overlap_rows", r.overlap_rows},
+        {"parity_disagreements", r.parity_disagreements},
+        {"cap_evaluations", r.cap_evaluations}}},
       {"estimated_memory_bytes", r.estimated_memory_bytes},
       {"output",
        {{"vertices", r.vertices()},
@@ -107,6 +144,7 @@ std::string to_text(const FillReport& r) {
        format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z) + "\n";
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
+  s += "inside       " + inside_summary(r) + "\n";
   s += format("distances    %.3g queries", static_cast<double>(r.distance_queries)) +
        (r.full_field
             ? std::string(" (full field)\n")

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "detail/border_loops.hpp"
 #include "detail/mesh_index_impl.hpp"
 #include "detail/parallel.hpp"
 #include "detail/soup_indices.hpp"
@@ -24,6 +25,9 @@ MeshIndex::~MeshIndex() = default;
 
 std::size_t MeshIndex::triangle_count() const {
   return impl_->triangles.size();
+}
+std::size_t MeshIndex::cap_count() const {
+  return impl_->cap_count;
 }
 Box3 MeshIndex::bounds() const {
   return impl_->bounds;
@@ -88,22 +92,45 @@ bool same(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-MeshIndex build_index(const TriangleSoup& soup, const IndexOptions&) {
+MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
+  static const TriangleSoup kNoCaps;
+  const TriangleSoup& caps = options.hole_caps ? *options.hole_caps : kNoCaps;
   detail::require_indices_in_range(soup, "cannot build the search tree: ");
-  if (soup.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+  detail::require_indices_in_range(caps, "cannot build the search tree: hole caps: ");
+  if (soup.triangles.size() + caps.triangles.size() > std::numeric_limits<std::uint32_t>::max())
     throw InputError("cannot build the search tree: more than 4294967295 triangles");
 
   auto impl = std::make_unique<MeshIndex::Impl>();
   auto& triangles = impl->triangles;
-  triangles.reserve(soup.triangles.size());
-  for (const Triangle& t : soup.triangles) {
-    const Vec3 &a = soup.points[t[0]], &b = soup.points[t[1]], &c = soup.points[t[2]];
-    // A repeated corner (by index or by position, as STL soups repeat points) bounds nothing.
-    if (same(a, b) || same(b, c) || same(c, a)) continue;
-    triangles.push_back({{a, b, c}});
-  }
+  triangles.reserve(soup.triangles.size() + caps.triangles.size());
+  auto add = [&](const TriangleSoup& from) {
+    for (const Triangle& t : from.triangles) {
+      const Vec3 &a = from.points[t[0]], &b = from.points[t[1]], &c = from.points[t[2]];
+      // A repeated corner (by index or by position, as STL soups repeat points) bounds
+      // nothing.
+      if (same(a, b) || same(b, c) || same(c, a)) continue;
+      triangles.push_back({{a, b, c}});
+    }
+  };
+  add(soup);
   if (triangles.empty())
     throw InputError("cannot build the search tree: no triangle has three distinct corners");
+  const std::size_t model_triangles = triangles.size();
+  add(caps);
+  impl->cap_count = triangles.size() - model_triangles;
+  if (impl->cap_count > 0) {
+    std::vector<std::array<Vec3, 3>> cap_corners;
+    cap_corners.reserve(impl->cap_count);
+    for (std::size_t t = model_triangles; t < triangles.size(); ++t)
+      cap_corners.push_back(triangles[t].v);
+    // The caps' rims: their border loops, by point index.
+    std::vector<std::vector<Vec3>> rims;
+    for (const auto& loop : detail::border_loops(detail::triangle_border(caps.triangles))) {
+      rims.emplace_back();
+      for (std::uint32_t v : loop) rims.back().push_back(caps.points[v]);
+    }
+    impl->caps = detail::CapWinding(cap_corners, rims);
+  }
   triangles.shrink_to_fit();
 
   // Bounds per fixed chunk in parallel, combined in order (min/max: exact either way).

@@ -11,8 +11,12 @@
 namespace tpmsfill {
 namespace {
 
-Occupancy classify(const TriangleSoup& soup, const Grid& grid) {
-  return classify_grid(build_index(soup), grid);
+// Most tests here pin down the parity rule the method paper uses; the winding rule must agree
+// with it on every closed, consistently oriented mesh (WindingAgreesWithParityOnClosedMeshes)
+// and is tested on broken meshes in winding_test.cpp.
+Occupancy classify(const TriangleSoup& soup, const Grid& grid,
+                   InsideRule rule = InsideRule::Parity) {
+  return classify_grid(build_index(soup), grid, {.rule = rule});
 }
 
 /// Calls f(i, j, k, value) for every node.
@@ -156,6 +160,58 @@ TEST(Classify, GridSmallerThanTheModelStillCountsCrossingsOutsideIt) {
   const Occupancy occ = classify(cube, grid);
   for (std::uint8_t v : occ.inside.values) EXPECT_EQ(v, 1);
   EXPECT_DOUBLE_EQ(occ.volume, 16 * 1.5 * 0.25);
+}
+
+TEST(Classify, WindingAgreesWithParityOnClosedMeshes) {
+  // Closed and outward: J is 0 or 1 everywhere, so both rules give the same nodes and volume.
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {1, 1, 1});
+  Grid cube_grid;
+  cube_grid.origin = {-0.5, -0.5, -0.5};
+  cube_grid.spacing = 0.25;
+  cube_grid.dims = {9, 9, 9};  // faces, edges and vertices on grid rows
+  const TriangleSoup hollow =  // a ball with a cavity: the inner shell faces inward
+      test::concat(test::make_sphere({0, 0, 0}, 3.0, 4),
+                   test::flip(test::make_sphere({0.2, 0, 0}, 1.5, 3)));
+  const std::vector<std::pair<TriangleSoup, Grid>> cases = {
+      {cube, cube_grid},
+      {test::unshare_points(cube), cube_grid},
+      {test::make_torus(3, 1, 64, 32), test::grid_around({{-4, -4, -1}, {4, 4, 1}}, 0.1, 0.2)},
+      {hollow, test::grid_around(bounding_box(hollow), 0.1, 0.2)},
+      {test::make_sphere({0.3, 0.1, 0}, 3.0, 6),
+       test::grid_around({{-3, -3, -3}, {3, 3, 3}}, 0.05, 0.1)},
+  };
+  for (const auto& [soup, grid] : cases) {
+    const Occupancy parity = classify(soup, grid, InsideRule::Parity);
+    const Occupancy winding = classify(soup, grid, InsideRule::Winding);
+    EXPECT_EQ(winding.inside.values, parity.inside.values);
+    EXPECT_EQ(winding.volume, parity.volume);
+    EXPECT_EQ(winding.parity_disagreements, 0u);
+    EXPECT_EQ(winding.overlap_rows, 0u);
+    EXPECT_EQ(winding.cap_evaluations, 0u);
+  }
+}
+
+TEST(Classify, WindingCountsOverlappingShellsInside) {
+  // Two interpenetrating spheres: parity calls the lens where they overlap outside.
+  const Vec3 c1{-1, 0, 0}, c2{1, 0.2, 0};
+  const TriangleSoup two =
+      test::concat(test::make_sphere(c1, 2.0, 4), test::make_sphere(c2, 2.0, 4));
+  const Grid grid = test::grid_around(bounding_box(two), 0.1, 0.2);
+  const Occupancy winding = classify(two, grid, InsideRule::Winding);
+  const Occupancy parity = classify(two, grid, InsideRule::Parity);
+  std::size_t lens = 0;
+  for_each_node(winding.inside, [&](int i, int j, int k, std::uint8_t v) {
+    const Vec3 p = grid.node(i, j, k);
+    const double d1 = norm(p - c1) - 2.0, d2 = norm(p - c2) - 2.0;
+    if (d1 < -0.01 && d2 < -0.01) {
+      EXPECT_EQ(v, 1);
+      EXPECT_EQ(parity.inside.values[grid.index(i, j, k)], 0);
+      ++lens;
+    }
+  });
+  EXPECT_GT(lens, 1000u);
+  EXPECT_GT(winding.overlap_rows, 0u);
+  EXPECT_GE(winding.parity_disagreements, lens);
 }
 
 TEST(Classify, DeterministicAcrossRuns) {

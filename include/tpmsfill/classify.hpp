@@ -6,8 +6,21 @@
 /// with exact predicates (CGAL Epick 2D orientation of the row against the triangle's
 /// projection on the yz plane) and a fixed tie-break (symbolic perturbation of the row to
 /// (y + ε, z + ε²)), so a ray through an edge or a vertex counts it exactly once and a
-/// triangle seen edge-on never counts. The crossing positions (floating point) are sorted and
-/// the nodes between odd and even crossings are inside (parity rule). Never one ray per node.
+/// triangle seen edge-on never counts. Each crossing also has a direction (entering or
+/// leaving, from the triangle's orientation). The crossings are sorted, and then:
+///
+/// - InsideRule::Parity: nodes between odd and even crossings are inside (the method paper's
+///   rule; right only for closed meshes without overlapping shells).
+/// - InsideRule::Winding: inside is the generalized winding number w ≥ ½. Along a row w
+///   jumps by ±1 at each crossing and, for a closed mesh, is constant in between, so the
+///   running sum J of crossing directions is w, exactly. Where the index holds hole caps C
+///   (IndexOptions::hole_caps), model and caps are closed together and w = J − w_C: the
+///   caps' own winding number is subtracted where it could change the answer, found by the
+///   certified bounds of a small hierarchy over the caps (most rows are too far from any
+///   cap to need it). On a closed, consistently oriented mesh whose shells do not overlap,
+///   J is 0 or 1 and the two rules agree node for node.
+///
+/// Never one ray per node.
 #pragma once
 
 #include <cstdint>
@@ -18,23 +31,37 @@
 
 namespace tpmsfill {
 
+enum class InsideRule {
+  Parity,   ///< odd number of crossings
+  Winding,  ///< generalized winding number ≥ ½
+};
+
 struct ClassifyOptions {
+  InsideRule rule = InsideRule::Winding;
   Progress* progress = nullptr;  ///< reports per row chunk; may cancel
 };
 
 struct Occupancy {
   Mask inside;  ///< 1 = node inside the model
   /// Volume enclosed by the model, mm^3, measured along the rays: the summed lengths of the
-  /// inside spans times spacing² (exact along x, midpoint rule across rows).
+  /// spans inside by parity (Parity) or with J ≥ 1 (Winding: with hole caps, the volume that
+  /// model and caps enclose), times spacing² (exact along x, midpoint rule across rows).
   double volume = 0;
   std::uint64_t rays = 0;       ///< rows cast (dims[1]·dims[2])
-  std::uint64_t crossings = 0;  ///< ray/triangle crossings counted
-  /// Rows whose crossing count was odd (the mesh is not closed along them); their last
-  /// crossing is ignored. Non-zero means the input has holes.
+  std::uint64_t crossings = 0;  ///< ray/triangle crossings counted, caps included
+  /// Rows whose crossing count was odd (the mesh is not closed along them). Parity ignores
+  /// their last crossing. Non-zero means the triangles in the index have holes.
   std::uint64_t odd_rays = 0;
+  /// Winding rule: rows with a node where J is not 0 or 1 (shells overlap or are inside out).
+  std::uint64_t overlap_rows = 0;
+  /// Winding rule: nodes where the winding number and parity disagree.
+  std::uint64_t parity_disagreements = 0;
+  /// Winding rule: nodes whose answer needed the caps' winding number evaluated.
+  std::uint64_t cap_evaluations = 0;
 };
 
-/// Classifies every node of `grid`. A node exactly on a crossing counts as outside.
+/// Classifies every node of `grid`. A node exactly on a crossing takes the lower of the
+/// two sides' J (parity: counts as outside).
 /// @param[in] index  AABB tree of the model
 /// @param[in] grid   sample grid (make_grid); rays cover its whole x extent
 /// @throws Cancelled  when options.progress says so

@@ -5,12 +5,14 @@
 ///   marching cubes → islands → validate
 ///
 /// Each stage is public (its own header) for callers who compose their own pipeline; fill()
-/// is the sequence with the report filled in. Inside/outside uses the parity of exact ray
-/// crossings, so the input should be closed; rows with an odd crossing count are reported.
+/// is the sequence with the report filled in. Inside is, by default, the generalized winding
+/// number w ≥ ½ of the cleaned input (clean.hpp, classify.hpp), so scans with holes, flipped
+/// faces, overlapping shells and self-intersections get the lattice a person expects.
 #pragma once
 
 #include <cstdint>
 
+#include "tpmsfill/classify.hpp"
 #include "tpmsfill/grid.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
@@ -24,6 +26,10 @@ struct FillOptions {
   GridOptions grid;     ///< voxel size (mm) and padding
   TpmsOptions lattice;  ///< type, network/sheet, cell size, level or thickness (mm)
   BandOptions band;     ///< band half-width in voxels
+  /// Winding: clean the input (clean_soup), cap its holes and classify by the winding
+  /// number. Parity: classify the input as it is by the parity of crossings (the method
+  /// paper's rule, for closed meshes whose shells do not overlap).
+  InsideRule inside = InsideRule::Winding;
   /// Compute the model's distance at every node instead of the band only (the paper's
   /// reference, for comparing distance-query counts; same surface, much slower).
   bool full_field = false;
@@ -46,8 +52,9 @@ struct FillResult {
 };
 
 /// Fills `model` with the lattice.
-/// @param[in] model  a closed triangle mesh, mm (any orientation; parity decides inside)
-/// @throws InputError       bad options, or a model without a usable triangle
+/// @param[in] model  any triangle soup, mm (holes, flips, overlaps and duplicates allowed)
+/// @throws InputError       bad options, a model without a usable triangle, or one that
+///                          encloses no volume
 /// @throws ResourceError    the job exceeds the memory budget (message names a voxel size
 ///                          that fits)
 /// @throws ValidationError  the output failed validation (nothing to write; a bug)

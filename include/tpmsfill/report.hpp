@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "tpmsfill/clean.hpp"
 #include "tpmsfill/types.hpp"
 #include "tpmsfill/validate.hpp"
 
@@ -35,6 +36,12 @@ struct FillReport {
   bool full_field = false;             ///< distances at every node (--full-field)
   std::uint64_t rays = 0, crossings = 0;
   std::uint64_t odd_rays = 0;  ///< rows with an odd crossing count (input not closed)
+  // --- inside/outside (classify.hpp) -----------------------------------------------------
+  std::string inside_rule;         ///< "parity" or "winding"
+  CleanReport clean;               ///< what the clean stage found and did (winding rule only)
+  std::uint64_t overlap_rows = 0;  ///< rows where shells overlap (winding rule)
+  std::uint64_t parity_disagreements = 0;  ///< nodes where winding and parity differ
+  std::uint64_t cap_evaluations = 0;       ///< nodes that needed the hole caps' winding number
   std::uint64_t estimated_memory_bytes = 0;
   // --- output (the written mesh's figures are its validation's) -------------------------
   double model_volume = 0;            ///< mm^3, enclosed by the input (measured along the rays)

@@ -15,8 +15,13 @@
 namespace tpmsfill {
 
 struct IndexOptions {
-  /// Triangles with a repeated corner are always left out (they bound nothing). Collinear
-  /// triangles are kept: rays and distances treat them exactly.
+  /// Triangles that close the soup's holes (CleanResult::caps), or null. They join the
+  /// tree, so rays cross them and distances reach them (the model's contour runs across a
+  /// hole along its cap), and classify_grid()'s winding rule subtracts their own winding
+  /// number again, so that the result is the winding number of the soup alone.
+  const TriangleSoup* hole_caps = nullptr;
+  // Triangles with a repeated corner are always left out (they bound nothing). Collinear
+  // triangles are kept: rays and distances treat them exactly.
 };
 
 /// An AABB tree over a triangle soup's triangles (Epick). Move-only.
@@ -29,7 +34,8 @@ class MeshIndex {
   MeshIndex& operator=(MeshIndex&&) noexcept;
   ~MeshIndex();
 
-  std::size_t triangle_count() const;  ///< triangles in the tree
+  std::size_t triangle_count() const;  ///< triangles in the tree, caps included
+  std::size_t cap_count() const;       ///< of those, hole caps
   Box3 bounds() const;                 ///< of the triangles in the tree
 
   const Impl& impl() const { return *impl_; }
@@ -39,7 +45,8 @@ class MeshIndex {
 };
 
 /// Builds the AABB tree.
-/// @param[in] soup  any triangle soup; indices must be in range (readers guarantee it)
+/// @param[in] soup  any triangle soup; indices must be in range (readers guarantee it), also
+///                  in options.hole_caps
 /// @throws InputError  an index is out of range, or no triangle has three distinct corners
 MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options = {});
 

@@ -23,6 +23,7 @@ namespace {
 struct FillArgs {
   std::string input, output, report;
   std::string lattice = "gyroid";
+  std::string inside = "auto";
   bool sheet = false;
   std::vector<double> cell{2.0};
   std::optional<double> level, thickness;
@@ -111,6 +112,7 @@ int run_fill(const FillArgs& args) {
   if (args.level) options.lattice.level = *args.level;
   if (args.thickness) options.lattice.thickness = *args.thickness;
   options.band.width = args.band;
+  options.inside = args.inside == "parity" ? InsideRule::Parity : InsideRule::Winding;
   options.full_field = args.full_field;
   options.keep_islands = args.keep_islands;
   options.check_self_intersections = !args.no_self_intersections;
@@ -155,7 +157,7 @@ int run_fill(const FillArgs& args) {
 Command add_fill_command(CLI::App& app) {
   auto args = std::make_shared<FillArgs>();
   CLI::App* sub =
-      app.add_subcommand("fill", "Fill a closed mesh with a TPMS lattice clipped to its surface");
+      app.add_subcommand("fill", "Fill a mesh with a TPMS lattice clipped to its surface");
   sub->footer(
       "The lattice is the zero level of max(model distance, TPMS field), meshed by marching "
       "cubes on a grid of --voxel mm, and validated before it is written: closed, 2-manifold, "
@@ -168,7 +170,9 @@ Command add_fill_command(CLI::App& app) {
       "r.json\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
-  sub->add_option("IN", args->input, "Closed mesh: STL, OBJ, PLY or OFF (gzip allowed), mm")
+  sub->add_option("IN", args->input,
+                  "Mesh: STL, OBJ, PLY or OFF (gzip allowed), mm; holes, flipped faces and "
+                  "overlapping shells are fine")
       ->required();
   sub->add_option("OUT", args->output,
                   "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
@@ -183,6 +187,12 @@ Command add_fill_command(CLI::App& app) {
                   "(default 0)");
   sub->add_option("--thickness", args->thickness, "Sheet wall thickness in mm (default 0.3)");
   sub->add_option("--voxel", args->voxel, "Grid spacing in mm (default 0.1)");
+  sub->add_option("--inside", args->inside,
+                  "What counts as inside: winding (the generalized winding number >= 1/2 of the "
+                  "cleaned mesh, holes closed the way a person would close them), parity (odd "
+                  "ray crossings, the method paper's rule, for closed meshes only) or auto "
+                  "(default: winding, which equals parity wherever parity is right)")
+      ->check(CLI::IsMember({"auto", "parity", "winding"}));
   sub->add_option("--scale", args->scale,
                   "Multiply the input's coordinates by this first, e.g. 25.4 for inches or 1000 "
                   "for metres (default 1)")

@@ -22,6 +22,7 @@
 #include <memory>
 #include <vector>
 
+#include "detail/cap_winding.hpp"
 #include "detail/cgal_types.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/types.hpp"
@@ -99,11 +100,15 @@ using TreeNode = CGAL::AABB_node<TreeTraits>;
 namespace tpmsfill {
 
 struct MeshIndex::Impl {
-  detail::TriangleArray triangles;                   ///< kept triangles, corners as given
+  detail::TriangleArray triangles;                   ///< kept triangles, corners as given, caps last
   std::vector<std::unique_ptr<detail::Tree>> trees;  ///< 1 or 2 trees, disjoint triangle sets
   Box3 bounds;                                       ///< of `triangles`
   /// Largest |coordinate| (mm), for the distance stage's rounding slack.
   double magnitude = 0;
+  /// The hole caps' own winding number (empty without caps); their triangles are also the
+  /// last cap_count entries of `triangles` (ids ≥ triangles.size() − cap_count).
+  detail::CapWinding caps;
+  std::size_t cap_count = 0;
 };
 
 }  // namespace tpmsfill
