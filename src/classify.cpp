@@ -86,13 +86,15 @@ double row_distance(const Box3& box, const RowLine& line) {
 //
 // R is continuous, but its formula has a cut where a rim's sweep to x = −∞ passes through the
 // row (a rim edge on a grid row, common in CAD parts): there both the strip's solid angle
-// and ω jump. R is therefore evaluated on the row moved off by kRowOffset times the caps'
-// size in y and z (differently), where the formula is well conditioned; R moves by a
-// negligible amount, and the crossings J_M stay exact on the row itself.
+// and ω jump, and near it the strip's formula loses digits quadratically in the angle to
+// the cut. R is therefore evaluated on the row moved off by kRowOffset times the caps' size
+// in y and z (differently): the formula keeps about ten digits there, R moves by at most
+// kRowOffset·size / (2π d) at distance d from a rim (below 0.002 a voxel from it for grids
+// up to a thousand voxels across), and the crossings J_M stay exact on the row itself.
 constexpr double kRemainderTolerance = 0.01;
 constexpr double kStrideToRim = 1.0;
 constexpr double kThresholdGuard = 0.03;
-constexpr double kRowOffset = 1e-7;
+constexpr double kRowOffset = 1e-5;
 
 /// R at the nodes [first, last] of one row, sampled as above.
 class RowRemainder {
@@ -155,8 +157,8 @@ class RowRemainder {
 
 /// One row: crossings sorted by x in, occupancy of the row's nodes out.
 void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing>& crossings,
-                  const detail::CapWinding& caps, InsideRule rule, std::uint8_t* out,
-                  RowResult& r) {
+                  const detail::CapWinding& caps, const Box3& bounds, InsideRule rule,
+                  std::uint8_t* out, RowResult& r) {
   std::sort(crossings.begin(), crossings.end(), [](const RowCrossing& a, const RowCrossing& b) {
     return a.x < b.x || (a.x == b.x && a.sign < b.sign);
   });
@@ -225,6 +227,13 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
     int first = 0, last = n - 1;
     while (first < n && !near(first)) ++first;
     while (last > first && !near(last)) --last;
+    // Overlapping open surfaces can lift w to ½ even outside the model's box (two copies of
+    // a part with the same face missing, seen from just beyond that face); nobody calls
+    // that inside, and the grid's padding must stay outside.
+    const bool row_in_box = bounds.min.y <= line.y && line.y <= bounds.max.y &&
+                            bounds.min.z <= line.z && line.z <= bounds.max.z;
+    while (first <= last && !(row_in_box && grid.coordinate(0, first) >= bounds.min.x)) ++first;
+    while (last >= first && !(row_in_box && grid.coordinate(0, last) <= bounds.max.x)) --last;
     if (first <= last) {
       RowRemainder remainder(grid, line, caps, n, r);
       remainder.sample(first, last);
@@ -266,7 +275,7 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
       crossings.clear();
       RowCrossings traits(impl.triangles, impl.triangles.size() - impl.cap_count, crossings);
       for (const auto& tree : impl.trees) tree->traversal(line, traits);
-      classify_row(grid, line, crossings, impl.caps, options.rule,
+      classify_row(grid, line, crossings, impl.caps, impl.bounds, options.rule,
                    result.inside.values.data() + grid.index(0, j, k), per_row[row]);
     }
     progress.add(end - begin);
