@@ -66,13 +66,6 @@ struct RowResult {
   bool overlap = false;
 };
 
-/// Distance in the yz plane from a row line to a box (0 when the line passes through it).
-double row_distance(const Box3& box, const RowLine& line) {
-  const double dy = std::max({box.min.y - line.y, line.y - box.max.y, 0.0});
-  const double dz = std::max({box.min.z - line.z, line.z - box.max.z, 0.0});
-  return std::sqrt(dy * dy + dz * dz);
-}
-
 // Where hole caps close the model M, w_M = J_M + R (detail/cap_winding.hpp): J_M counts the
 // model's crossings and R, which depends only on the holes' rims, is continuous along the row
 // and varies on the scale of the distance to the nearest rim. R is therefore sampled, not
@@ -185,8 +178,8 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
   // Nodes: J below (crossings with x < node) and above (x ≤ node); a node on a crossing takes
   // the lower J, and parity counts it as outside. J_M and J_C likewise for the model and caps.
   const int n = grid.dims[0];
-  const bool near_caps = rule == InsideRule::Winding && !caps.empty() &&
-                         caps.bound_beyond(row_distance(caps.bounds(), line)) >= 0.5;
+  const bool near_caps =
+      rule == InsideRule::Winding && !caps.empty() && caps.row_bound(line.y, line.z) >= 0.5;
   std::vector<int> model_j(near_caps ? n : 0);
   std::vector<std::uint8_t> parity(rule == InsideRule::Winding ? n : 0);
   winding = 0;
@@ -217,13 +210,7 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
   }
   if (near_caps) {
     // The stretch of the row where the caps' winding number could reach ½.
-    const Box3& box = caps.bounds();
-    const double dyz = row_distance(box, line);
-    auto near = [&](int i) {
-      const double x = grid.coordinate(0, i);
-      return caps.bound_beyond(std::hypot(std::max({box.min.x - x, x - box.max.x, 0.0}), dyz)) >=
-             0.5;
-    };
+    auto near = [&](int i) { return caps.bound({grid.coordinate(0, i), line.y, line.z}) >= 0.5; };
     int first = 0, last = n - 1;
     while (first < n && !near(first)) ++first;
     while (last > first && !near(last)) --last;

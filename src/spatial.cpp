@@ -129,7 +129,12 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
       rims.emplace_back();
       for (std::uint32_t v : loop) rims.back().push_back(caps.points[v]);
     }
-    impl->caps = detail::CapWinding(cap_corners, rims);
+    std::vector<Triangle> cap_indices;  // the same triangles, as point indices
+    for (const Triangle& t : caps.triangles) {
+      const Vec3 &a = caps.points[t[0]], &b = caps.points[t[1]], &c = caps.points[t[2]];
+      if (!(same(a, b) || same(b, c) || same(c, a))) cap_indices.push_back(t);
+    }
+    impl->caps = detail::CapWinding(cap_corners, cap_indices, rims);
   }
   triangles.shrink_to_fit();
 

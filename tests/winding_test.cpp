@@ -195,7 +195,7 @@ TEST(Winding, ModelWindingIsCrossingsPlusRimRemainder) {
   const CleanResult cleaned = clean_soup(model);
   ASSERT_EQ(cleaned.report.holes, 3u);
   // The rims as build_index() finds them: the caps' border loops.
-  std::vector<std::array<Vec3, 3>> cap_triangles;
+  std::vector<std::array<Vec3, 3>> cap_triangles;  // none degenerate here
   for (const Triangle& t : cleaned.caps.triangles)
     cap_triangles.push_back(
         {cleaned.caps.points[t[0]], cleaned.caps.points[t[1]], cleaned.caps.points[t[2]]});
@@ -204,7 +204,7 @@ TEST(Winding, ModelWindingIsCrossingsPlusRimRemainder) {
     loops.emplace_back();
     for (std::uint32_t v : loop) loops.back().push_back(cleaned.caps.points[v]);
   }
-  const detail::CapWinding rims(cap_triangles, loops);
+  const detail::CapWinding rims(cap_triangles, cleaned.caps.triangles, loops);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-3, 3);
   double worst_identity = 0, worst_hierarchy = 0;
@@ -234,8 +234,9 @@ TEST(Winding, ModelWindingIsCrossingsPlusRimRemainder) {
   EXPECT_LT(worst_identity, 1e-9);
   EXPECT_LT(worst_hierarchy, 1e-3);
   // Far from the caps (beyond the bound) they cannot reach ½.
-  EXPECT_GE(rims.bound_beyond(0.1), 0.5);
-  EXPECT_LT(rims.bound_beyond(10.0), 0.5);
+  EXPECT_GE(rims.bound(c + Vec3{2.05, 0, 0}), 0.5);  // just off the +x hole
+  EXPECT_LT(rims.bound(c + Vec3{20, 0, 0}), 0.5);
+  EXPECT_LT(rims.row_bound(c.y + 20, c.z), 0.5);
 }
 
 }  // namespace

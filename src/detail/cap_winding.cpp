@@ -46,10 +46,36 @@ double triangle_winding(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3&
 }
 
 CapWinding::CapWinding(const std::vector<std::array<Vec3, 3>>& triangles,
+                       const std::vector<Triangle>& corners,
                        const std::vector<std::vector<Vec3>>& rims) {
-  for (const auto& t : triangles) {
-    for (const Vec3& v : t) box_.extend(v);
-    area_ += 0.5 * norm(cross(t[1] - t[0], t[2] - t[0]));
+  // Patches: triangles joined through shared points (union-find over point indices).
+  std::uint32_t points = 0;
+  for (const Triangle& t : corners) points = std::max({points, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::uint32_t> parent(points);
+  for (std::uint32_t i = 0; i < points; ++i) parent[i] = i;
+  auto find = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const Triangle& t : corners)
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(t[0]), b = find(t[k]);
+      parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<std::uint32_t> patch_of(points, ~0u);
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    std::uint32_t& id = patch_of[find(corners[i][0])];
+    if (id == ~0u) {
+      id = static_cast<std::uint32_t>(patches_.size());
+      patches_.emplace_back();
+    }
+    Patch& patch = patches_[id];
+    for (const Vec3& v : triangles[i]) {
+      patch.box.extend(v);
+      box_.extend(v);
+    }
+    patch.area +=
+        0.5 * norm(cross(triangles[i][1] - triangles[i][0], triangles[i][2] - triangles[i][0]));
   }
   for (const auto& rim : rims) {
     if (rim.size() < 2) continue;
@@ -98,9 +124,31 @@ void CapWinding::build(std::uint32_t index) {
   }
 }
 
-double CapWinding::bound_beyond(double d) const {
-  if (empty()) return 0;
-  return d > 0 ? area_ / (kFourPi * d * d) : 1e300;
+double CapWinding::bound(const Vec3& p) const {
+  double b = 0;
+  for (const Patch& patch : patches_) {
+    double d2 = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double d =
+          std::max({patch.box.min[axis] - p[axis], p[axis] - patch.box.max[axis], 0.0});
+      d2 += d * d;
+    }
+    if (d2 == 0) return std::numeric_limits<double>::infinity();
+    b += patch.area / (kFourPi * d2);
+  }
+  return b;
+}
+
+double CapWinding::row_bound(double y, double z) const {
+  double b = 0;
+  for (const Patch& patch : patches_) {
+    const double dy = std::max({patch.box.min.y - y, y - patch.box.max.y, 0.0});
+    const double dz = std::max({patch.box.min.z - z, z - patch.box.max.z, 0.0});
+    const double d2 = dy * dy + dz * dz;
+    if (d2 == 0) return std::numeric_limits<double>::infinity();
+    b += patch.area / (kFourPi * d2);
+  }
+  return b;
 }
 
 int CapWinding::shadow_winding(double y, double z) const {

@@ -16,8 +16,8 @@
 /// Barill et al. (SIGGRAPH 2018): a run far from p (its centre farther than kFarFactor times
 /// its radius, and p not behind it along the ray) counts as the strip of its chord plus the
 /// dipole of the small loop that run and chord make; near runs are opened down to exact
-/// strips. The caps' total area A and box bound where they can matter at all: a surface of
-/// area A at distance d subtends at most A / d² steradians.
+/// strips. Each connected patch of caps (one per hole) bounds where it can matter at all: a
+/// surface of area A at distance d subtends at most A / d² steradians.
 #pragma once
 
 #include <array>
@@ -31,18 +31,20 @@ namespace tpmsfill::detail {
 class CapWinding {
  public:
   CapWinding() = default;
-  /// @param triangles  the cap triangles (for the bound)
+  /// @param triangles  the cap triangles' corners (for the bound), with `corners` their
+  ///                   point indices (which triangles are connected)
   /// @param rims       the caps' border loops, each a sequence of corners in the caps' border
   ///                   direction (the reverse of the model's)
   CapWinding(const std::vector<std::array<Vec3, 3>>& triangles,
-             const std::vector<std::vector<Vec3>>& rims);
+             const std::vector<Triangle>& corners, const std::vector<std::vector<Vec3>>& rims);
 
   bool empty() const { return rims_.empty(); }
   const Box3& bounds() const { return box_; }  ///< of the caps
 
-  /// Upper bound on the caps' |w_C(p)| for every p at distance ≥ d from bounds(): beyond
-  /// where it drops below ½, J alone decides.
-  double bound_beyond(double d) const;
+  /// Upper bound on the caps' |w_C(p)|: where it is below ½, J alone decides.
+  double bound(const Vec3& p) const;
+  /// Upper bound on |w_C| anywhere on the grid row through (y, z).
+  double row_bound(double y, double z) const;
 
   /// ω: how often the rims' projection on the yz plane winds counter-clockwise around
   /// (y, z) (the same for every point of a grid row).
@@ -69,8 +71,12 @@ class CapWinding {
                                      ///< its first corner
   std::vector<std::uint32_t> rims_;  ///< root run of each rim
   std::vector<Run> runs_;
+  struct Patch {
+    Box3 box;
+    double area = 0;
+  };
+  std::vector<Patch> patches_;  ///< connected pieces of the caps
   Box3 box_;
-  double area_ = 0;
 };
 
 /// Winding number of triangle abc at p: signed solid angle / 4π, positive when p is behind
