@@ -230,6 +230,9 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
           w = model_j[i] + remainder.exact(i);
         out[i] = w >= 0.5 ? 1 : 0;
       }
+      // The spans of J no longer describe this row: its length is its inside nodes'.
+      r.length = 0;
+      for (int i = 0; i < n; ++i) r.length += out[i] ? grid.spacing : 0.0;
     }
   }
   if (rule == InsideRule::Winding)

@@ -44,8 +44,9 @@ struct ClassifyOptions {
 struct Occupancy {
   Mask inside;  ///< 1 = node inside the model
   /// Volume enclosed by the model, mm^3, measured along the rays: the summed lengths of the
-  /// spans inside by parity (Parity) or with J ≥ 1 (Winding: with hole caps, the volume that
-  /// model and caps enclose), times spacing² (exact along x, midpoint rule across rows).
+  /// spans inside by parity (Parity) or with J ≥ 1 (Winding), times spacing² (exact along x,
+  /// midpoint rule across rows). Rows whose answer needed the hole caps count their inside
+  /// nodes times spacing instead.
   double volume = 0;
   std::uint64_t rays = 0;       ///< rows cast (dims[1]·dims[2])
   std::uint64_t crossings = 0;  ///< ray/triangle crossings counted, caps included
