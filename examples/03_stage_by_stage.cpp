@@ -4,6 +4,7 @@
 //   03_stage_by_stage MESH [OUT.stl]
 #include <cstdio>
 #include <tpmsfill/classify.hpp>
+#include <tpmsfill/clean.hpp>
 #include <tpmsfill/compose.hpp>
 #include <tpmsfill/distance.hpp>
 #include <tpmsfill/error.hpp>
@@ -24,9 +25,10 @@ int main(int argc, char** argv) {
   }
   try {
     const TriangleSoup model = read_mesh(argv[1]);                        // read
-    const MeshIndex index = build_index(model);                           // AABB tree
+    const CleanResult clean = clean_soup(model);                          // oriented, capped
+    const MeshIndex index = build_index(clean.soup, {.hole_caps = &clean.caps});  // AABB tree
     const Grid grid = make_grid(index.bounds(), {.voxel_size = 0.5});     // padded grid
-    const Occupancy occupancy = classify_grid(index, grid);               // one ray per row
+    const Occupancy occupancy = classify_grid(index, grid);               // winding ≥ ½
     const Band band = band_voxels(occupancy.inside);                      // eq. 6–7
     const auto distance = band_distances(index, occupancy.inside, band);  // eq. 8–9
     const TpmsOptions lattice{.type = Lattice::Diamond, .cell = {4, 4, 4}};
