@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -9,20 +9,23 @@
 #     scale: Debian's femur scaled to 35 mm and a 4.7-million-triangle thin-walled tube, gyroid
 #     network T = 2 mm, C = 0, a = 0.1 mm; per-stage time and peak memory from --report
 #  5. the femur with --full-field: the distance computations the band saves
-#  6. `tpmsfill fill` on every closed mesh of ../shared/meshes, checked afterwards
+#  6. `tpmsfill fill` on every mesh of ../shared/meshes (holes and all), checked afterwards
+#  inside:
+#  7. classification time, winding number vs parity, on the femur at a = 0.1 mm (bench_classify),
+#     and the same femur with three holes cut into it
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 echo "## machine: $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB, $(uname -m)"
-if [[ "$section" != fill ]]; then
+if [[ "$section" == all || "$section" == io ]]; then
 echo
 echo "## 1. formats and check_mesh"
 ./build/tests/bench_io_check "$levels"
@@ -92,7 +95,7 @@ print()
 PY
 }
 
-if [[ "$section" != io ]]; then
+if [[ "$section" == all || "$section" == fill ]]; then
   echo
   echo "## 4. fill, end to end (gyroid network, T = 2 mm, C = 0, a = 0.1 mm)"
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
@@ -105,15 +108,15 @@ if [[ "$section" != io ]]; then
   fill_case femur35-full-field "$tmp/femur35.stl" --cell 2 --voxel 0.1 --full-field
 
   if [[ -d ../shared/meshes ]]; then
-    echo "## 6. fill on the closed meshes of ../shared/meshes (cell and voxel scaled to each mesh)"
-    echo "| file | exit | wall s | peak MB | triangles out | porosity % | unclipped % | check of output |"
-    echo "|---|---:|---:|---:|---:|---:|---:|---|"
+    echo "## 6. fill on every mesh of ../shared/meshes (cell and voxel scaled to each mesh)"
+    echo "| file | exit | wall s | peak MB | triangles out | porosity % | unclipped % | holes capped | flipped | pieces turned | overlap rows | parity would differ | rim evaluations | clean s | classify s | check of output |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
     for f in ../shared/meshes/*.{off,stl,STL,obj,ply}; do
       [[ -f "$f" ]] || continue
       ./build/tpmsfill check --no-self-intersections --json "$f" >"$tmp/c.json" 2>/dev/null || true
-      # Closed inputs only; cell = longest side / 15, voxel = cell / 10.
-      read -r closed cell voxel < <(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); b=j["bbox"]; L=max(b["max"][i]-b["min"][i] for i in range(3)); print(j["closed"], L/15, L/150)' "$tmp/c.json" 2>/dev/null || echo "False 0 0")
-      [[ "$closed" == True ]] || continue
+      # cell = longest side / 15, voxel = cell / 10.
+      read -r cell voxel < <(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); b=j["bbox"]; L=max(b["max"][i]-b["min"][i] for i in range(3)); print(L/15, L/150)' "$tmp/c.json" 2>/dev/null || echo "0 0")
+      [[ "$cell" != 0 ]] || continue
       set +e
       /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill fill "$f" "$tmp/shared-out.stl" --quiet \
         --cell "$cell" --voxel "$voxel" --report "$tmp/shared.json" 2>"$tmp/err.txt"
@@ -123,11 +126,18 @@ if [[ "$section" != io ]]; then
       verdict="-"
       if [[ $code == 0 ]]; then
         ./build/tpmsfill check "$tmp/shared-out.stl" >/dev/null && verdict="valid" || verdict="NOT VALID"
-        facts=$(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); print("%d | %.2f | %.2f" % (r["output"]["triangles"], 100*r["porosity"], 100*r["unclipped_porosity"]))' "$tmp/shared.json")
+        facts=$(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); i=r["inside"]; t={s["name"]: s["seconds"] for s in r["stages"]}; print("%d | %.2f | %.2f | %d | %d | %d | %d | %d | %d | %.3f | %.3f" % (r["output"]["triangles"], 100*r["porosity"], 100*r["unclipped_porosity"], i["holes"], i["flipped_triangles"], i["reversed_pieces"], i["overlap_rows"], i["parity_disagreements"], i["cap_evaluations"], t.get("clean", 0), t["classify"]))' "$tmp/shared.json")
       else
-        facts="$(head -c 80 "$tmp/err.txt") | - | -"
+        facts="$(head -c 80 "$tmp/err.txt") | - | - | - | - | - | - | - | - | - | -"
       fi
       printf '| %s | %s | %s | %.0f | %s | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts" "$verdict"
     done
   fi
+fi
+
+if [[ "$section" == all || "$section" == inside ]]; then
+  echo
+  echo "## 7. classification: winding number vs parity (femur 35 mm, a = 0.1 mm)"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+  ./build/tests/bench_classify "$tmp/femur.off" 5
 fi

@@ -64,6 +64,7 @@ struct RowResult {
   std::uint32_t cap_evaluations = 0;
   bool odd = false;
   bool overlap = false;
+  bool unbalanced = false;
 };
 
 // Where hole caps close the model M, w_M = J_M + R (detail/cap_winding.hpp): J_M counts the
@@ -175,6 +176,8 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
     if (hi > lo) r.length += hi - lo;
   }
 
+  if (winding != 0) r.unbalanced = true;
+
   // Nodes: J below (crossings with x < node) and above (x ≤ node); a node on a crossing takes
   // the lower J, and parity counts it as outside. J_M and J_C likewise for the model and caps.
   const int n = grid.dims[0];
@@ -204,6 +207,7 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
       parity[i] = odd ? 1 : 0;
       inside = j >= 1;
       if (j < 0 || j > 1) r.overlap = true;
+      if (j < 0) r.unbalanced = true;
       if (near_caps) model_j[i] = std::min(model, model_above);
     }
     out[i] = inside ? 1 : 0;
@@ -279,6 +283,7 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
     result.odd_rays += r.odd ? 1 : 0;
     if (options.rule == InsideRule::Winding) {
       result.overlap_rows += r.overlap ? 1 : 0;
+      result.unbalanced_rows += r.unbalanced ? 1 : 0;
       result.parity_disagreements += r.disagreements;
       result.cap_evaluations += r.cap_evaluations;
     }

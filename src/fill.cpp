@@ -180,28 +180,34 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   r.grid = grid;
   r.samples = grid.node_count();
 
-  const bool winding = options.inside == InsideRule::Winding;
-  r.inside_rule = winding ? "winding" : "parity";
-  std::optional<CleanResult> cleaned;
-  if (winding) {
-    cleaned = stage("clean", [&] { return clean_soup(model, {.progress = options.progress}); });
-    r.clean = cleaned->report;
-  }
+  const InsideRule rule = options.inside.value_or(InsideRule::Winding);
+  r.inside_rule = rule == InsideRule::Winding ? "winding" : "parity";
   std::optional<MeshIndex> tree;
-  stage("spatial", [&] {
-    if (!winding) {
-      tree.emplace(build_index(model));
-    } else if (cleaned->soup.triangles.empty()) {
+  Occupancy occupancy;
+  auto classify = [&] {
+    occupancy = stage("classify", [&] {
+      return classify_grid(*tree, grid, {.rule = rule, .progress = options.progress});
+    });
+  };
+  // Auto first tries the input as it is: along rows where it is closed and outward, the
+  // signed crossings are the winding number exactly.
+  if (rule == InsideRule::Parity || !options.inside) {
+    stage("spatial", [&] { tree.emplace(build_index(model)); });
+    classify();
+  }
+  if (rule == InsideRule::Winding && (options.inside || occupancy.unbalanced_rows > 0)) {
+    tree.reset();
+    CleanResult cleaned =
+        stage("clean", [&] { return clean_soup(model, {.progress = options.progress}); });
+    r.cleaned = true;
+    r.clean = cleaned.report;
+    if (cleaned.soup.triangles.empty())
       throw InputError("the mesh encloses no volume: no triangle has three distinct corners");
-    } else {
-      tree.emplace(build_index(cleaned->soup, {.hole_caps = &cleaned->caps}));
-    }
-  });
-  cleaned.reset();
+    stage("spatial",
+          [&] { tree.emplace(build_index(cleaned.soup, {.hole_caps = &cleaned.caps})); });
+    classify();
+  }
   const MeshIndex& index = *tree;
-  Occupancy occupancy = stage("classify", [&] {
-    return classify_grid(index, grid, {.rule = options.inside, .progress = options.progress});
-  });
   r.rays = occupancy.rays;
   r.crossings = occupancy.crossings;
   r.odd_rays = occupancy.odd_rays;
@@ -209,7 +215,7 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   r.parity_disagreements = occupancy.parity_disagreements;
   r.cap_evaluations = occupancy.cap_evaluations;
   r.model_volume = occupancy.volume;
-  if (!winding && occupancy.odd_rays)
+  if (rule == InsideRule::Parity && occupancy.odd_rays)
     r.warnings.push_back(std::to_string(occupancy.odd_rays) +
                          " grid rows crossed the surface an odd number of times: the input is "
                          "not closed, so inside and outside may be wrong near its holes "

@@ -169,6 +169,7 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
   const std::string lattice = "'" + (dir / "lattice.stl").string() + "'";
   std::string out;
   const std::vector<std::string> cases = {in + lattice + " --lattice kelvin",
+                                          in + lattice + " --inside majority",
                                           in + lattice + " --voxel 0",
                                           in + lattice + " --cell 1 2",
                                           in + lattice + " --thickness 0.2",
@@ -183,4 +184,49 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
   EXPECT_EQ(
       test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 64M", &out), 2);
   EXPECT_NE(out.find("voxel size of"), std::string::npos) << out;
+}
+
+TEST(Cli, FillHandlesHolesAndRefusesASheetInOneLine) {
+  const auto dir = test::scratch_dir();
+  // A ball with its cap beyond x = 4.5 cut away (written as STL: unwelded points); the grid's
+  // rows run along x, so some of them pass through the hole.
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 5.0, 4);
+  TriangleSoup open;
+  open.points = ball.points;
+  for (const Triangle& t : ball.triangles)
+    if (ball.points[t[0]].x < 4.5 && ball.points[t[1]].x < 4.5 && ball.points[t[2]].x < 4.5)
+      open.triangles.push_back(t);
+  write_mesh(dir / "open.stl", open);
+  const std::string in = "'" + (dir / "open.stl").string() + "' ";
+  const std::string lattice = "'" + (dir / "lattice.stl").string() + "'";
+  const std::string report = " --report '" + (dir / "r.json").string() + "'";
+  std::string out;
+  ASSERT_EQ(test::run_command(cli() + " fill " + in + lattice + " --voxel 0.25" + report, &out), 0)
+      << out;
+  EXPECT_NE(out.find("winding number (1 hole(s) capped"), std::string::npos) << out;
+  auto r = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_EQ(r["inside"]["rule"], "winding");
+  EXPECT_EQ(r["inside"]["holes"].get<int>(), 1);
+  EXPECT_EQ(check(dir / "lattice.stl", "", &out), 0) << out;
+  // Parity says what it cannot do.
+  ASSERT_EQ(test::run_command(
+                cli() + " fill " + in + lattice + " --voxel 0.25 --inside parity" + report, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("odd number of times"), std::string::npos) << out;
+  // A flat sheet: one sentence, exit 2, nothing written.
+  std::filesystem::remove(dir / "lattice.stl");
+  TriangleSoup sheet;
+  // Planar, and through no grid node (on the sheet w is ½).
+  auto z = [](double x, double y) { return 0.3137 + 0.12345 * x + 0.0567 * y; };
+  sheet.points = {{0, 0, z(0, 0)}, {10, 0, z(10, 0)}, {10, 10, z(10, 10)}, {0, 10, z(0, 10)}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
+  write_mesh(dir / "sheet.stl", sheet);
+  EXPECT_EQ(test::run_command(
+                cli() + " fill '" + (dir / "sheet.stl").string() + "' " + lattice + " --voxel 0.25",
+                &out),
+            2);
+  EXPECT_EQ(count_lines(out), 1u) << out;
+  EXPECT_NE(out.find("encloses no volume"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "lattice.stl"));
 }

@@ -55,6 +55,10 @@ struct Occupancy {
   std::uint64_t odd_rays = 0;
   /// Winding rule: rows with a node where J is not 0 or 1 (shells overlap or are inside out).
   std::uint64_t overlap_rows = 0;
+  /// Winding rule: rows whose crossing directions do not add up to 0, or with a node where J
+  /// is negative: along them the triangles (caps included) are open or not consistently
+  /// oriented outward. 0 for a closed, outward mesh.
+  std::uint64_t unbalanced_rows = 0;
   /// Winding rule: nodes where the winding number and parity disagree.
   std::uint64_t parity_disagreements = 0;
   /// Winding rule: nodes whose answer needed the caps' winding number evaluated.

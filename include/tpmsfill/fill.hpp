@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/grid.hpp"
@@ -26,10 +27,13 @@ struct FillOptions {
   GridOptions grid;     ///< voxel size (mm) and padding
   TpmsOptions lattice;  ///< type, network/sheet, cell size, level or thickness (mm)
   BandOptions band;     ///< band half-width in voxels
-  /// Winding: clean the input (clean_soup), cap its holes and classify by the winding
-  /// number. Parity: classify the input as it is by the parity of crossings (the method
-  /// paper's rule, for closed meshes whose shells do not overlap).
-  InsideRule inside = InsideRule::Winding;
+  /// What counts as inside. Winding: clean the input (clean_soup), cap its holes and classify
+  /// by the generalized winding number. Parity: classify the input as it is by the parity of
+  /// crossings (the method paper's rule, for closed meshes whose shells do not overlap).
+  /// Unset (auto): the winding number by signed crossings on the input as it is; if any row
+  /// finds it open or inside out there (Occupancy::unbalanced_rows), clean and cap as Winding
+  /// does. Auto and Winding give the same inside; auto skips cleaning what needs none.
+  std::optional<InsideRule> inside;
   /// Compute the model's distance at every node instead of the band only (the paper's
   /// reference, for comparing distance-query counts; same surface, much slower).
   bool full_field = false;

@@ -38,6 +38,7 @@ struct FillReport {
   std::uint64_t odd_rays = 0;  ///< rows with an odd crossing count (input not closed)
   // --- inside/outside (classify.hpp) -----------------------------------------------------
   std::string inside_rule;         ///< "parity" or "winding"
+  bool cleaned = false;            ///< the clean stage ran (winding; auto when the input needed it)
   CleanReport clean;               ///< what the clean stage found and did (winding rule only)
   std::uint64_t overlap_rows = 0;  ///< rows where shells overlap (winding rule)
   std::uint64_t parity_disagreements = 0;  ///< nodes where winding and parity differ

@@ -112,7 +112,12 @@ int run_fill(const FillArgs& args) {
   if (args.level) options.lattice.level = *args.level;
   if (args.thickness) options.lattice.thickness = *args.thickness;
   options.band.width = args.band;
-  options.inside = args.inside == "parity" ? InsideRule::Parity : InsideRule::Winding;
+  if (args.inside == "parity")
+    options.inside = InsideRule::Parity;
+  else if (args.inside == "winding")
+    options.inside = InsideRule::Winding;
+  else if (args.inside != "auto")
+    throw InputError("--inside: '" + args.inside + "' is not auto, parity or winding");
   options.full_field = args.full_field;
   options.keep_islands = args.keep_islands;
   options.check_self_intersections = !args.no_self_intersections;
@@ -191,8 +196,8 @@ Command add_fill_command(CLI::App& app) {
                   "What counts as inside: winding (the generalized winding number >= 1/2 of the "
                   "cleaned mesh, holes closed the way a person would close them), parity (odd "
                   "ray crossings, the method paper's rule, for closed meshes only) or auto "
-                  "(default: winding, which equals parity wherever parity is right)")
-      ->check(CLI::IsMember({"auto", "parity", "winding"}));
+                  "(default: the winding number, cleaning the mesh only if some grid row finds "
+                  "it open or inside out)");
   sub->add_option("--scale", args->scale,
                   "Multiply the input's coordinates by this first, e.g. 25.4 for inches or 1000 "
                   "for metres (default 1)")
