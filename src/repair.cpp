@@ -386,14 +386,59 @@ bool acceptable(SurfaceMesh& candidate, bool closed) {
   return remove_degenerate(candidate) == 0 && count_self_intersections(candidate) == 0;
 }
 
+/// Signed volume (mm^3, about `origin`) of each edge-connected component.
+std::vector<double> shell_volumes(SurfaceMesh& mesh, Vec3 origin) {
+  auto fccmap = mesh.add_property_map<Face, std::size_t>("f:repair_volume", 0).first;
+  const std::size_t n = PMP::connected_components(mesh, fccmap);
+  std::vector<double> six_v(n, 0.0);
+  for (Face f : mesh.faces()) {
+    std::array<Vec3, 3> p{};
+    int k = 0;
+    for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (k == 3) break;
+      const Point3& q = mesh.point(v);
+      p[k++] = Vec3{q.x(), q.y(), q.z()} - origin;
+    }
+    six_v[fccmap[f]] += dot(p[0], cross(p[1], p[2]));
+  }
+  mesh.remove_property_map(fccmap);
+  for (double& v : six_v) v /= 6.0;
+  return six_v;
+}
+
+/// Whether a candidate's volume is one that removing self-intersections can give: at least
+/// 90% of the smaller of the largest shell and the total (a union is no smaller than its
+/// largest part; voids count negative), at most 101% of the shells' positive volumes summed.
+/// Rejects an autorefinement that kept the wrong side (CGAL 5.5's is experimental).
+bool plausible_volume(const std::vector<double>& before, double after) {
+  double largest = 0, total = 0, positive = 0;
+  for (double v : before) {
+    largest = std::max(largest, v);
+    total += v;
+    positive += std::max(v, 0.0);
+  }
+  return after >= 0.9 * std::min(largest, total) && after <= 1.01 * positive;
+}
+
 /// Step 5: autorefinement (keeps the outer hull), else local remeshing, each on a copy.
 void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Stages& stages) {
   counts.si_action = "not resolved";
   const bool closed = CGAL::is_closed(mesh);
+  Box3 box;
+  for (Vertex v : mesh.vertices())
+    box.extend({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+  const Vec3 origin = 0.5 * (box.min + box.max);
+  const std::vector<double> before = closed ? shell_volumes(mesh, origin) : std::vector<double>{};
+  auto volume_ok = [&](SurfaceMesh& candidate) {
+    if (!closed) return true;
+    double after = 0;
+    for (double v : shell_volumes(candidate, origin)) after += v;
+    return plausible_volume(before, after);
+  };
   try {
     SurfaceMesh refined = mesh;
     if (PMP::experimental::autorefine_and_remove_self_intersections(refined) &&
-        acceptable(refined, closed)) {
+        acceptable(refined, closed) && volume_ok(refined)) {
       mesh = std::move(refined);
       counts.si_fixed = counts.si_found;
       counts.si_action = "autorefined, inner patches removed (overlapping shells united)";
@@ -405,7 +450,8 @@ void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Stages& stage
   stages.report(0.5);
   try {
     SurfaceMesh local = mesh;
-    if (PMP::experimental::remove_self_intersections(local) && acceptable(local, closed)) {
+    if (PMP::experimental::remove_self_intersections(local) && acceptable(local, closed) &&
+        volume_ok(local)) {
       mesh = std::move(local);
       counts.si_fixed = counts.si_found;
       counts.si_action = "removed by local remeshing";
@@ -438,7 +484,9 @@ SurfaceMesh repair_steps(const TriangleSoup& input, const RepairOptions& options
     stages.begin("fill holes");
     counts.holes = fill_holes(mesh, options.fair_holes, stages);
     mesh.collect_garbage();
-    // A patch may have a collinear triangle where its border has three collinear corners.
+    // A patch may pinch a vertex where a hole's border touches itself, or have a collinear
+    // triangle where the border has three collinear corners.
+    counts.pinched += PMP::duplicate_non_manifold_vertices(mesh);
     remove_degenerate(mesh);
   } else {
     std::vector<Halfedge> cycles;
@@ -518,11 +566,39 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
     result.mesh = input;
   }
   write_log(report.before, counts, options, report.actions);
-  if (options.float_coordinates) round_to_float(result.mesh);
 
   // --- 7. check; wrap if still not valid -----------------------------------------------------
   stages.begin("check result");
   report.after = check_mesh(result.mesh);
+  if (options.float_coordinates && !failure) {
+    // Rounding to float can break a valid repair (two faces a few ulps apart now touch, a
+    // sliver turns degenerate): repair the rounded mesh again, at most twice, before wrapping.
+    const bool valid_in_double = report.after.valid();
+    round_to_float(result.mesh);
+    report.after = check_mesh(result.mesh);
+    const std::optional<double> volume = report.after.volume;
+    while (valid_in_double && !report.after.valid() && report.float_repasses < 2) {
+      ++report.float_repasses;
+      RepairReport scratch;
+      Counts again;
+      SurfaceMesh unused;
+      try {
+        TriangleSoup next =
+            to_soup(repair_steps(result.mesh, options, scratch, again, unused, stages));
+        canonical_order(next);
+        round_to_float(next);
+        const MeshCheck check = check_mesh(next);
+        // A repair of rounding errors must not change the solid.
+        if (volume &&
+            !(check.volume && std::fabs(*check.volume - *volume) <= 0.01 * std::fabs(*volume)))
+          break;
+        result.mesh = std::move(next);
+        report.after = check;
+      } catch (const CGAL::Failure_exception&) {
+        break;
+      }
+    }
+  }
   stages.report(1.0);
   if (report.after.valid() || !options.wrap) return result;
 

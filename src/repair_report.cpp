@@ -43,6 +43,7 @@ std::string to_json(const RepairReport& r) {
       {"alpha", r.wrapped ? json(r.alpha) : json(nullptr)},
       {"offset", r.wrapped ? json(r.offset) : json(nullptr)},
       {"unresolved", r.unresolved},
+      {"float_repasses", r.float_repasses},
       {"min_component_fraction", r.min_component_fraction},
       {"small_component_threshold", r.small_component_threshold},
       {"components", r.components},
@@ -78,6 +79,9 @@ std::string to_text(const RepairReport& r) {
        g(r.min_component_fraction) + " of the largest of " + std::to_string(r.components) +
        ") are removed\n";
 
+  if (r.float_repasses > 0)
+    s += "float    rounding to float (for STL) broke the repair: repaired again " +
+         std::to_string(r.float_repasses) + (r.float_repasses == 1 ? " time\n" : " times\n");
   if (r.wrapped) {
     s += "wrap     alpha wrap with alpha " + g(r.alpha) + " mm, offset " + g(r.offset) +
          " mm, because the repaired mesh still had:\n";

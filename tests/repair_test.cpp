@@ -342,8 +342,8 @@ TEST(Repair, JsonHasEveryDocumentedField) {
   const std::string json = to_json(r.report);
   for (const char* key :
        {"\"valid\"", "\"problems\"", "\"wrapped\"", "\"alpha\"", "\"offset\"", "\"unresolved\"",
-        "\"min_component_fraction\"", "\"small_component_threshold\"", "\"components\"",
-        "\"holes_faired\"", "\"actions\"", "\"before\"", "\"after\""})
+        "\"float_repasses\"", "\"min_component_fraction\"", "\"small_component_threshold\"",
+        "\"components\"", "\"holes_faired\"", "\"actions\"", "\"before\"", "\"after\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   const std::string text = to_text(r.report);
   EXPECT_NE(text.find("holes: 1 found"), std::string::npos) << text;

@@ -88,6 +88,9 @@ struct RepairReport {
   std::uint64_t holes_faired = 0;        ///< holes filled and faired (of the filled ones)
   /// Why the wrap ran: check_mesh()'s problems with the repaired mesh; empty when it did not.
   std::vector<std::string> unresolved;
+  /// Times steps 1-6 ran again on the result because rounding it to float
+  /// (RepairOptions::float_coordinates) broke its validity (at most 2; then the wrap).
+  std::uint64_t float_repasses = 0;
   bool wrapped = false;  ///< the result is an alpha wrap
   double alpha = 0;      ///< mm, the value used (0 when not wrapped)
   double offset = 0;     ///< mm, the value used (0 when not wrapped)
@@ -117,10 +120,11 @@ RepairResult repair_mesh(const TriangleSoup& soup, const RepairOptions& options 
 /// The JSON object `tpmsfill repair --json` prints (2-space indent, keys in this order):
 ///
 ///   valid, problems (check_mesh's sentences for the result), wrapped, alpha, offset (mm;
-///   null when not wrapped), unresolved (sentences that made the wrap run), min_component_fraction,
-///   small_component_threshold (mm^2), components, holes_faired,
+///   null when not wrapped), unresolved (sentences that made the wrap run), float_repasses,
+///   min_component_fraction, small_component_threshold (mm^2), components, holes_faired,
 ///   actions: [{defect, found, action, fixed}], before, after (each the object
-///   to_json(MeshCheck) gives).
+///   to_json(MeshCheck) gives). Each field means what the RepairReport member of the same
+///   name means.
 std::string to_json(const RepairReport& report);
 
 /// The report as the CLI prints it: one line per defect class found, thresholds, the wrap's
