@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -13,13 +13,15 @@
 #  inside:
 #  7. classification time, winding number vs parity, on the femur at a = 0.1 mm (bench_classify),
 #     and the same femur with three holes cut into it
+#  repair:
+#  8. `tpmsfill repair` on every mesh of ../shared/meshes, the output checked afterwards
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -140,4 +142,35 @@ if [[ "$section" == all || "$section" == inside ]]; then
   echo "## 7. classification: winding number vs parity (femur 35 mm, a = 0.1 mm)"
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
   ./build/tests/bench_classify "$tmp/femur.off" 5
+fi
+
+if [[ "$section" == all || "$section" == repair ]] && [[ -d ../shared/meshes ]]; then
+  echo
+  echo "## 8. repair on ../shared/meshes (defaults; output STL checked by tpmsfill check)"
+  echo "| file | exit | wall s | peak MB | triangles in → out | defects found → fixed | wrapped (alpha, offset mm) | check of output |"
+  echo "|---|---:|---:|---:|---|---|---|---|"
+  for f in ../shared/meshes/*.{off,stl,STL,obj,ply}; do
+    [[ -f "$f" ]] || continue
+    rm -f "$tmp/repaired.stl"
+    set +e
+    /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill repair "$f" "$tmp/repaired.stl" \
+      --json >"$tmp/repair.json" 2>/dev/null
+    code=$?
+    set -e
+    read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+    verdict="nothing written"
+    if [[ -f "$tmp/repaired.stl" ]]; then
+      ./build/tpmsfill check "$tmp/repaired.stl" >/dev/null && verdict="valid" || verdict="NOT VALID"
+    fi
+    facts=$(python3 - "$tmp/repair.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+acts = "; ".join(f"{a['defect']} {a['found']} → {a['fixed']}" for a in j["actions"] if a["found"])
+wrap = f"yes ({j['alpha']:.3g}, {j['offset']:.3g})" if j["wrapped"] else "no"
+print(f"{j['before']['triangles']} → {j['after']['triangles']} | {acts or 'none'} | {wrap}")
+PY
+)
+    printf '| %s | %s | %s | %.0f | %s | %s |\n' "$(basename "$f")" "$code" "$wall" \
+      "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts" "$verdict"
+  done
 fi

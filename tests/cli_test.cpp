@@ -122,7 +122,7 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
   const std::string docs =
       test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
-  for (const std::string command : {"", "check", "fill"}) {
+  for (const std::string command : {"", "check", "fill", "repair"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
     // Every "--word" in the help text (no std::regex: GCC 12 warns inside it under ASan).

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <tpmsfill/error.hpp>
@@ -16,6 +15,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/terminal_progress.hpp"
 
 namespace tpmsfill::cli {
 namespace {
@@ -56,37 +56,6 @@ std::uint64_t parse_bytes(const std::string& text) {
     throw InputError("--memory: '" + text + "' is not a size such as 8G or 512M");
   return static_cast<std::uint64_t>(value * scale);
 }
-
-// One self-overwriting line on a terminal: "  distance  42%".
-class TerminalProgress : public Progress {
- public:
-  void begin(std::string_view stage) override {
-    std::lock_guard lock(mutex_);
-    stage_ = stage;
-    shown_ = -1;
-    draw(0);
-  }
-  bool report(double fraction) override {
-    std::lock_guard lock(mutex_);
-    draw(static_cast<int>(fraction * 100));
-    return true;
-  }
-  void clear() {
-    std::lock_guard lock(mutex_);
-    std::fprintf(stderr, "\r%40s\r", "");
-  }
-
- private:
-  void draw(int percent) {
-    if (percent == shown_) return;
-    shown_ = percent;
-    std::fprintf(stderr, "\r  %-16s %3d%%", stage_.c_str(), percent);
-    std::fflush(stderr);
-  }
-  std::mutex mutex_;
-  std::string stage_;
-  int shown_ = -1;
-};
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -10,8 +10,9 @@ namespace tpmsfill::cli {
 /// Exit codes shared by all commands.
 enum ExitCode : int {
   kOk = 0,  ///< the command did what was asked (check: the mesh is valid)
-  kNotValid =
-      1,  ///< check: the mesh is not a valid closed 2-manifold; fill: the lattice failed validation
+  /// check: the mesh is not a valid closed 2-manifold; fill: the lattice failed validation;
+  /// repair: the mesh could not be made valid (nothing written)
+  kNotValid = 1,
   kBadInput = 2,  ///< the input cannot be read, or the command line is wrong
   kInternal = 3,  ///< a bug: an unexpected exception
 };
@@ -20,5 +21,6 @@ using Command = std::function<int()>;
 
 Command add_check_command(CLI::App& app);
 Command add_fill_command(CLI::App& app);
+Command add_repair_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

@@ -17,11 +17,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Run 'tpmsfill COMMAND --help' for a command's options. Exit codes: 0 ok, 1 mesh "
-      "not valid (check) or lattice failed validation (fill), 2 unreadable input or bad arguments, "
+      "not valid (check), lattice failed validation (fill) or mesh not repairable (repair), 2 "
+      "unreadable input or bad arguments, "
       "3 internal error.");
 
   Command check = add_check_command(app);
   Command fill = add_fill_command(app);
+  Command repair = add_repair_command(app);
 
   try {
     app.parse(argc, argv);
@@ -37,6 +39,8 @@ int main(int argc, char** argv) {
         return check();
       else if (sub->get_name() == "fill")
         return fill();
+      else if (sub->get_name() == "repair")
+        return repair();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

@@ -1,0 +1,134 @@
+/// @file repair.hpp
+/// @brief Stage "repair": turn a defective triangle soup (a scan with holes, flipped faces,
+/// unwelded or duplicated vertices, overlapping shells, self-intersections, non-manifold edges
+/// and vertices, degenerate slivers, stray specks) into what check_mesh() accepts: a closed,
+/// outward-oriented 2-manifold without self-intersections or degenerate faces.
+///
+/// The steps, all CGAL Polygon Mesh Processing on the exact-predicate kernel (Epick):
+///
+///  1. soup: merge bit-identical points, drop repeated-corner and duplicate triangles
+///     (PMP::repair_polygon_soup), orient consistently, splitting non-manifold edges and
+///     vertices (PMP::orient_polygon_soup), build a halfedge mesh;
+///  2. stitch coincident borders (PMP::stitch_borders), split pinched vertices
+///     (PMP::duplicate_non_manifold_vertices), remove collinear triangles
+///     (PMP::remove_degenerate_faces);
+///  3. remove connected components (through edges) whose area is below
+///     RepairOptions::min_component_fraction of the largest one's (stray specks);
+///  4. fill every hole: triangulate, refine and fair (PMP::triangulate_refine_and_fair_hole);
+///     where fairing fails the refined patch stays; where triangulation fails, plain
+///     PMP::triangulate_hole with the exhaustive search (holes up to 400 edges);
+///  5. resolve self-intersections: autorefine and keep the outer hull
+///     (PMP::experimental::autorefine_and_remove_self_intersections, a union of overlapping
+///     shells), else local remeshing (PMP::experimental::remove_self_intersections);
+///  6. orient every shell outward (PMP::orient_to_bound_a_volume);
+///  7. if check_mesh() still refuses the result, replace it by a 3D alpha wrap
+///     (CGAL::alpha_wrap_3) of the mesh as it was after step 4 (see RepairOptions::wrap);
+///  8. check_mesh() (self-intersections searched) on the result: RepairReport::after.
+///
+/// Deterministic: the same soup and options give the same mesh, whatever the thread count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tpmsfill/check.hpp"
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+struct RepairOptions {
+  /// Connected components (joined through edges, after step 2) whose area is below this
+  /// fraction of the largest component's area are removed as stray specks. 0 keeps every
+  /// component. In [0, 1).
+  double min_component_fraction = 1e-3;
+  bool fill_holes = true;  ///< step 4 (off: holes stay, so the mesh is repaired only by a wrap)
+  bool fair_holes = true;  ///< fair hole patches (smooth); off: triangulate and refine only
+  bool self_intersections = true;  ///< step 5 (off: self-intersecting meshes go to the wrap)
+  /// Step 7. Alpha wrapping always yields a valid mesh but moves the surface: it lies about
+  /// `offset` outside the input and does not enter cavities narrower than about `alpha`.
+  /// The wrap's input is the mesh after hole filling, not the original soup: specks are gone
+  /// (the original would wrap each of them) and holes are closed (an open surface would be
+  /// wrapped on both sides, as a thin shell instead of a solid).
+  bool wrap = true;
+  /// Alpha (mm): the radius of the ball that carves space around the input. 0 = the
+  /// bounding-box diagonal of the wrapped mesh / 100 (details down to about 1% of the part).
+  double alpha = 0;
+  /// Offset (mm): how far outside the input the wrap lies. 0 = alpha / 30 (CGAL's own
+  /// default ratio), i.e. diagonal / 3000: 0.03 mm for a 100 mm part.
+  double offset = 0;
+  /// Round the result's coordinates to float before the final check, so that formats that
+  /// store floats (STL) hold exactly the mesh that was checked. If rounding breaks validity,
+  /// the wrap runs (its output is rounded and checked too).
+  bool float_coordinates = false;
+  Progress* progress = nullptr;
+};
+
+/// One line of the repair log per defect class.
+struct RepairAction {
+  std::string defect;       ///< e.g. "holes"
+  std::uint64_t found = 0;  ///< how many the step found (in its own unit, named in `defect`)
+  std::string action;       ///< what was done, one phrase ("" when nothing was found)
+  std::uint64_t fixed = 0;  ///< of those, how many were resolved by the step
+};
+
+struct RepairReport {
+  MeshCheck before;  ///< check_mesh() of the input (self-intersections searched)
+  /// In pipeline order, always the same defect classes (found may be 0): "duplicate points",
+  /// "degenerate triangles" (repeated or collinear corners), "duplicate triangles",
+  /// "inconsistently oriented edges", "non-manifold edges", "non-manifold vertices" (in the
+  /// input, plus those split after stitching), "coincident border edge pairs" (stitched),
+  /// "small components", "holes", "self-intersecting triangle pairs" (after hole filling),
+  /// "shells oriented inward". The first five count what check_mesh() found in the input.
+  std::vector<RepairAction> actions;
+  double min_component_fraction = 0;     ///< the option used
+  double small_component_threshold = 0;  ///< mm^2: components with less area were removed
+  std::uint64_t components = 0;          ///< edge-connected components before removal
+  std::uint64_t holes_faired = 0;        ///< holes filled and faired (of the filled ones)
+  /// Why the wrap ran: check_mesh()'s problems with the repaired mesh; empty when it did not.
+  std::vector<std::string> unresolved;
+  /// Times steps 1-6 ran again on the result because rounding it to float
+  /// (RepairOptions::float_coordinates) broke its validity (at most 2; then the wrap).
+  std::uint64_t float_repasses = 0;
+  bool wrapped = false;  ///< the result is an alpha wrap
+  double alpha = 0;      ///< mm, the value used (0 when not wrapped)
+  double offset = 0;     ///< mm, the value used (0 when not wrapped)
+  MeshCheck after;       ///< check_mesh() of the result (self-intersections searched)
+
+  /// after.valid(): the result is a closed, outward-oriented 2-manifold without
+  /// self-intersections or degenerate faces.
+  bool valid() const { return after.valid(); }
+};
+
+struct RepairResult {
+  TriangleSoup mesh;  ///< the repaired mesh (valid when report.valid())
+  RepairReport report;
+};
+
+/// Repairs `soup`.
+/// @param[in] soup     any triangle soup, mm
+/// @param[in] options  which steps run, specks threshold, wrap parameters
+/// @return the repaired mesh (shared points, no unreferenced ones) and what was done. When
+///         report.valid() is false (the wrap was off or failed) the mesh is the best repair
+///         reached, not a valid one.
+/// @throws InputError  the soup has no triangles or an index out of range; an option is out
+///                     of range (negative alpha or offset, fraction outside [0, 1))
+/// @throws Cancelled   options.progress cancelled the job
+RepairResult repair_mesh(const TriangleSoup& soup, const RepairOptions& options = {});
+
+/// The JSON object `tpmsfill repair --json` prints (2-space indent, keys in this order):
+///
+///   valid, problems (check_mesh's sentences for the result), wrapped, alpha, offset (mm;
+///   null when not wrapped), unresolved (sentences that made the wrap run), float_repasses,
+///   min_component_fraction, small_component_threshold (mm^2), components, holes_faired,
+///   actions: [{defect, found, action, fixed}], before, after (each the object
+///   to_json(MeshCheck) gives). Each field means what the RepairReport member of the same
+///   name means.
+std::string to_json(const RepairReport& report);
+
+/// The report as the CLI prints it: one line per defect class found, thresholds, the wrap's
+/// alpha and offset, and the final verdict with its problems.
+std::string to_text(const RepairReport& report);
+
+}  // namespace tpmsfill

@@ -1,0 +1,630 @@
+// Stage "repair": CGAL PMP on the exact-predicate kernel turns a defective soup into a closed,
+// outward 2-manifold without self-intersections; an alpha wrap (repair_wrap.cpp) is the
+// fallback. The steps are listed in repair.hpp; the report's wording is in repair_report.cpp.
+//
+// Robustness: some of these CGAL 5.5 functions (autorefinement above all, which is
+// experimental) can fail on real input. Release builds compile CGAL's checks out, and a
+// failed one then runs on into a crash; CGAL_DEBUG keeps them in this file, so a failure is a
+// CGAL::Failure_exception, caught below per step: the step is undone (each works on a copy or
+// is retried without the failing hole) and the pipeline goes on, to the wrap if need be.
+#define CGAL_DEBUG 1
+#define EIGEN_NO_DEBUG 1  // Eigen's checks abort() rather than throw: leave them out
+
+#include "tpmsfill/repair.hpp"
+
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/manifoldness.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/shape_predicates.h>
+#include <CGAL/Polygon_mesh_processing/stitch_borders.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "detail/alpha_wrap.hpp"
+#include "detail/cgal_types.hpp"
+#include "detail/soup_indices.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+namespace tpmsfill {
+namespace {
+
+using detail::Point3;
+using detail::SurfaceMesh;
+using Face = SurfaceMesh::Face_index;
+using Halfedge = SurfaceMesh::Halfedge_index;
+using Vertex = SurfaceMesh::Vertex_index;
+
+/// Holes with more border edges than this are filled with the Delaunay-based searches only:
+/// the exhaustive one is cubic in the edge count (400 edges: about 6·10^7 candidates).
+constexpr std::size_t kMaxCubicHole = 400;
+
+/// Progress through one stage at a time; report() returning false cancels.
+class Stages {
+ public:
+  explicit Stages(Progress* progress) : progress_(progress) {}
+  void begin(const char* stage) {
+    if (progress_) progress_->begin(stage);
+  }
+  void report(double fraction) {
+    if (progress_ && !progress_->report(fraction)) throw Cancelled("cancelled");
+  }
+
+ private:
+  Progress* progress_;
+};
+
+/// The mesh as a soup: vertices that some face uses, in index order; faces in index order.
+TriangleSoup to_soup(const SurfaceMesh& mesh) {
+  TriangleSoup soup;
+  std::vector<std::uint32_t> index(mesh.num_vertices(), 0xffffffffu);
+  soup.triangles.reserve(mesh.number_of_faces());
+  for (Face f : mesh.faces()) {
+    Triangle t{};
+    int k = 0;
+    for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (k == 3) break;
+      t[k++] = v.idx();
+    }
+    soup.triangles.push_back(t);
+  }
+  for (Vertex v : mesh.vertices()) {
+    // Only referenced vertices are kept (component removal leaves isolated ones).
+    if (mesh.is_isolated(v)) continue;
+    index[v.idx()] = static_cast<std::uint32_t>(soup.points.size());
+    const Point3& p = mesh.point(v);
+    soup.points.push_back({p.x(), p.y(), p.z()});
+  }
+  for (Triangle& t : soup.triangles)
+    for (std::uint32_t& v : t) v = index[v];
+  return soup;
+}
+
+std::uint64_t count_degenerate_faces(const SurfaceMesh& mesh) {
+  std::vector<Face> faces;
+  PMP::degenerate_faces(mesh, std::back_inserter(faces));
+  return faces.size();
+}
+
+std::uint64_t count_self_intersections(const SurfaceMesh& mesh) {
+  std::vector<std::pair<Face, Face>> pairs;
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(mesh.faces(), mesh,
+                                                           std::back_inserter(pairs));
+  return static_cast<std::uint64_t>(
+      std::count_if(pairs.begin(), pairs.end(), [](const auto& p) { return p.first != p.second; }));
+}
+
+/// A face's corners as a cyclic sequence with the smallest vertex first, so that a reversed
+/// face compares unequal and a merely rotated one equal.
+std::array<std::uint32_t, 3> cyclic_corners(const SurfaceMesh& mesh, Face f) {
+  std::array<std::uint32_t, 3> c{};
+  int k = 0;
+  for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+    if (k < 3) c[k++] = v.idx();
+  std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+  return c;
+}
+
+std::uint64_t orient_shells_unguarded(SurfaceMesh& mesh, bool bound_volume);
+
+/// Orients every closed shell outward, each on its own (PMP::orient) or, when `bound_volume`,
+/// so that nested shells alternate and the mesh bounds a volume (PMP::orient_to_bound_a_volume,
+/// which needs a mesh without self-intersections). Returns how many shells were reversed.
+/// Precondition: the mesh is closed. If CGAL fails (it needs a non-degenerate neighbourhood
+/// around each shell's topmost vertex), the mesh is left as it was and 0 returned.
+std::uint64_t orient_shells(SurfaceMesh& mesh, bool bound_volume) {
+  SurfaceMesh backup = mesh;
+  try {
+    return orient_shells_unguarded(mesh, bound_volume);
+  } catch (const CGAL::Failure_exception&) {
+    mesh = std::move(backup);
+    return 0;
+  }
+}
+
+std::uint64_t orient_shells_unguarded(SurfaceMesh& mesh, bool bound_volume) {
+  auto fccmap = mesh.add_property_map<Face, std::size_t>("f:repair_orient", 0).first;
+  const std::size_t n = PMP::connected_components(mesh, fccmap);
+  std::vector<std::array<std::uint32_t, 3>> corners;
+  corners.reserve(mesh.number_of_faces());
+  for (Face f : mesh.faces()) corners.push_back(cyclic_corners(mesh, f));
+  if (bound_volume)
+    PMP::orient_to_bound_a_volume(mesh);
+  else
+    PMP::orient(mesh);
+  std::vector<bool> flipped(n, false);
+  for (Face f : mesh.faces())
+    if (cyclic_corners(mesh, f) != corners[f.idx()]) flipped[fccmap[f]] = true;
+  mesh.remove_property_map(fccmap);
+  return static_cast<std::uint64_t>(std::count(flipped.begin(), flipped.end(), true));
+}
+
+/// Removes collinear faces; returns how many degenerate faces remain. Unchanged if CGAL fails.
+std::uint64_t remove_degenerate(SurfaceMesh& mesh) {
+  const std::uint64_t found = count_degenerate_faces(mesh);
+  if (found == 0) return 0;
+  SurfaceMesh work = mesh;
+  try {
+    PMP::remove_degenerate_faces(work);
+  } catch (const CGAL::Failure_exception&) {
+    return found;
+  }
+  work.collect_garbage();
+  mesh = std::move(work);
+  return count_degenerate_faces(mesh);
+}
+
+struct HoleCounts {
+  std::uint64_t found = 0, filled = 0, faired = 0;
+};
+
+/// Fills one hole: refine and fair, or refine only, or the exhaustive triangulation alone.
+/// Returns whether faces were added; sets `faired`.
+bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, bool& faired) {
+  faired = false;
+  const std::size_t edges = CGAL::halfedges_around_face(h, mesh).size();
+  const bool cubic_too = edges <= kMaxCubicHole;
+  const auto np = CGAL::parameters::use_2d_constrained_delaunay_triangulation(true)
+                      .use_delaunay_triangulation(true)
+                      .do_not_use_cubic_algorithm(!cubic_too);
+  std::vector<Face> patch;
+  std::vector<Vertex> inner;
+#if defined(CGAL_EIGEN3_ENABLED)
+  if (fair) {
+    // Where fairing fails the refined patch stays as it is (fair() then moves nothing).
+    faired = std::get<0>(PMP::triangulate_refine_and_fair_hole(mesh, h, std::back_inserter(patch),
+                                                               std::back_inserter(inner), np));
+    faired = faired && !patch.empty();
+  }
+#else
+  (void)fair;  // built without Eigen: no fairing
+#endif
+  if (patch.empty() && mesh.is_border(h))
+    PMP::triangulate_and_refine_hole(mesh, h, std::back_inserter(patch), std::back_inserter(inner),
+                                     np);
+  // Last resort: no Delaunay search space at all, only the exhaustive one.
+  if (patch.empty() && mesh.is_border(h) && cubic_too)
+    PMP::triangulate_hole(mesh, h, std::back_inserter(patch),
+                          CGAL::parameters::use_delaunay_triangulation(false)
+                              .use_2d_constrained_delaunay_triangulation(false));
+  return !patch.empty();
+}
+
+/// Fills every border cycle (step 4). A hole whose filling fails inside CGAL is left open:
+/// the mesh is restored and the holes are filled again without it.
+HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Stages& stages) {
+  std::vector<Halfedge> cycles;
+  PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
+  HoleCounts counts;
+  counts.found = cycles.size();
+  if (cycles.empty()) return counts;
+  const SurfaceMesh original = mesh;  // halfedge indices stay valid in copies
+  std::vector<bool> skip(cycles.size(), false);
+  for (;;) {
+    counts.filled = counts.faired = 0;
+    std::size_t i = 0;
+    try {
+      for (; i < cycles.size(); ++i) {
+        stages.report(static_cast<double>(i) / static_cast<double>(cycles.size()));
+        if (skip[i] || !mesh.is_border(cycles[i])) continue;
+        bool faired = false;
+        if (fill_hole(mesh, cycles[i], fair, faired)) ++counts.filled;
+        if (faired) ++counts.faired;
+      }
+      break;
+    } catch (const CGAL::Failure_exception&) {
+      skip[i] = true;
+      mesh = original;
+    }
+  }
+  stages.report(1.0);
+  return counts;
+}
+
+RepairAction action(std::string defect, std::uint64_t found, std::string done,
+                    std::uint64_t fixed) {
+  if (found == 0) done.clear();
+  return RepairAction{std::move(defect), found, std::move(done), fixed};
+}
+
+/// CGAL's multi-line failure message on one line: "assertion violation! Expr: ...; File: ...".
+std::string one_line(const char* what) {
+  std::string s = what;
+  const std::string prefix = "CGAL ERROR: ";
+  if (s.rfind(prefix, 0) == 0) s.erase(0, prefix.size());
+  while (!s.empty() && s.back() == '\n') s.pop_back();
+  std::string out;
+  for (char c : s)
+    if (c == '\n')
+      out += "; ";
+    else
+      out += c;
+  return out;
+}
+
+/// Puts the soup in an order that depends only on its geometry, not on how CGAL happened to
+/// number what it made (autorefinement numbers new elements in an order that varies from run
+/// to run): each triangle rotated to start at its lexicographically smallest corner, triangles
+/// sorted by their corners' coordinates, points numbered by first use. Two points at one
+/// position (split at a pinch) stay two: each is numbered where its first triangle comes.
+void canonical_order(TriangleSoup& soup) {
+  using Key = std::array<double, 9>;
+  auto less_point = [](const Vec3& a, const Vec3& b) {
+    return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+  };
+  std::vector<Key> keys(soup.triangles.size());
+  for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
+    Triangle& tri = soup.triangles[t];
+    int first = 0;
+    for (int k = 1; k < 3; ++k)
+      if (less_point(soup.points[tri[k]], soup.points[tri[first]])) first = k;
+    std::rotate(tri.begin(), tri.begin() + first, tri.end());
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = soup.points[tri[k]];
+      keys[t][3 * k] = p.x;
+      keys[t][3 * k + 1] = p.y;
+      keys[t][3 * k + 2] = p.z;
+    }
+  }
+  std::vector<std::uint32_t> order(soup.triangles.size());
+  for (std::uint32_t t = 0; t < order.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  TriangleSoup out;
+  out.triangles.reserve(soup.triangles.size());
+  std::vector<std::uint32_t> index(soup.points.size(), 0xffffffffu);
+  for (std::uint32_t t : order) {
+    Triangle tri = soup.triangles[t];
+    for (std::uint32_t& v : tri) {
+      if (index[v] == 0xffffffffu) {
+        index[v] = static_cast<std::uint32_t>(out.points.size());
+        out.points.push_back(soup.points[v]);
+      }
+      v = index[v];
+    }
+    out.triangles.push_back(tri);
+  }
+  soup = std::move(out);
+}
+
+void round_to_float(TriangleSoup& soup) {
+  for (Vec3& p : soup.points)
+    p = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+}
+
+void check_options(const RepairOptions& o) {
+  if (!(o.min_component_fraction >= 0 && o.min_component_fraction < 1))
+    throw InputError("the small-component fraction must be in [0, 1), not " +
+                     std::to_string(o.min_component_fraction));
+  if (!(o.alpha >= 0 && std::isfinite(o.alpha)))
+    throw InputError("alpha must be a positive length in mm (0 = derived from the mesh size)");
+  if (!(o.offset >= 0 && std::isfinite(o.offset)))
+    throw InputError("the wrap offset must be a positive length in mm (0 = alpha / 30)");
+}
+
+/// What steps 1-6 did, for the log.
+struct Counts {
+  std::uint64_t stitched = 0, pinched = 0, degenerate_left = 0, specks = 0;
+  HoleCounts holes;
+  std::uint64_t si_found = 0, si_fixed = 0, inward_shells = 0;
+  std::string si_action = "left (self-intersection removal off)";
+};
+
+/// Step 1: the soup cleaned and oriented, as a halfedge mesh.
+SurfaceMesh mesh_from_soup(const TriangleSoup& input) {
+  std::vector<Point3> points;
+  points.reserve(input.points.size());
+  for (const Vec3& p : input.points) points.push_back(detail::to_cgal(p));
+  std::vector<std::array<std::size_t, 3>> polygons;
+  polygons.reserve(input.triangles.size());
+  for (const Triangle& t : input.triangles) polygons.push_back({t[0], t[1], t[2]});
+  // repair_polygon_soup() on triangles (std::array) keeps repeated-corner ones: its steps one
+  // by one, dropping those after the merge.
+  PMP::merge_duplicate_points_in_polygon_soup(points, polygons);
+  std::erase_if(polygons, [](const std::array<std::size_t, 3>& t) {
+    return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+  });
+  PMP::merge_duplicate_polygons_in_polygon_soup(points, polygons);
+  PMP::remove_isolated_points_in_polygon_soup(points, polygons);
+  if (polygons.empty())
+    throw InputError("no triangle has three distinct corners: there is no surface to repair");
+  PMP::orient_polygon_soup(points, polygons);
+  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
+    throw Error("internal error: the oriented soup is not a polygon mesh");
+  SurfaceMesh mesh;
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, mesh);
+  return mesh;
+}
+
+/// Step 3: removes components below the threshold; returns how many.
+std::uint64_t remove_small_components(SurfaceMesh& mesh, double fraction, RepairReport& report) {
+  auto fccmap = mesh.add_property_map<Face, std::size_t>("f:repair_cc", 0).first;
+  const std::size_t n = PMP::connected_components(mesh, fccmap);
+  std::vector<double> area(n, 0.0);
+  for (Face f : mesh.faces()) area[fccmap[f]] += PMP::face_area(f, mesh);
+  const double largest = n ? *std::max_element(area.begin(), area.end()) : 0.0;
+  report.components = n;
+  report.small_component_threshold = fraction * largest;
+  std::vector<std::size_t> remove;
+  for (std::size_t c = 0; c < n; ++c)
+    if (area[c] < report.small_component_threshold) remove.push_back(c);
+  if (!remove.empty()) {
+    PMP::remove_connected_components(mesh, remove, fccmap);
+    PMP::remove_isolated_vertices(mesh);
+  }
+  mesh.remove_property_map(fccmap);
+  mesh.collect_garbage();
+  return remove.size();
+}
+
+/// Accepts a candidate for step 5 if it has faces, no degenerate ones, no self-intersections,
+/// and is closed if `closed`.
+bool acceptable(SurfaceMesh& candidate, bool closed) {
+  candidate.collect_garbage();
+  if (candidate.is_empty() || (closed && !CGAL::is_closed(candidate))) return false;
+  PMP::duplicate_non_manifold_vertices(candidate);
+  return remove_degenerate(candidate) == 0 && count_self_intersections(candidate) == 0;
+}
+
+/// Signed volume (mm^3, about `origin`) of each edge-connected component.
+std::vector<double> shell_volumes(SurfaceMesh& mesh, Vec3 origin) {
+  auto fccmap = mesh.add_property_map<Face, std::size_t>("f:repair_volume", 0).first;
+  const std::size_t n = PMP::connected_components(mesh, fccmap);
+  std::vector<double> six_v(n, 0.0);
+  for (Face f : mesh.faces()) {
+    std::array<Vec3, 3> p{};
+    int k = 0;
+    for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (k == 3) break;
+      const Point3& q = mesh.point(v);
+      p[k++] = Vec3{q.x(), q.y(), q.z()} - origin;
+    }
+    six_v[fccmap[f]] += dot(p[0], cross(p[1], p[2]));
+  }
+  mesh.remove_property_map(fccmap);
+  for (double& v : six_v) v /= 6.0;
+  return six_v;
+}
+
+/// Whether a candidate's volume is one that removing self-intersections can give: at least
+/// 90% of the smaller of the largest shell and the total (a union is no smaller than its
+/// largest part; voids count negative), at most 101% of the shells' positive volumes summed.
+/// Rejects an autorefinement that kept the wrong side (CGAL 5.5's is experimental).
+bool plausible_volume(const std::vector<double>& before, double after) {
+  double largest = 0, total = 0, positive = 0;
+  for (double v : before) {
+    largest = std::max(largest, v);
+    total += v;
+    positive += std::max(v, 0.0);
+  }
+  return after >= 0.9 * std::min(largest, total) && after <= 1.01 * positive;
+}
+
+/// Step 5: autorefinement (keeps the outer hull), else local remeshing, each on a copy.
+void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Stages& stages) {
+  counts.si_action = "not resolved";
+  const bool closed = CGAL::is_closed(mesh);
+  Box3 box;
+  for (Vertex v : mesh.vertices())
+    box.extend({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+  const Vec3 origin = 0.5 * (box.min + box.max);
+  const std::vector<double> before = closed ? shell_volumes(mesh, origin) : std::vector<double>{};
+  auto volume_ok = [&](SurfaceMesh& candidate) {
+    if (!closed) return true;
+    double after = 0;
+    for (double v : shell_volumes(candidate, origin)) after += v;
+    return plausible_volume(before, after);
+  };
+  try {
+    SurfaceMesh refined = mesh;
+    if (PMP::experimental::autorefine_and_remove_self_intersections(refined) &&
+        acceptable(refined, closed) && volume_ok(refined)) {
+      mesh = std::move(refined);
+      counts.si_fixed = counts.si_found;
+      counts.si_action = "autorefined, inner patches removed (overlapping shells united)";
+      return;
+    }
+  } catch (const CGAL::Failure_exception&) {
+    // CGAL 5.5's experimental autorefinement fails on some inputs: try the local way.
+  }
+  stages.report(0.5);
+  try {
+    SurfaceMesh local = mesh;
+    if (PMP::experimental::remove_self_intersections(local) && acceptable(local, closed) &&
+        volume_ok(local)) {
+      mesh = std::move(local);
+      counts.si_fixed = counts.si_found;
+      counts.si_action = "removed by local remeshing";
+    }
+  } catch (const CGAL::Failure_exception&) {
+  }
+}
+
+/// Steps 1-6. `filled` receives the mesh after step 4 (what the wrap wraps).
+SurfaceMesh repair_steps(const TriangleSoup& input, const RepairOptions& options,
+                         RepairReport& report, Counts& counts, SurfaceMesh& filled,
+                         Stages& stages) {
+  stages.begin("repair soup");
+  SurfaceMesh mesh = mesh_from_soup(input);
+  stages.report(0.5);
+
+  // --- 2. stitch, split pinched vertices, remove collinear faces ---------------------------
+  counts.stitched = PMP::stitch_borders(mesh);
+  counts.pinched = PMP::duplicate_non_manifold_vertices(mesh);
+  counts.degenerate_left = remove_degenerate(mesh);
+  stages.report(1.0);
+
+  // --- 3. small components ---------------------------------------------------------------
+  stages.begin("components");
+  counts.specks = remove_small_components(mesh, options.min_component_fraction, report);
+  stages.report(1.0);
+
+  // --- 4. holes -------------------------------------------------------------------------
+  if (options.fill_holes) {
+    stages.begin("fill holes");
+    counts.holes = fill_holes(mesh, options.fair_holes, stages);
+    mesh.collect_garbage();
+    // A patch may pinch a vertex where a hole's border touches itself, or have a collinear
+    // triangle where the border has three collinear corners.
+    counts.pinched += PMP::duplicate_non_manifold_vertices(mesh);
+    remove_degenerate(mesh);
+  } else {
+    std::vector<Halfedge> cycles;
+    PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
+    counts.holes.found = cycles.size();
+  }
+  report.holes_faired = counts.holes.faired;
+  filled = mesh;
+
+  // --- 5. self-intersections --------------------------------------------------------------
+  stages.begin("self-intersections");
+  // Autorefinement keeps the outside of each shell, as its orientation says: orient first.
+  if (!mesh.is_empty() && CGAL::is_closed(mesh)) counts.inward_shells = orient_shells(mesh, false);
+  counts.si_found = count_self_intersections(mesh);
+  if (counts.si_found > 0 && options.self_intersections)
+    resolve_self_intersections(mesh, counts, stages);
+  stages.report(1.0);
+
+  // --- 6. orientation -------------------------------------------------------------------
+  if (!mesh.is_empty() && CGAL::is_closed(mesh) && count_self_intersections(mesh) == 0)
+    counts.inward_shells += orient_shells(mesh, true);
+  return mesh;
+}
+
+void write_log(const MeshCheck& before, const Counts& c, const RepairOptions& options,
+               std::vector<RepairAction>& a) {
+  a.push_back(action("duplicate points", before.duplicate_points,
+                     "merged (bit-identical positions)", before.duplicate_points));
+  a.push_back(action("degenerate triangles", before.degenerate_triangles,
+                     "removed (repeated corners from the soup, collinear ones by edge collapse "
+                     "and flip)",
+                     before.degenerate_triangles -
+                         std::min<std::uint64_t>(before.degenerate_triangles, c.degenerate_left)));
+  a.push_back(action("duplicate triangles", before.duplicate_triangles, "removed",
+                     before.duplicate_triangles));
+  a.push_back(action("inconsistently oriented edges", before.inconsistent_edges,
+                     "faces re-oriented consistently", before.inconsistent_edges));
+  a.push_back(action("non-manifold edges", before.non_manifold_edges, "split into manifold sheets",
+                     before.non_manifold_edges));
+  a.push_back(action("non-manifold vertices", before.non_manifold_vertices + c.pinched,
+                     "split (one vertex per fan)", before.non_manifold_vertices + c.pinched));
+  a.push_back(action("coincident border edge pairs", c.stitched, "stitched", c.stitched));
+  a.push_back(action("small components", c.specks, "removed", c.specks));
+  a.push_back(action("holes", c.holes.found,
+                     options.fill_holes ? "filled (triangulated, refined, faired where possible)"
+                                        : "left (hole filling off)",
+                     c.holes.filled));
+  a.push_back(action("self-intersecting triangle pairs", c.si_found, c.si_action, c.si_fixed));
+  a.push_back(action("shells oriented inward", c.inward_shells, "reversed", c.inward_shells));
+}
+
+}  // namespace
+
+RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options) {
+  check_options(options);
+  detail::require_indices_in_range(input);
+  if (input.triangles.empty()) throw InputError("the mesh has no triangles");
+  Stages stages(options.progress);
+  RepairResult result;
+  RepairReport& report = result.report;
+  report.min_component_fraction = options.min_component_fraction;
+
+  stages.begin("check input");
+  report.before = check_mesh(input);
+  stages.report(1.0);
+
+  Counts counts;
+  SurfaceMesh filled;
+  std::optional<std::string> failure;
+  try {
+    const SurfaceMesh mesh = repair_steps(input, options, report, counts, filled, stages);
+    result.mesh = to_soup(mesh);
+    canonical_order(result.mesh);
+  } catch (const CGAL::Failure_exception& e) {
+    // A step the per-step guards do not cover failed: what is left to try is the wrap.
+    failure = "a repair step failed inside CGAL (" + one_line(e.what()) + ")";
+    result.mesh = input;
+  }
+  write_log(report.before, counts, options, report.actions);
+
+  // --- 7. check; wrap if still not valid -----------------------------------------------------
+  stages.begin("check result");
+  report.after = check_mesh(result.mesh);
+  if (options.float_coordinates && !failure) {
+    // Rounding to float can break a valid repair (two faces a few ulps apart now touch, a
+    // sliver turns degenerate): repair the rounded mesh again, at most twice, before wrapping.
+    const bool valid_in_double = report.after.valid();
+    round_to_float(result.mesh);
+    report.after = check_mesh(result.mesh);
+    const std::optional<double> volume = report.after.volume;
+    while (valid_in_double && !report.after.valid() && report.float_repasses < 2) {
+      ++report.float_repasses;
+      RepairReport scratch;
+      Counts again;
+      SurfaceMesh unused;
+      try {
+        TriangleSoup next =
+            to_soup(repair_steps(result.mesh, options, scratch, again, unused, stages));
+        canonical_order(next);
+        round_to_float(next);
+        const MeshCheck check = check_mesh(next);
+        // A repair of rounding errors must not change the solid.
+        if (volume &&
+            !(check.volume && std::fabs(*check.volume - *volume) <= 0.01 * std::fabs(*volume)))
+          break;
+        result.mesh = std::move(next);
+        report.after = check;
+      } catch (const CGAL::Failure_exception&) {
+        break;
+      }
+    }
+  }
+  stages.report(1.0);
+  if (report.after.valid() || !options.wrap) return result;
+
+  report.unresolved = report.after.problems();
+  if (failure) report.unresolved.insert(report.unresolved.begin(), *failure);
+  stages.begin("alpha wrap");
+  const TriangleSoup wrap_input = failure ? input : to_soup(filled);
+  const double diagonal = norm(bounding_box(wrap_input).size());
+  if (!wrap_input.triangles.empty() && diagonal > 0) {
+    report.alpha = options.alpha > 0 ? options.alpha : diagonal / 100.0;
+    report.offset = options.offset > 0 ? options.offset : report.alpha / 30.0;
+    try {
+      TriangleSoup wrapped = detail::alpha_wrap(wrap_input, report.alpha, report.offset);
+      canonical_order(wrapped);
+      if (options.float_coordinates) round_to_float(wrapped);
+      result.mesh = std::move(wrapped);
+      report.wrapped = true;
+      stages.report(0.9);
+      report.after = check_mesh(result.mesh);
+    } catch (const CGAL::Failure_exception& e) {
+      report.unresolved.push_back("the alpha wrap failed inside CGAL (" + one_line(e.what()) + ")");
+      report.alpha = report.offset = 0;
+    }
+  }
+  stages.report(1.0);
+  return result;
+}
+
+}  // namespace tpmsfill

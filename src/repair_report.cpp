@@ -1,0 +1,101 @@
+// to_json(RepairReport) and to_text(RepairReport): what `tpmsfill repair` prints (fields in
+// repair.hpp). No CGAL here.
+#include <cinttypes>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "detail/problem_text.hpp"
+#include "tpmsfill/repair.hpp"
+
+namespace tpmsfill {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+std::string g(double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+// The input's state in a few words, as `tpmsfill check` would print it.
+std::string summary(const MeshCheck& c) {
+  std::string s = std::to_string(c.triangles) + " triangles, " + std::to_string(c.vertices) +
+                  " vertices, " + std::to_string(c.components) + " component" +
+                  (c.components == 1 ? "" : "s");
+  if (c.volume) s += ", volume " + g(*c.volume) + " mm^3";
+  if (c.genus) s += ", genus " + std::to_string(*c.genus);
+  return s;
+}
+
+}  // namespace
+
+std::string to_json(const RepairReport& r) {
+  json actions = json::array();
+  for (const RepairAction& a : r.actions)
+    actions.push_back(
+        {{"defect", a.defect}, {"found", a.found}, {"action", a.action}, {"fixed", a.fixed}});
+  json j = {
+      {"valid", r.valid()},
+      {"problems", r.after.problems()},
+      {"wrapped", r.wrapped},
+      {"alpha", r.wrapped ? json(r.alpha) : json(nullptr)},
+      {"offset", r.wrapped ? json(r.offset) : json(nullptr)},
+      {"unresolved", r.unresolved},
+      {"float_repasses", r.float_repasses},
+      {"min_component_fraction", r.min_component_fraction},
+      {"small_component_threshold", r.small_component_threshold},
+      {"components", r.components},
+      {"holes_faired", r.holes_faired},
+      {"actions", std::move(actions)},
+      {"before", json::parse(to_json(r.before))},
+      {"after", json::parse(to_json(r.after))},
+  };
+  return j.dump(2);
+}
+
+std::string to_text(const RepairReport& r) {
+  std::string s = "input    " + summary(r.before) + "\n";
+  const std::vector<std::string> input_problems = r.before.problems();
+  if (input_problems.empty()) s += "  the input is already valid\n";
+  for (const std::string& p : input_problems) s += "  - " + p + "\n";
+
+  bool any = false;
+  for (const RepairAction& a : r.actions) {
+    if (a.found == 0) continue;
+    if (!any) s += "repairs\n";
+    any = true;
+    std::string head = "  " + a.defect + ": " + std::to_string(a.found) + " found, " + a.action;
+    if (a.fixed != a.found) head += " (" + std::to_string(a.fixed) + " fixed)";
+    if (a.defect == "small components")
+      head += " (area below " + g(r.small_component_threshold) + " mm^2)";
+    if (a.defect == "holes" && a.fixed > 0)
+      head += " (" + std::to_string(r.holes_faired) + " faired)";
+    s += head + "\n";
+  }
+  if (!any) s += "repairs  none needed\n";
+  s += "specks   components with area below " + g(r.small_component_threshold) + " mm^2 (" +
+       g(r.min_component_fraction) + " of the largest of " + std::to_string(r.components) +
+       ") are removed\n";
+
+  if (r.float_repasses > 0)
+    s += "float    rounding to float (for STL) broke the repair: repaired again " +
+         std::to_string(r.float_repasses) + (r.float_repasses == 1 ? " time\n" : " times\n");
+  if (r.wrapped) {
+    s += "wrap     alpha wrap with alpha " + g(r.alpha) + " mm, offset " + g(r.offset) +
+         " mm, because the repaired mesh still had:\n";
+    for (const std::string& p : r.unresolved) s += "  - " + p + "\n";
+  }
+  s += "output   " + summary(r.after) + "\n";
+  if (r.valid()) {
+    s += "verdict: VALID: a closed, outward-oriented 2-manifold without self-intersections or "
+         "degenerate faces\n";
+  } else {
+    s += "verdict: NOT VALID\n";
+    for (const std::string& p : r.after.problems()) s += "  - " + p + "\n";
+  }
+  return s;
+}
+
+}  // namespace tpmsfill

@@ -1,0 +1,380 @@
+// Stage "repair": every defect class on its own and all together must end in a mesh that
+// check_mesh() accepts, with the geometry a person expects (volume, genus, specks gone).
+#include <gtest/gtest.h>
+
+// GCC 12 reports a false -Wrestrict inside std::string concatenation here (GCC bug 105329).
+#pragma GCC diagnostic ignored "-Wrestrict"
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <tpmsfill/check.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/repair.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+namespace fs = std::filesystem;
+
+namespace {
+
+const RepairAction& find_action(const RepairReport& r, const std::string& defect) {
+  for (const RepairAction& a : r.actions)
+    if (a.defect == defect) return a;
+  static const RepairAction none{"(missing)", 0, "", 0};
+  ADD_FAILURE() << "no action for " << defect;
+  return none;
+}
+
+// The result is valid, and the report says so, with reasons if not.
+void expect_valid(const RepairResult& r) {
+  const MeshCheck c = check_mesh(r.mesh);
+  EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems()) << "\n" << to_text(r.report);
+  EXPECT_TRUE(r.report.valid()) << to_text(r.report);
+  EXPECT_EQ(r.report.after.triangles, r.mesh.triangles.size());
+}
+
+// Drops the triangles whose centroid lies within `radius` of `centre`.
+TriangleSoup cut_around(const TriangleSoup& soup, Vec3 centre, double radius) {
+  TriangleSoup out;
+  out.points = soup.points;
+  for (const Triangle& t : soup.triangles) {
+    const Vec3 c = (1.0 / 3.0) * (soup.points[t[0]] + soup.points[t[1]] + soup.points[t[2]]);
+    if (norm(c - centre) > radius) out.triangles.push_back(t);
+  }
+  return out;
+}
+
+// make_box with the edge from corner (0,0,0) to (1,0,0) of its -y side split at its midpoint
+// by a zero-area sliver: the soup stays closed, manifold and oriented, one triangle is
+// collinear.
+TriangleSoup box_with_sliver() {
+  TriangleSoup box = test::make_box({0, 0, 0}, {1, 1, 1});
+  // Find the two triangles that share the edge between the points at (0,0,0) and (1,0,0).
+  auto at = [&](Vec3 p) {
+    for (std::uint32_t i = 0; i < box.points.size(); ++i)
+      if (box.points[i] == p) return i;
+    ADD_FAILURE() << "no such point";
+    return 0u;
+  };
+  const std::uint32_t a = at({0, 0, 0}), b = at({1, 0, 0});
+  const auto m = static_cast<std::uint32_t>(box.points.size());
+  box.points.push_back({0.5, 0, 0});
+  TriangleSoup out;
+  out.points = box.points;
+  for (const Triangle& t : box.triangles) {
+    int ia = -1, ib = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (t[k] == a) ia = k;
+      if (t[k] == b) ib = k;
+    }
+    // The triangle walking a -> b gets split through m into (a, m, c) and (m, b, c), and the
+    // sliver (a, b, m) closes the gap to the neighbour that walks b -> a.
+    if (ia >= 0 && ib >= 0 && (ia + 1) % 3 == ib) {
+      const std::uint32_t c = t[(ib + 1) % 3];
+      out.triangles.push_back({a, m, c});
+      out.triangles.push_back({m, b, c});
+      out.triangles.push_back({a, b, m});
+    } else {
+      out.triangles.push_back(t);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Repair, ValidMeshStaysAsItIs) {
+  const TriangleSoup torus = test::make_torus(3, 1, 32, 16);
+  const RepairResult r = repair_mesh(torus);
+  expect_valid(r);
+  EXPECT_FALSE(r.report.wrapped);
+  EXPECT_EQ(r.mesh.triangles.size(), torus.triangles.size());
+  EXPECT_EQ(r.mesh.points.size(), torus.points.size());
+  for (const RepairAction& a : r.report.actions) EXPECT_EQ(a.found, 0u) << a.defect;
+  EXPECT_EQ(r.report.after.genus, 1);
+}
+
+TEST(Repair, SphereWithHolesIsClosedAndKeepsItsVolume) {
+  const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 10, 4);
+  TriangleSoup holed = cut_around(sphere, {10, 0, 0}, 2.5);
+  holed = cut_around(holed, {0, 10, 0}, 2.0);
+  holed = cut_around(holed, {0, 0, -10}, 3.0);
+  ASSERT_EQ(check_mesh(holed).holes, 3u);
+  RepairOptions options;
+  options.wrap = false;  // the holes alone must be repaired, not wrapped over
+  const RepairResult r = repair_mesh(holed, options);
+  expect_valid(r);
+  EXPECT_FALSE(r.report.wrapped);
+  const RepairAction& holes = find_action(r.report, "holes");
+  EXPECT_EQ(holes.found, 3u);
+  EXPECT_EQ(holes.fixed, 3u);
+  EXPECT_EQ(r.report.holes_faired, 3u);
+  const double expected = test::signed_volume(sphere);
+  ASSERT_TRUE(r.report.after.volume.has_value());
+  EXPECT_NEAR(*r.report.after.volume, expected, 0.02 * expected);
+  EXPECT_EQ(r.report.after.genus, 0);
+}
+
+TEST(Repair, BoxWithFlippedFacesIsOrientedOutward) {
+  TriangleSoup box = test::make_box({0, 0, 0}, {10, 10, 10});
+  box = test::flip(test::flip(test::flip(box, 0), 5), 9);
+  const RepairResult r = repair_mesh(box);
+  expect_valid(r);
+  EXPECT_FALSE(r.report.wrapped);
+  EXPECT_GT(find_action(r.report, "inconsistently oriented edges").found, 0u);
+  ASSERT_TRUE(r.report.after.volume.has_value());
+  EXPECT_NEAR(*r.report.after.volume, 1000.0, 1e-9);
+}
+
+TEST(Repair, InsideOutSphereIsTurnedOutward) {
+  const TriangleSoup sphere = test::make_sphere({1, 2, 3}, 2, 3);
+  const RepairResult r = repair_mesh(test::flip(sphere));
+  expect_valid(r);
+  EXPECT_FALSE(r.report.wrapped);
+  EXPECT_EQ(find_action(r.report, "shells oriented inward").fixed, 1u);
+  EXPECT_NEAR(*r.report.after.volume, test::signed_volume(sphere), 1e-9);
+}
+
+TEST(Repair, TwoInterpenetratingSpheresBecomeOneSolid) {
+  const TriangleSoup a = test::make_sphere({0, 0, 0}, 1, 3);
+  const TriangleSoup b = test::make_sphere({1, 0, 0}, 1, 3);
+  const RepairResult r = repair_mesh(test::concat(a, b));
+  expect_valid(r);
+  EXPECT_GT(find_action(r.report, "self-intersecting triangle pairs").found, 0u);
+  // Union of two spheres of radius 1 whose centres are 1 apart: two balls minus the lens
+  // pi (4r + d)(2r - d)^2 / 12; the icospheres are a little smaller than the spheres.
+  const double pi = std::numbers::pi;
+  const double exact = 2 * (4.0 / 3.0 * pi) - pi * 5.0 / 12.0;
+  const double union_volume = exact * test::signed_volume(a) / (4.0 / 3.0 * pi);
+  ASSERT_TRUE(r.report.after.volume.has_value());
+  EXPECT_NEAR(*r.report.after.volume, union_volume, 0.03 * union_volume) << to_text(r.report);
+  EXPECT_EQ(r.report.after.components, 1u);
+}
+
+TEST(Repair, UnweldedBoxSoupIsWelded) {
+  const TriangleSoup box = test::make_box({-1, -2, -3}, {1, 2, 3});
+  const RepairResult r = repair_mesh(test::unshare_points(box));
+  expect_valid(r);
+  EXPECT_FALSE(r.report.wrapped);
+  EXPECT_EQ(r.mesh.points.size(), 8u);
+  EXPECT_EQ(r.mesh.triangles.size(), 12u);
+  EXPECT_EQ(find_action(r.report, "duplicate points").found, 36u - 8u);
+  EXPECT_NEAR(*r.report.after.volume, 48.0, 1e-9);
+}
+
+TEST(Repair, TorusWithSlitKeepsGenusOne) {
+  const int nu = 48, nv = 24;
+  const TriangleSoup torus = test::make_torus(3, 1, nu, nv);
+  // A slit: the quads (i, j = 5) for i in [10, 15) removed, one hole of 12 border edges.
+  TriangleSoup slit;
+  slit.points = torus.points;
+  for (std::size_t t = 0; t < torus.triangles.size(); ++t) {
+    const int quad = static_cast<int>(t / 2), i = quad / nv, j = quad % nv;
+    if (!(j == 5 && i >= 10 && i < 15)) slit.triangles.push_back(torus.triangles[t]);
+  }
+  ASSERT_EQ(check_mesh(slit).holes, 1u);
+  RepairOptions options;
+  options.wrap = false;
+  const RepairResult r = repair_mesh(slit, options);
+  expect_valid(r);
+  EXPECT_EQ(r.report.after.genus, 1);
+  EXPECT_NEAR(*r.report.after.volume, test::signed_volume(torus),
+              0.01 * test::signed_volume(torus));
+}
+
+TEST(Repair, SpeckIsRemovedAndReported) {
+  const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 10, 3);
+  const TriangleSoup speck = test::make_sphere({30, 0, 0}, 0.1, 1);
+  const RepairResult r = repair_mesh(test::concat(sphere, speck));
+  expect_valid(r);
+  const RepairAction& specks = find_action(r.report, "small components");
+  EXPECT_EQ(specks.found, 1u);
+  EXPECT_EQ(specks.fixed, 1u);
+  EXPECT_EQ(r.report.components, 2u);
+  EXPECT_GT(r.report.small_component_threshold, 0.0);
+  EXPECT_EQ(r.report.after.components, 1u);
+  EXPECT_EQ(r.mesh.triangles.size(), sphere.triangles.size());
+  // A fraction of 0 keeps it.
+  RepairOptions keep;
+  keep.min_component_fraction = 0;
+  EXPECT_EQ(repair_mesh(test::concat(sphere, speck), keep).report.after.components, 2u);
+}
+
+TEST(Repair, BoxesSharingAnEdgeBecomeValid) {
+  const TriangleSoup a = test::make_box({0, 0, 0}, {1, 1, 1});
+  const TriangleSoup b = test::make_box({1, 1, 0}, {2, 2, 1});
+  const TriangleSoup soup = test::concat(a, b);
+  ASSERT_GT(check_mesh(soup).non_manifold_edges, 0u);
+  const RepairResult r = repair_mesh(soup);
+  expect_valid(r);
+  ASSERT_TRUE(r.report.after.volume.has_value());
+  EXPECT_NEAR(*r.report.after.volume, 2.0, 0.15);
+}
+
+TEST(Repair, BowTieBecomesValid) {
+  const RepairResult r = repair_mesh(test::make_bow_tie());
+  expect_valid(r);
+  EXPECT_GT(find_action(r.report, "non-manifold vertices").found, 0u);
+}
+
+TEST(Repair, DegenerateSliverIsRemoved) {
+  const TriangleSoup soup = box_with_sliver();
+  ASSERT_EQ(check_mesh(soup).degenerate_triangles, 1u);
+  ASSERT_TRUE(check_mesh(soup).closed());
+  const RepairResult r = repair_mesh(soup);
+  expect_valid(r);
+  EXPECT_FALSE(r.report.wrapped);
+  EXPECT_EQ(find_action(r.report, "degenerate triangles").fixed, 1u);
+  EXPECT_NEAR(*r.report.after.volume, 1.0, 1e-12);
+}
+
+TEST(Repair, RepeatedCornerAndDuplicateTrianglesAreDropped) {
+  TriangleSoup box = test::make_box({0, 0, 0}, {2, 2, 2});
+  box.triangles.push_back({0, 0, 1});
+  box.triangles.push_back(box.triangles[3]);
+  const RepairResult r = repair_mesh(box);
+  expect_valid(r);
+  EXPECT_EQ(find_action(r.report, "degenerate triangles").fixed, 1u);
+  EXPECT_EQ(find_action(r.report, "duplicate triangles").fixed, 1u);
+  EXPECT_EQ(r.mesh.triangles.size(), 12u);
+}
+
+TEST(Repair, EverythingAtOnce) {
+  // A sphere with two holes, flipped faces, STL-style unshared points, a speck, a duplicate
+  // and a repeated-corner triangle, and a second sphere through it.
+  TriangleSoup sphere = test::make_sphere({0, 0, 0}, 10, 4);
+  sphere = cut_around(sphere, {10, 0, 0}, 2.0);
+  sphere = cut_around(sphere, {0, 0, 10}, 2.0);
+  for (long i = 0; i < 40; i += 7) sphere = test::flip(sphere, i);
+  TriangleSoup soup = test::concat(sphere, test::make_sphere({0, 8, 0}, 4, 3));
+  soup = test::concat(soup, test::make_box({40, 0, 0}, {40.2, 0.2, 0.2}));
+  soup.triangles.push_back(soup.triangles[100]);
+  soup.triangles.push_back({5, 5, 6});
+  soup = test::unshare_points(soup);
+  const RepairResult r = repair_mesh(soup);
+  expect_valid(r);
+  EXPECT_EQ(r.report.after.components, 1u);
+  EXPECT_EQ(find_action(r.report, "small components").fixed, 1u);
+  EXPECT_EQ(find_action(r.report, "holes").found, 2u);
+  const double ball = 4.0 / 3.0 * std::numbers::pi * 1000;
+  ASSERT_TRUE(r.report.after.volume.has_value());
+  EXPECT_GT(*r.report.after.volume, 0.95 * ball);
+  EXPECT_LT(*r.report.after.volume, 1.2 * ball);
+  // Deterministic: the same input gives the same mesh.
+  const RepairResult again = repair_mesh(soup);
+  EXPECT_TRUE(again.mesh.points == r.mesh.points);
+  EXPECT_TRUE(again.mesh.triangles == r.mesh.triangles);
+}
+
+TEST(Repair, UnresolvedSelfIntersectionsAreWrapped) {
+  const TriangleSoup a = test::make_sphere({0, 0, 0}, 1, 3);
+  const TriangleSoup b = test::make_sphere({1, 0, 0}, 1, 3);
+  RepairOptions options;
+  options.self_intersections = false;
+  const RepairResult r = repair_mesh(test::concat(a, b), options);
+  expect_valid(r);
+  EXPECT_TRUE(r.report.wrapped);
+  ASSERT_EQ(r.report.unresolved.size(), 1u);
+  EXPECT_NE(r.report.unresolved[0].find("self-intersecting"), std::string::npos);
+  // Derived from the bounding box (3 x 2 x 2, less the icospheres' flattening).
+  const double diagonal = norm(bounding_box(test::concat(a, b)).size());
+  EXPECT_DOUBLE_EQ(r.report.alpha, diagonal / 100);
+  EXPECT_DOUBLE_EQ(r.report.offset, r.report.alpha / 30);
+  // The wrap lies about `offset` outside the union of the two balls.
+  const double pi = std::numbers::pi;
+  const double exact = 2 * (4.0 / 3.0 * pi) - pi * 5.0 / 12.0;
+  EXPECT_NEAR(*r.report.after.volume, exact, 0.04 * exact);
+}
+
+TEST(Repair, OpenMeshWithoutHoleFillingIsWrappedOrRefused) {
+  const TriangleSoup open = test::make_box_with_hole({0, 0, 0}, {10, 10, 10});
+  RepairOptions options;
+  options.fill_holes = false;
+  options.alpha = 2.0;
+  options.offset = 0.1;
+  const RepairResult r = repair_mesh(open, options);
+  expect_valid(r);
+  EXPECT_TRUE(r.report.wrapped);
+  EXPECT_EQ(r.report.alpha, 2.0);
+  EXPECT_EQ(r.report.offset, 0.1);
+  EXPECT_EQ(find_action(r.report, "holes").fixed, 0u);
+
+  options.wrap = false;
+  const RepairResult unwrapped = repair_mesh(open, options);
+  EXPECT_FALSE(unwrapped.report.valid());
+  EXPECT_FALSE(unwrapped.report.wrapped);
+  EXPECT_FALSE(unwrapped.report.after.closed());
+  EXPECT_EQ(unwrapped.mesh.triangles.size(), open.triangles.size());
+}
+
+TEST(Repair, BadInputThrowsInputError) {
+  EXPECT_THROW(repair_mesh(TriangleSoup{}), InputError);
+  TriangleSoup bad = test::make_box({0, 0, 0}, {1, 1, 1});
+  bad.triangles.push_back({0, 1, 99});
+  EXPECT_THROW(repair_mesh(bad), InputError);
+  TriangleSoup degenerate;
+  degenerate.points = {{0, 0, 0}, {1, 0, 0}};
+  degenerate.triangles = {{0, 0, 1}};
+  EXPECT_THROW(repair_mesh(degenerate), InputError);
+  RepairOptions options;
+  options.alpha = -1;
+  EXPECT_THROW(repair_mesh(test::make_box({0, 0, 0}, {1, 1, 1}), options), InputError);
+  options = {};
+  options.min_component_fraction = 1.5;
+  EXPECT_THROW(repair_mesh(test::make_box({0, 0, 0}, {1, 1, 1}), options), InputError);
+}
+
+TEST(Repair, ProgressCanCancel) {
+  struct Stop : Progress {
+    bool report(double) override { return false; }
+  } stop;
+  RepairOptions options;
+  options.progress = &stop;
+  EXPECT_THROW(repair_mesh(test::make_box({0, 0, 0}, {1, 1, 1}), options), Cancelled);
+}
+
+TEST(Repair, JsonHasEveryDocumentedField) {
+  const RepairResult r = repair_mesh(test::make_box_with_hole({0, 0, 0}, {1, 1, 1}));
+  const std::string json = to_json(r.report);
+  for (const char* key :
+       {"\"valid\"", "\"problems\"", "\"wrapped\"", "\"alpha\"", "\"offset\"", "\"unresolved\"",
+        "\"float_repasses\"", "\"min_component_fraction\"", "\"small_component_threshold\"",
+        "\"components\"", "\"holes_faired\"", "\"actions\"", "\"before\"", "\"after\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  const std::string text = to_text(r.report);
+  EXPECT_NE(text.find("holes: 1 found"), std::string::npos) << text;
+  EXPECT_NE(text.find("verdict: VALID"), std::string::npos) << text;
+}
+
+// Real meshes Debian's libcgal-demo ships (see real_meshes_test.cpp): each repaired output
+// passes check_mesh.
+TEST(Repair, CgalDemoMeshesWithDefectsBecomeValid) {
+  const fs::path dir = TPMSFILL_CGAL_MESHES;
+  if (!fs::exists(dir / "elephant-with-holes.off"))
+    GTEST_SKIP() << dir << " is missing: install libcgal-demo";
+  for (const char* name : {"elephant-with-holes.off", "mech-holes-shark.off", "oblong-shuffled.off",
+                           "ellipe0.003.off", "blobby_3cc.off", "cube-ouvert.off"}) {
+    SCOPED_TRACE(name);
+    const fs::path path = dir / name;
+    if (!fs::exists(path)) continue;
+    const TriangleSoup soup = read_mesh(path);
+    const RepairResult r = repair_mesh(soup);
+    expect_valid(r);
+  }
+}
+
+TEST(Repair, FloatCoordinatesAreWhatIsChecked) {
+  TriangleSoup holed = cut_around(test::make_sphere({0.1, 0.2, 0.3}, 10, 3), {10, 0, 0}, 2.5);
+  RepairOptions options;
+  options.float_coordinates = true;
+  const RepairResult r = repair_mesh(holed, options);
+  expect_valid(r);
+  for (const Vec3& p : r.mesh.points) {
+    EXPECT_EQ(p.x, static_cast<double>(static_cast<float>(p.x)));
+    EXPECT_EQ(p.z, static_cast<double>(static_cast<float>(p.z)));
+  }
+}
