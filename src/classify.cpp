@@ -184,7 +184,9 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
   const bool near_caps =
       rule == InsideRule::Winding && !caps.empty() && caps.row_bound(line.y, line.z) >= 0.5;
   std::vector<int> model_j(near_caps ? n : 0);
-  std::vector<std::uint8_t> parity(rule == InsideRule::Winding ? n : 0);
+  if (crossings.empty() && !near_caps) return;  // the row's nodes are outside (zeroed)
+  // Parity per node, kept only where the caps may still change the answer.
+  std::vector<std::uint8_t> parity(near_caps ? n : 0);
   winding = 0;
   int model = 0;
   std::size_t below = 0;
@@ -204,11 +206,15 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
     const bool odd = on == below && below < parity_count && below % 2 == 1;
     bool inside = odd;
     if (rule == InsideRule::Winding) {
-      parity[i] = odd ? 1 : 0;
       inside = j >= 1;
       if (j < 0 || j > 1) r.overlap = true;
       if (j < 0) r.unbalanced = true;
-      if (near_caps) model_j[i] = std::min(model, model_above);
+      if (near_caps) {
+        model_j[i] = std::min(model, model_above);
+        parity[i] = odd ? 1 : 0;
+      } else if (inside != odd) {
+        ++r.disagreements;
+      }
     }
     out[i] = inside ? 1 : 0;
   }
@@ -239,7 +245,7 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
       for (int i = 0; i < n; ++i) r.length += out[i] ? grid.spacing : 0.0;
     }
   }
-  if (rule == InsideRule::Winding)
+  if (near_caps)
     for (int i = 0; i < n; ++i) r.disagreements += out[i] != parity[i];
 }
 
