@@ -24,13 +24,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const TriangleSoup model = read_mesh(argv[1]);                        // read
-    const CleanResult clean = clean_soup(model);                          // oriented, capped
+    const TriangleSoup model = read_mesh(argv[1]);  // read
+    const CleanResult clean = clean_soup(model);    // oriented, capped
     const MeshIndex index = build_index(clean.soup, {.hole_caps = &clean.caps});  // AABB tree
-    const Grid grid = make_grid(index.bounds(), {.voxel_size = 0.5});     // padded grid
-    const Occupancy occupancy = classify_grid(index, grid);               // winding ≥ ½
-    const Band band = band_voxels(occupancy.inside);                      // eq. 6–7
-    const auto distance = band_distances(index, occupancy.inside, band);  // eq. 8–9
+    const Grid grid = make_grid(index.bounds(), {.voxel_size = 0.5});             // padded grid
+    const Occupancy occupancy = classify_grid(index, grid);                       // winding ≥ ½
+    const Band band = band_voxels(occupancy.inside);                              // eq. 6–7
+    const auto distance = band_distances(index, occupancy.inside, band);          // eq. 8–9
     const TpmsOptions lattice{.type = Lattice::Diamond, .cell = {4, 4, 4}};
     const Field phi = compose_field(occupancy.inside, band, distance, lattice);  // eq. 5, 10
     const TriangleSoup mesh = marching_cubes(phi);                               // iso-surface

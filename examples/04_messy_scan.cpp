@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
       for (std::size_t t = 0; t < part->triangles.size(); ++t) {
         Triangle tri = part->triangles[t];
         if (part == &scan && part->points[tri[0]].z > 9.3) continue;  // the hole
-        if (t % 50 == 0) std::swap(tri[1], tri[2]);                     // flipped
+        if (t % 50 == 0) std::swap(tri[1], tri[2]);                   // flipped
         messy.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
       }
     }

@@ -100,7 +100,7 @@ using TreeNode = CGAL::AABB_node<TreeTraits>;
 namespace tpmsfill {
 
 struct MeshIndex::Impl {
-  detail::TriangleArray triangles;                   ///< kept triangles, corners as given, caps last
+  detail::TriangleArray triangles;  ///< kept triangles, corners as given, caps last
   std::vector<std::unique_ptr<detail::Tree>> trees;  ///< 1 or 2 trees, disjoint triangle sets
   Box3 bounds;                                       ///< of `triangles`
   /// Largest |coordinate| (mm), for the distance stage's rounding slack.
