@@ -199,7 +199,6 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
     tree.reset();
     CleanResult cleaned =
         stage("clean", [&] { return clean_soup(model, {.progress = options.progress}); });
-    r.cleaned = true;
     r.clean = cleaned.report;
     if (cleaned.soup.triangles.empty())
       throw InputError("the mesh encloses no volume: no triangle has three distinct corners");

@@ -24,8 +24,8 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
 std::string inside_summary(const FillReport& r) {
   if (r.inside_rule != "winding") return "parity of ray crossings";
   const CleanReport& c = r.clean;
-  std::string s =
-      r.cleaned ? "winding number" : "winding number (signed crossings; input needed no cleaning)";
+  std::string s = r.cleaned() ? "winding number"
+                              : "winding number (signed crossings; input needed no cleaning)";
   std::string what;
   auto add = [&](std::uint64_t n, const char* text) {
     if (n) what += (what.empty() ? "" : ", ") + format(text, static_cast<double>(n));
@@ -90,7 +90,7 @@ std::string to_json(const FillReport& r) {
       {"odd_rays", r.odd_rays},
       {"inside",
        {{"rule", r.inside_rule},
-        {"cleaned", r.cleaned},
+        {"cleaned", r.cleaned()},
         {"merged_points", r.clean.merged_points},
         {"repeated_corner_triangles", r.clean.repeated_corner_triangles},
         {"duplicate_triangles", r.clean.duplicate_triangles},

@@ -10,7 +10,6 @@
 #include <string>
 #include <utility>
 
-#include "detail/border_loops.hpp"
 #include "detail/mesh_index_impl.hpp"
 #include "detail/parallel.hpp"
 #include "detail/soup_indices.hpp"
@@ -86,10 +85,6 @@ std::unique_ptr<Tree> build_tree(std::uint32_t* first, std::uint32_t* beyond,
   return tree;
 }
 
-bool same(const Vec3& a, const Vec3& b) {
-  return a.x == b.x && a.y == b.y && a.z == b.z;
-}
-
 }  // namespace
 
 MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
@@ -108,7 +103,7 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
       const Vec3 &a = from.points[t[0]], &b = from.points[t[1]], &c = from.points[t[2]];
       // A repeated corner (by index or by position, as STL soups repeat points) bounds
       // nothing.
-      if (same(a, b) || same(b, c) || same(c, a)) continue;
+      if (a == b || b == c || c == a) continue;
       triangles.push_back({{a, b, c}});
     }
   };
@@ -118,24 +113,8 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
   const std::size_t model_triangles = triangles.size();
   add(caps);
   impl->cap_count = triangles.size() - model_triangles;
-  if (impl->cap_count > 0) {
-    std::vector<std::array<Vec3, 3>> cap_corners;
-    cap_corners.reserve(impl->cap_count);
-    for (std::size_t t = model_triangles; t < triangles.size(); ++t)
-      cap_corners.push_back(triangles[t].v);
-    // The caps' rims: their border loops, by point index.
-    std::vector<std::vector<Vec3>> rims;
-    for (const auto& loop : detail::border_loops(detail::triangle_border(caps.triangles))) {
-      rims.emplace_back();
-      for (std::uint32_t v : loop) rims.back().push_back(caps.points[v]);
-    }
-    std::vector<Triangle> cap_indices;  // the same triangles, as point indices
-    for (const Triangle& t : caps.triangles) {
-      const Vec3 &a = caps.points[t[0]], &b = caps.points[t[1]], &c = caps.points[t[2]];
-      if (!(same(a, b) || same(b, c) || same(c, a))) cap_indices.push_back(t);
-    }
-    impl->caps = detail::CapWinding(cap_corners, cap_indices, rims);
-  }
+  if (impl->cap_count > 0) impl->caps = detail::CapWinding(caps);
+
   triangles.shrink_to_fit();
 
   // Bounds per fixed chunk in parallel, combined in order (min/max: exact either way).

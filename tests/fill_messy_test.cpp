@@ -33,21 +33,11 @@ void expect_printable(const TriangleSoup& mesh) {
   EXPECT_TRUE(c.valid()) << (c.problems().empty() ? std::string("?") : c.problems().front());
 }
 
-TriangleSoup without(const TriangleSoup& soup, bool (*drop)(const Vec3&)) {
-  TriangleSoup out;
-  out.points = soup.points;
-  for (const Triangle& t : soup.triangles) {
-    const Vec3 c = (1.0 / 3.0) * (soup.points[t[0]] + soup.points[t[1]] + soup.points[t[2]]);
-    if (!drop(c)) out.triangles.push_back(t);
-  }
-  return out;
-}
-
 }  // namespace
 
 TEST(FillMessy, SphereWithHolesFlipsAndUnweldedPointsIsFilledLikeTheSphere) {
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 10.0, 4);
-  TriangleSoup broken = test::unshare_points(without(sphere, [](const Vec3& c) {
+  TriangleSoup broken = test::unshare_points(test::without_triangles(sphere, [](const Vec3& c) {
     return c.x > 9.7 || c.z < -9.7;  // two holes about 5 mm across
   }));
   for (long t : {1L, 100L, 2000L}) broken = test::flip(broken, t);
@@ -99,7 +89,7 @@ TEST(FillMessy, AnOpenSheetEnclosesNoVolume) {
 
 TEST(FillMessy, InsideOutTorusWithASlit) {
   const TriangleSoup torus = test::make_torus(10, 3, 48, 24);
-  const TriangleSoup slit = test::flip(without(
+  const TriangleSoup slit = test::flip(test::without_triangles(
       torus, [](const Vec3& c) { return c.x > 0 && std::fabs(std::atan2(c.y, c.x)) < 0.06; }));
   FillOptions o;
   o.grid.voxel_size = 0.25;
@@ -116,10 +106,7 @@ TEST(FillMessy, InsideOutTorusWithASlit) {
 TEST(FillMessy, EveryCgalDemoMeshIsFilledOrRefusedInOneSentence) {
   const fs::path dir = TPMSFILL_CGAL_MESHES;
   if (!fs::exists(dir)) GTEST_SKIP() << dir << " is missing: install libcgal-demo";
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.is_regular_file() && entry.file_size() < 2'000'000) files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<fs::path> files = test::files_in(dir, 2'000'000);
   std::size_t filled = 0, refused = 0;
   for (const fs::path& file : files) {
     SCOPED_TRACE(file.filename().string());

@@ -75,10 +75,7 @@ TEST(RealMeshes, EveryCgalDemoMeshReadsAndChecksConsistently) {
   const fs::path dir = TPMSFILL_CGAL_MESHES;
   if (!fs::exists(dir)) GTEST_SKIP() << dir << " is missing: install libcgal-demo";
   std::size_t read = 0;
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.is_regular_file() && entry.file_size() < 4'000'000) files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<fs::path> files = test::files_in(dir, 4'000'000);
   for (const fs::path& file : files) {
     SCOPED_TRACE(file.filename().string());
     TriangleSoup soup;

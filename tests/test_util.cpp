@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -131,6 +132,27 @@ TriangleSoup flip(TriangleSoup soup, long i) {
     if (i < 0 || static_cast<std::size_t>(i) == k)
       std::swap(soup.triangles[k][1], soup.triangles[k][2]);
   return soup;
+}
+
+TriangleSoup without_triangles(const TriangleSoup& soup,
+                               const std::function<bool(const Vec3& centroid)>& drop) {
+  TriangleSoup out;
+  out.points = soup.points;
+  for (const Triangle& t : soup.triangles) {
+    const Vec3 c = (1.0 / 3.0) * (soup.points[t[0]] + soup.points[t[1]] + soup.points[t[2]]);
+    if (!drop(c)) out.triangles.push_back(t);
+  }
+  return out;
+}
+
+std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir,
+                                            std::uintmax_t max_bytes) {
+  std::vector<std::filesystem::path> files;
+  if (!std::filesystem::exists(dir)) return files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.is_regular_file() && entry.file_size() < max_bytes) files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 TriangleSoup unshare_points(const TriangleSoup& soup) {

@@ -3,8 +3,10 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <tpmsfill/types.hpp>
+#include <vector>
 
 namespace tpmsfill::test {
 
@@ -30,6 +32,9 @@ TriangleSoup concat(const TriangleSoup& a, const TriangleSoup& b);
 TriangleSoup flip(TriangleSoup soup, long i = -1);
 /// Every triangle gets its own three points, as an STL file stores them.
 TriangleSoup unshare_points(const TriangleSoup& soup);
+/// The soup without the triangles whose centroid satisfies `drop` (points kept).
+TriangleSoup without_triangles(const TriangleSoup& soup,
+                               const std::function<bool(const Vec3& centroid)>& drop);
 
 /// A grid with `spacing` (mm) whose nodes cover `box` grown by `pad` mm on every side.
 Grid grid_around(Box3 box, double spacing, double pad);
@@ -42,6 +47,9 @@ double signed_volume(const TriangleSoup& soup);
 
 /// A fresh empty folder under the system temp folder, unique per test.
 std::filesystem::path scratch_dir();
+/// Regular files directly in `dir` smaller than `max_bytes`, sorted by path (none if absent).
+std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir,
+                                            std::uintmax_t max_bytes);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 std::string read_file(const std::filesystem::path& path);
 

@@ -5,17 +5,28 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <random>
 #include <tpmsfill/classify.hpp>
 #include <tpmsfill/clean.hpp>
 #include <tpmsfill/spatial.hpp>
 
-#include "../src/detail/border_loops.hpp"
 #include "../src/detail/cap_winding.hpp"
 #include "test_util.hpp"
 
 namespace tpmsfill {
 namespace {
+
+/// Winding number of triangle abc at p: signed solid angle / 4π (van Oosterom and Strackee),
+/// positive when p is behind the triangle. The brute-force reference.
+double triangle_winding(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u = a - p, v = b - p, w = c - p;
+  const double lu = norm(u), lv = norm(v), lw = norm(w);
+  if (lu == 0 || lv == 0 || lw == 0) return 0;
+  const double det = dot(u, cross(v, w));
+  const double div = lu * lv * lw + dot(u, v) * lw + dot(u, w) * lv + dot(v, w) * lu;
+  return 2.0 * std::atan2(det, div) / (4.0 * std::numbers::pi);
+}
 
 Occupancy winding_inside(const TriangleSoup& soup, const Grid& grid,
                          CleanReport* report = nullptr) {
@@ -48,23 +59,12 @@ std::size_t count_inside(const Mask& m) {
   return n;
 }
 
-/// The soup without the triangles whose centroid satisfies `drop`.
-TriangleSoup without(const TriangleSoup& soup, const std::function<bool(const Vec3&)>& drop) {
-  TriangleSoup out;
-  out.points = soup.points;
-  for (const Triangle& t : soup.triangles) {
-    const Vec3 c = (1.0 / 3.0) * (soup.points[t[0]] + soup.points[t[1]] + soup.points[t[2]]);
-    if (!drop(c)) out.triangles.push_back(t);
-  }
-  return out;
-}
-
 /// A sphere of radius r at c with three round holes facing +x, −y, +z, each about 25° across
 /// (1.7 mm for r = 4: many voxels wide). What a person draws across a hole is close to the
 /// flat disk on its rim (exactly that for a hemisphere's), so the agreement with the intact
 /// ball is bounded by the thin spherical segments beyond those disks (0.03 % of the grid).
 TriangleSoup sphere_with_holes(Vec3 c, double r) {
-  return without(test::make_sphere(c, r, 4), [&](const Vec3& p) {
+  return test::without_triangles(test::make_sphere(c, r, 4), [&](const Vec3& p) {
     const Vec3 d = (1.0 / norm(p - c)) * (p - c);
     return d.x > 0.975 || d.y < -0.975 || d.z > 0.975;
   });
@@ -117,7 +117,7 @@ TEST(Winding, UnweldedInsideOutBoxSoup) {
 TEST(Winding, TorusWithASlit) {
   const TriangleSoup torus = test::make_torus(3, 1, 48, 24);
   // A strip of faces across the tube removed: two border loops facing each other.
-  const TriangleSoup slit = without(
+  const TriangleSoup slit = test::without_triangles(
       torus, [](const Vec3& p) { return p.x > 0 && std::fabs(std::atan2(p.y, p.x)) < 0.06; });
   ASSERT_LT(slit.triangles.size(), torus.triangles.size());
   const Grid grid = test::grid_around(bounding_box(torus), 0.1, 0.3);
@@ -168,8 +168,8 @@ TEST(Winding, OpenSheetEnclosesNothing) {
 
 TEST(Winding, HalfOpenBowlIsClosedAcrossItsRim) {
   // A hemisphere (z ≤ 0) is a bowl; the winding number fills it up to the rim's plane.
-  const TriangleSoup bowl =
-      without(test::make_sphere({0, 0, 0}, 3.0, 5), [](const Vec3& p) { return p.z > 0; });
+  const TriangleSoup bowl = test::without_triangles(test::make_sphere({0, 0, 0}, 3.0, 5),
+                                                    [](const Vec3& p) { return p.z > 0; });
   const Grid grid = test::grid_around(bounding_box(bowl), 0.1, 0.3);
   const Occupancy occ = winding_inside(bowl, grid);
   std::size_t checked = 0, right = 0;
@@ -195,16 +195,7 @@ TEST(Winding, ModelWindingIsCrossingsPlusRimRemainder) {
   const CleanResult cleaned = clean_soup(model);
   ASSERT_EQ(cleaned.report.holes, 3u);
   // The rims as build_index() finds them: the caps' border loops.
-  std::vector<std::array<Vec3, 3>> cap_triangles;  // none degenerate here
-  for (const Triangle& t : cleaned.caps.triangles)
-    cap_triangles.push_back(
-        {cleaned.caps.points[t[0]], cleaned.caps.points[t[1]], cleaned.caps.points[t[2]]});
-  std::vector<std::vector<Vec3>> loops;
-  for (const auto& loop : detail::border_loops(detail::triangle_border(cleaned.caps.triangles))) {
-    loops.emplace_back();
-    for (std::uint32_t v : loop) loops.back().push_back(cleaned.caps.points[v]);
-  }
-  const detail::CapWinding rims(cap_triangles, cleaned.caps.triangles, loops);
+  const detail::CapWinding rims(cleaned.caps);  // as build_index() makes it
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-3, 3);
   double worst_identity = 0, worst_hierarchy = 0;
@@ -215,7 +206,7 @@ TEST(Winding, ModelWindingIsCrossingsPlusRimRemainder) {
     for (const Triangle& t : cleaned.soup.triangles) {
       const std::array<Vec3, 3> v{cleaned.soup.points[t[0]], cleaned.soup.points[t[1]],
                                   cleaned.soup.points[t[2]]};
-      w += detail::triangle_winding(p, v[0], v[1], v[2]);
+      w += triangle_winding(p, v[0], v[1], v[2]);
       // The +x line through p meets the triangle at x < p.x? (random p: no ties)
       const Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
       if (n.x == 0) continue;

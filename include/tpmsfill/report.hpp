@@ -38,11 +38,12 @@ struct FillReport {
   std::uint64_t odd_rays = 0;  ///< rows with an odd crossing count (input not closed)
   // --- inside/outside (classify.hpp) -----------------------------------------------------
   std::string inside_rule;         ///< "parity" or "winding"
-  bool cleaned = false;            ///< the clean stage ran (winding; auto when the input needed it)
   CleanReport clean;               ///< what the clean stage found and did (winding rule only)
   std::uint64_t overlap_rows = 0;  ///< rows where shells overlap (winding rule)
   std::uint64_t parity_disagreements = 0;  ///< nodes where winding and parity differ
   std::uint64_t cap_evaluations = 0;       ///< nodes that needed the hole caps' winding number
+  /// The clean stage ran (winding; auto when the input needed it).
+  bool cleaned() const { return clean.input_triangles > 0; }
   std::uint64_t estimated_memory_bytes = 0;
   // --- output (the written mesh's figures are its validation's) -------------------------
   double model_volume = 0;            ///< mm^3, enclosed by the input (measured along the rays)

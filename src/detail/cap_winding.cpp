@@ -1,6 +1,9 @@
 // The rim hierarchy: per rim, a binary tree over runs of consecutive edges, walked depth-first.
 #include "detail/cap_winding.hpp"
 
+#include "detail/border_loops.hpp"
+#include "detail/soup_topology.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -36,46 +39,38 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-double triangle_winding(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 u = a - p, v = b - p, w = c - p;
-  const double lu = norm(u), lv = norm(v), lw = norm(w);
-  if (lu == 0 || lv == 0 || lw == 0) return 0;
-  const double det = dot(u, cross(v, w));
-  const double div = lu * lv * lw + dot(u, v) * lw + dot(u, w) * lv + dot(v, w) * lu;
-  return 2.0 * std::atan2(det, div) / kFourPi;
-}
-
-CapWinding::CapWinding(const std::vector<std::array<Vec3, 3>>& triangles,
-                       const std::vector<Triangle>& corners,
-                       const std::vector<std::vector<Vec3>>& rims) {
-  // Patches: triangles joined through shared points (union-find over point indices).
-  std::uint32_t points = 0;
-  for (const Triangle& t : corners) points = std::max({points, t[0] + 1, t[1] + 1, t[2] + 1});
-  std::vector<std::uint32_t> parent(points);
-  for (std::uint32_t i = 0; i < points; ++i) parent[i] = i;
-  auto find = [&](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const Triangle& t : corners)
-    for (int k = 1; k < 3; ++k) {
-      const std::uint32_t a = find(t[0]), b = find(t[k]);
-      parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<std::uint32_t> patch_of(points, ~0u);
-  for (std::size_t i = 0; i < triangles.size(); ++i) {
-    std::uint32_t& id = patch_of[find(corners[i][0])];
-    if (id == ~0u) {
+CapWinding::CapWinding(const TriangleSoup& caps) {
+  // Patches: triangles joined through shared points. Triangles with a repeated corner (by
+  // position) bound nothing and join nothing.
+  DisjointSets sets(caps.points.size());
+  std::vector<Triangle> kept;
+  for (const Triangle& t : caps.triangles) {
+    const Vec3 &a = caps.points[t[0]], &b = caps.points[t[1]], &c = caps.points[t[2]];
+    if (a == b || b == c || c == a) continue;
+    kept.push_back(t);
+    sets.unite(t[0], t[1]);
+    sets.unite(t[0], t[2]);
+  }
+  std::vector<std::uint32_t> patch_of(caps.points.size(), kNoIndex);
+  for (const Triangle& t : kept) {
+    std::uint32_t& id = patch_of[sets.find(t[0])];
+    if (id == kNoIndex) {
       id = static_cast<std::uint32_t>(patches_.size());
       patches_.emplace_back();
     }
     Patch& patch = patches_[id];
-    for (const Vec3& v : triangles[i]) {
+    const Vec3 &a = caps.points[t[0]], &b = caps.points[t[1]], &c = caps.points[t[2]];
+    for (const Vec3& v : {a, b, c}) {
       patch.box.extend(v);
       box_.extend(v);
     }
-    patch.area +=
-        0.5 * norm(cross(triangles[i][1] - triangles[i][0], triangles[i][2] - triangles[i][0]));
+    patch.area += 0.5 * norm(cross(b - a, c - a));
+  }
+  // Rims: the caps' border loops, by point index.
+  std::vector<std::vector<Vec3>> rims;
+  for (const auto& loop : border_loops(triangle_border(caps.triangles))) {
+    rims.emplace_back();
+    for (std::uint32_t v : loop) rims.back().push_back(caps.points[v]);
   }
   for (const auto& rim : rims) {
     if (rim.size() < 2) continue;

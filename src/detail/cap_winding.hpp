@@ -31,12 +31,9 @@ namespace tpmsfill::detail {
 class CapWinding {
  public:
   CapWinding() = default;
-  /// @param triangles  the cap triangles' corners (for the bound), with `corners` their
-  ///                   point indices (which triangles are connected)
-  /// @param rims       the caps' border loops, each a sequence of corners in the caps' border
-  ///                   direction (the reverse of the model's)
-  CapWinding(const std::vector<std::array<Vec3, 3>>& triangles,
-             const std::vector<Triangle>& corners, const std::vector<std::vector<Vec3>>& rims);
+  /// From the caps (CleanResult::caps): their patches bound where they matter, their border
+  /// loops (in the caps' border direction, the reverse of the model's) are the rims.
+  explicit CapWinding(const TriangleSoup& caps);
 
   bool empty() const { return rims_.empty(); }
   const Box3& bounds() const { return box_; }  ///< of the caps
@@ -78,9 +75,5 @@ class CapWinding {
   std::vector<Patch> patches_;  ///< connected pieces of the caps
   Box3 box_;
 };
-
-/// Winding number of triangle abc at p: signed solid angle / 4π, positive when p is behind
-/// the triangle (on the side opposite its normal). 0 when p is a corner.
-double triangle_winding(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 }  // namespace tpmsfill::detail
