@@ -18,6 +18,7 @@
 #include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/recipe.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/validate.hpp"
 
@@ -130,21 +131,18 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
   }
   std::vector<std::size_t> largest(regions.count, std::numeric_limits<std::size_t>::max());
   for (std::size_t c = 0; c < comps.info.size(); ++c) {
-    if (part[c] == none) continue;
+    if (part[c] == none || comps.info[c].volume < 0) continue;
     std::size_t& best = largest[part[c]];
     if (best == std::numeric_limits<std::size_t>::max() ||
         std::fabs(comps.info[c].volume) > std::fabs(comps.info[best].volume))
       best = c;
   }
+  // A component of negative volume bounds a cavity (a void a skin encloses): it belongs to
+  // the shell around it, never an island.
   std::vector<bool> keep(comps.info.size(), false);
   for (std::size_t c = 0; c < comps.info.size(); ++c)
-    keep[c] = part[c] == none || largest[part[c]] == c;
+    keep[c] = part[c] == none || largest[part[c]] == c || comps.info[c].volume < 0;
   return keep;
-}
-
-std::string lattice_label(const TpmsOptions& o) {
-  return std::string(lattice_name(o.type)) +
-         (o.style == LatticeStyle::Network ? " network" : " sheet");
 }
 
 }  // namespace
@@ -163,17 +161,29 @@ std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
 
 FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   validate(options.lattice);
+  if (!(options.skin >= 0) || !std::isfinite(options.skin))
+    throw InputError("the skin thickness must be a non-negative number of millimetres");
   FillResult result;
   FillReport& r = result.report;
   StageClock stage(r);
   r.input_triangles = model.triangles.size();
   r.input_bbox = bounding_box(model);
-  r.lattice = lattice_label(options.lattice);
-  r.cell = options.lattice.cell;
-  r.level = options.lattice.level;
-  r.thickness = options.lattice.thickness;
+  const LatticeDesign design = resolve_design(options.lattice, r.input_bbox);
+  r.lattice = design.custom ? std::string("custom field") : lattice_label(design);
+  for (const Blend& b : design.blends) r.lattice += " + " + lattice_label(b.lattice);
+  r.cell = design.cell;
+  r.level = design.level;
+  r.thickness = design.thickness;
   r.full_field = options.full_field;
-  r.unclipped_porosity = 1.0 - lattice_solid_fraction(options.lattice);
+  r.skin = options.skin;
+  r.porosity_target = design.porosity;
+  r.sheet = design.style == LatticeStyle::Sheet;
+  {
+    FillOptions resolved = options;
+    resolved.lattice = design;
+    r.recipe = recipe_json(resolved);
+  }
+  if (!design.custom) r.unclipped_porosity = 1.0 - lattice_solid_fraction(design);
 
   const Grid grid = make_grid(r.input_bbox, options.grid);  // validates the options first
   require_budget(r.input_bbox, model.triangles.size(), options, &r.estimated_memory_bytes);
@@ -226,23 +236,26 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
         "thinner than the voxel size)");
 
   const DistanceOptions distance_options{.progress = options.progress};
+  const ComposeOptions compose_options{
+      .skin = options.skin, .skin_windows = options.skin_windows, .progress = options.progress};
   Field phi;
   if (!options.full_field) {
-    const Band band = stage("band", [&] { return band_voxels(occupancy.inside, options.band); });
+    const BandOptions band_options{
+        std::max(options.band.width, skin_band_width(options.skin, grid.spacing))};
+    const Band band = stage("band", [&] { return band_voxels(occupancy.inside, band_options); });
     r.band_nodes = band.nodes.size();
     r.distance_queries = band.nodes.size();
     const std::vector<float> d = stage("distance", [&] {
       return band_distances(index, occupancy.inside, band, distance_options);
     });
-    phi = stage("compose", [&] {
-      return compose_field(occupancy.inside, band, d, options.lattice, options.progress);
-    });
+    phi = stage("compose",
+                [&] { return compose_field(occupancy.inside, band, d, design, compose_options); });
   } else {
     const Field d = stage("distance", [&] {
       return signed_distance_field(index, occupancy.inside, distance_options);
     });
     r.distance_queries = r.samples;
-    phi = stage("compose", [&] { return compose_field(d, options.lattice, options.progress); });
+    phi = stage("compose", [&] { return compose_field(d, design, compose_options); });
   }
   tree.reset();  // the tree is no longer needed: give its memory back
 

@@ -76,7 +76,9 @@ std::string to_json(const FillReport& r) {
        {{"type", r.lattice},
         {"cell", point(r.cell)},
         {"level", r.level},
-        {"thickness", r.thickness}}},
+        {"thickness", r.thickness},
+        {"porosity_target", r.porosity_target ? json(*r.porosity_target) : json(nullptr)},
+        {"skin", r.skin}}},
       {"grid",
        {{"origin", point(r.grid.origin)},
         {"voxel", r.grid.spacing},
@@ -115,6 +117,8 @@ std::string to_json(const FillReport& r) {
       {"model_volume", r.model_volume},
       {"porosity", r.porosity()},
       {"unclipped_porosity", r.unclipped_porosity},
+      {"specific_surface", r.specific_surface()},
+      {"surface_density", r.surface_density()},
       {"islands_removed", r.islands_removed},
       {"islands_volume", r.islands_volume},
       {"validation",
@@ -135,6 +139,7 @@ std::string to_json(const FillReport& r) {
       {"stages", stages},
       {"total_seconds", r.total_seconds()},
       {"peak_memory_mb", peak_memory_mb()},
+      {"recipe", r.recipe.empty() ? json(nullptr) : json::parse(r.recipe)},
   };
   return j.dump(2) + "\n";
 }
@@ -142,8 +147,13 @@ std::string to_json(const FillReport& r) {
 std::string to_text(const FillReport& r) {
   const ValidationReport& v = r.validation;
   std::string s;
-  s += "lattice      " + r.lattice +
-       format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z) + "\n";
+  s += "lattice      " + r.lattice + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z);
+  if (r.porosity_target)
+    s += format(r.sheet ? ", thickness %.4g mm for porosity %.4g %%"
+                        : ", level %.4g mm for porosity %.4g %%",
+                r.sheet ? r.thickness : r.level, 100 * *r.porosity_target);
+  if (r.skin > 0) s += format(", skin %g mm", r.skin);
+  s += "\n";
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
   s += "inside       " + inside_summary(r) + "\n";
@@ -161,6 +171,8 @@ std::string to_text(const FillReport& r) {
       format("volume       lattice %.1f mm3, model %.1f mm3\n", r.lattice_volume(), r.model_volume);
   s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
               100 * r.unclipped_porosity);
+  s += format("surface      %.3g mm^-1 per solid volume, %.3g mm^-1 per model volume\n",
+              r.specific_surface(), r.surface_density());
   if (r.islands_removed)
     s += format("islands      %.0f removed (%.3g mm3)\n", static_cast<double>(r.islands_removed),
                 r.islands_volume);

@@ -44,7 +44,7 @@ Ball make_ball(double radius, double spacing) {
 TEST(Compose, BandFieldHasTheSignsOfTheFullField) {
   const Ball b = make_ball(5.0, 0.2);
   for (Lattice type : {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond}) {
-    const TpmsOptions lattice{.type = type, .cell = {2, 2, 2}};
+    const LatticeDesign lattice{{.type = type, .cell = {2, 2, 2}}};
     const Field band = compose_field(b.inside, b.band, b.band_distance, lattice);
     const Field full = compose_field(b.distance, lattice);
     std::size_t solid = 0;
@@ -59,12 +59,21 @@ TEST(Compose, BandFieldHasTheSignsOfTheFullField) {
   }
 }
 
-TEST(Compose, OffBandValuesBracketTheLattice) {
-  for (TpmsOptions o : {TpmsOptions{}, TpmsOptions{.level = 0.7},
-                        TpmsOptions{.style = LatticeStyle::Sheet, .thickness = 0.5}}) {
-    const FieldRange t = tpms_range(o), off = off_band_values(o);
-    EXPECT_LT(off.low, t.low);
-    EXPECT_GT(off.high, t.high);
+TEST(Compose, SkinIsSolidWithinItsThicknessOfTheSurface) {
+  // A ball of radius 5 with a lattice that is void everywhere (level above its clamp): only
+  // the skin is solid, and exactly where the distance is within (−skin, 0).
+  const double skin = 0.6;
+  const Ball b = make_ball(5.0, 0.2);
+  const Band wide = band_voxels(b.inside, {skin_band_width(skin, 0.2)});
+  std::vector<float> d;
+  for (std::uint64_t id : wide.nodes) d.push_back(b.distance.values[id]);
+  const LatticeDesign empty{{.level = 10}};
+  const Field phi = compose_field(b.inside, wide, d, empty, {.skin = skin});
+  const Field full = compose_field(b.distance, empty, {.skin = skin});
+  for (std::size_t n = 0; n < phi.values.size(); ++n) {
+    const float dist = b.distance.values[n];
+    ASSERT_EQ(phi.values[n] < 0, dist < 0 && dist > -skin) << n;
+    ASSERT_EQ(full.values[n] < 0, phi.values[n] < 0) << n;
   }
 }
 
@@ -85,7 +94,7 @@ TEST(Compose, NoSampleEqualsZero) {
         zeros += std::fabs(z) == 1.0;
       }
   ASSERT_GT(zeros, 0);
-  const Field phi = compose_field(slab, TpmsOptions{.level = -5});  // the model decides
+  const Field phi = compose_field(slab, LatticeDesign{{.level = -5}});  // the model decides
   for (float v : phi.values) ASSERT_NE(v, 0.0f);
 }
 

@@ -15,6 +15,7 @@
 
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/grid.hpp"
+#include "tpmsfill/lattice.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
 #include "tpmsfill/tpms.hpp"
@@ -24,9 +25,18 @@
 namespace tpmsfill {
 
 struct FillOptions {
-  GridOptions grid;     ///< voxel size (mm) and padding
-  TpmsOptions lattice;  ///< type, network/sheet, cell size, level or thickness (mm)
-  BandOptions band;     ///< band half-width in voxels
+  GridOptions grid;  ///< voxel size (mm) and padding
+  /// Type, network/sheet, cell size, level, thickness or porosity, rotation, origin; grading,
+  /// blends or a custom field (lattice.hpp). Porosities are solved and ramps without positions
+  /// span the model (resolve_design), and the report echoes what was resolved.
+  LatticeDesign lattice;
+  /// A solid shell this thick (mm) inside the model's surface, united with the lattice (0:
+  /// none). The band is widened so that its distances reach that deep.
+  double skin = 0;
+  /// Open the skin where the lattice's pores meet it (compose.hpp), so the void can drain;
+  /// by default the skin is closed (holes-free).
+  bool skin_windows = false;
+  BandOptions band;  ///< band half-width in voxels
   /// What counts as inside. Winding: clean the input (clean_soup), cap its holes and classify
   /// by the generalized winding number. Parity: classify the input as it is by the parity of
   /// crossings (the method paper's rule, for closed meshes whose shells do not overlap).

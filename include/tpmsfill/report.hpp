@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,10 +25,14 @@ struct FillReport {
   // --- input and settings ---------------------------------------------------------------
   std::uint64_t input_triangles = 0;
   Box3 input_bbox;
-  std::string lattice;   ///< "gyroid network", "diamond sheet", ...
-  Vec3 cell;             ///< mm
-  double level = 0;      ///< mm (network)
-  double thickness = 0;  ///< mm (sheet)
+  std::string lattice;                    ///< "gyroid network", "diamond sheet", ...
+  Vec3 cell;                              ///< mm
+  double level = 0;                       ///< mm (network)
+  double thickness = 0;                   ///< mm (sheet)
+  double skin = 0;                        ///< mm (0: none)
+  std::optional<double> porosity_target;  ///< what --porosity asked (level/thickness solved)
+  bool sheet = false;                     ///< the base lattice is a sheet
+  std::string recipe;                     ///< the resolved recipe (recipe.hpp), JSON
   // --- grid and field -------------------------------------------------------------------
   Grid grid;
   std::uint64_t samples = 0;           ///< grid nodes
@@ -61,6 +66,12 @@ struct FillReport {
   double surface_area() const { return validation.area; }      ///< mm^2
   /// 1 − lattice_volume / model_volume (0 without a model volume).
   double porosity() const { return model_volume > 0 ? 1.0 - lattice_volume() / model_volume : 0.0; }
+  /// Surface area per solid volume, mm⁻¹ (scaffold designers' specific surface area).
+  double specific_surface() const {
+    return lattice_volume() > 0 ? surface_area() / lattice_volume() : 0.0;
+  }
+  /// Surface area per model volume, mm⁻¹ (surface density of the filled part).
+  double surface_density() const { return model_volume > 0 ? surface_area() / model_volume : 0.0; }
   double total_seconds() const;
 };
 

@@ -1,28 +1,37 @@
 /// @file tpms.hpp
-/// @brief Stage "tpms": the lattice's implicit field φ_TPMS in millimetres (paper eq. 1–4).
+/// @brief Stage "tpms": one lattice's implicit field φ_TPMS in millimetres (paper eq. 1–4), and
+/// the level or thickness that gives a porosity.
 ///
-/// With X = 2πx/Tx, Y = 2πy/Ty, Z = 2πz/Tz (T = cell size per axis) each type has a
-/// periodic function f (table in docs/method.md and DESIGN.md). f is not a distance, so
-/// tpmsfill uses f̃ = f/|∇f|, a first-order distance in mm, clamped to ±max(T) where |∇f|
-/// vanishes away from the surface. Then:
-///   network:  φ_TPMS = f̃ + level          (solid where φ < 0; level in mm, 0 = the minimal
-///   surface) sheet:    φ_TPMS = |f̃| − thickness/2  (solid within thickness/2 of the minimal
-///   surface)
-/// Evaluation is separable: the per-axis sines and cosines are computed once per grid line,
-/// so a sample costs a few multiply-adds, a square root and a division.
+/// In lattice coordinates q = Rᵀ(p − origin) (R the lattice's rotation), with X = 2π q_x/Tx,
+/// Y = 2π q_y/Ty, Z = 2π q_z/Tz (T = cell size per axis), each type has a periodic function f
+/// (table in docs/method.md and DESIGN.md). f is not a distance, so tpmsfill uses
+/// f̃ = f/|∇f|, a first-order distance in mm, clamped to ±max(T) where |∇f| vanishes away from
+/// the surface. Then:
+///   network:  φ_TPMS = f̃ + level          (solid where φ < 0; level in mm, 0 = the surface)
+///   sheet:    φ_TPMS = |f̃| − thickness/2  (solid within thickness/2 of the surface)
+/// Without rotation the evaluation is separable: the per-axis sines and cosines are computed
+/// once per grid line, so a sample costs a few multiply-adds, a square root and a division.
+///
+/// Graded, blended and user-supplied lattices build on this stage: lattice.hpp.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
 
-/// Triply periodic minimal surface types. The evaluation table is indexed by this enum and
-/// takes per-axis cos/sin of X and 2X, so the other types of DESIGN.md's table fit as rows.
-enum class Lattice { Gyroid, Primitive, Diamond };
+/// Triply periodic minimal surface types (DESIGN.md's table).
+enum class Lattice { Gyroid, Primitive, Diamond, Iwp, Neovius, Frd, Lidinoid, SplitP };
+
+/// Every type, in the order of the design table (for loops and listings).
+inline constexpr Lattice kAllLattices[] = {Lattice::Primitive, Lattice::Gyroid,  Lattice::Diamond,
+                                           Lattice::Iwp,       Lattice::Neovius, Lattice::Frd,
+                                           Lattice::Lidinoid,  Lattice::SplitP};
 
 /// Network: the solid is one side of the level set. Sheet: a shell around the surface.
 enum class LatticeStyle { Network, Sheet };
@@ -34,16 +43,29 @@ struct TpmsOptions {
   double level = 0;         ///< network: offset of the solid's boundary, mm (+ = thinner)
   double thickness = 0.3;   ///< sheet: wall thickness, mm (> 0)
   Vec3 origin = {0, 0, 0};  ///< where the phase is zero, mm (shifts the lattice)
+  /// Orientation: the lattice's axes are R's columns (rotation_from_euler makes one).
+  Mat3 rotation = {};
+  /// Porosity to reach (0 < porosity < 1): when set, resolve_porosity() replaces `level`
+  /// (network) or `thickness` (sheet) by the value that gives it, and fill() does so first.
+  std::optional<double> porosity = {};
 };
 
-/// "gyroid", "primitive", "diamond".
+/// "primitive", "gyroid", "diamond", "iwp", "neovius", "frd", "lidinoid", "splitp".
 std::string_view lattice_name(Lattice type);
-/// Inverse of lattice_name (also accepts "schwarz-p" for primitive).
+/// Inverse of lattice_name (also accepts "schwarz-p" for primitive, "schwarz-d" for diamond,
+/// "i-wp", "split-p").
 /// @throws InputError  unknown name (the message lists the known ones)
 Lattice lattice_from_name(std::string_view name);
+/// "gyroid network", "iwp sheet", ...
+std::string lattice_label(const TpmsOptions& options);
 
-/// @throws InputError  a cell size or the thickness is not positive and finite, or the level
-///                     is not finite
+/// Rotation about x by rx, then about the (fixed) y by ry, then about z by rz, in degrees:
+/// R = Rz · Ry · Rx.
+Mat3 rotation_from_euler(Vec3 degrees);
+
+/// @throws InputError  a cell size or the thickness is not positive and finite, the level or
+///                     origin is not finite, the rotation is not a rotation (orthonormal with
+///                     determinant +1, to 1e-6), or the porosity is not in (0, 1)
 void validate(const TpmsOptions& options);
 
 /// φ_TPMS at one point, mm.
@@ -57,6 +79,25 @@ FieldRange tpms_range(const TpmsOptions& options);
 
 /// φ_TPMS at every node of `grid` (same values as tpms_value at Grid::node()).
 Field tpms_field(const Grid& grid, const TpmsOptions& options, Progress* progress = nullptr);
+
+/// Samples of f̃ (mm) over one unit cell at samples³ cell-centred points, sorted ascending.
+/// The solid fraction of a network with level ℓ is the share of samples below −ℓ, and of a
+/// sheet of thickness t the share of |f̃| below t/2, so any porosity is read off by bisection
+/// (a binary search) on these samples. Rotation and origin do not change it.
+struct CellSamples {
+  std::vector<float> values;    ///< f̃, sorted
+  std::vector<float> absolute;  ///< |f̃|, sorted
+};
+CellSamples sample_cell(const TpmsOptions& options, int samples = 96);
+
+/// The level (network) or thickness (sheet), mm, whose solid fraction over the sampled cell is
+/// 1 − porosity.
+/// @throws InputError  porosity not in (0, 1)
+double level_for_porosity(const CellSamples& cell, LatticeStyle style, double porosity);
+
+/// `options` with `level` (network) or `thickness` (sheet) solved for options.porosity; the
+/// porosity stays set, as a record of what was asked. Unchanged without a porosity.
+TpmsOptions resolve_porosity(const TpmsOptions& options);
 
 /// Solid volume fraction of the unclipped lattice (1 − porosity), by sampling one unit cell
 /// at samples³ cell-centred points.

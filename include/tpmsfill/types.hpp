@@ -36,6 +36,28 @@ inline double norm(Vec3 a) {
   return std::sqrt(dot(a, a));
 }
 
+/// A 3×3 matrix, row-major; default-constructed it is the identity. Used for rotations.
+struct Mat3 {
+  std::array<double, 9> m{1, 0, 0, 0, 1, 0, 0, 0, 1};
+
+  friend bool operator==(const Mat3&, const Mat3&) = default;
+  friend Vec3 operator*(const Mat3& a, Vec3 v) {
+    const auto& m = a.m;
+    return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z,
+            m[6] * v.x + m[7] * v.y + m[8] * v.z};
+  }
+  friend Mat3 operator*(const Mat3& a, const Mat3& b) {
+    Mat3 r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        r.m[3 * i + j] =
+            a.m[3 * i] * b.m[j] + a.m[3 * i + 1] * b.m[3 + j] + a.m[3 * i + 2] * b.m[6 + j];
+    return r;
+  }
+  Mat3 transposed() const { return {{m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]}}; }
+  bool is_identity() const { return *this == Mat3{}; }
+};
+
 /// Axis-aligned box. Default-constructed it is empty (min > max), so extend() works from it.
 struct Box3 {
   Vec3 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),

@@ -12,6 +12,7 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/recipe.hpp>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -21,15 +22,16 @@ namespace tpmsfill::cli {
 namespace {
 
 struct FillArgs {
-  std::string input, output, report;
-  std::string lattice = "gyroid";
-  std::string inside = "auto";
+  std::string input, output, report, recipe;
+  std::optional<std::string> lattice, inside;
   bool sheet = false;
-  std::vector<double> cell{2.0};
-  std::optional<double> level, thickness;
-  double voxel = 0.1;
+  std::vector<double> cell, rotate, origin, grade_range;
+  std::optional<double> level, thickness, porosity, voxel, skin;
+  std::vector<std::string> grade;
+  std::string grade_along = "z";
   double scale = 1.0;
-  int band = 1;
+  std::optional<int> band;
+  bool skin_windows = false;
   bool full_field = false, keep_islands = false, no_self_intersections = false, quiet = false;
   std::string memory;
   int threads = 0;
@@ -57,6 +59,92 @@ std::uint64_t parse_bytes(const std::string& text) {
   return static_cast<std::uint64_t>(value * scale);
 }
 
+Vec3 three(const std::vector<double>& v) {
+  return {v[0], v[1], v[2]};
+}
+
+// --grade-along: a direction (x, y, z), radial from the model's centre (radial) or from an
+// axis through it (radial-x, ...), or depth below the surface.
+Ramp ramp_along(const std::string& along) {
+  static const char* axes = "xyz";
+  for (int a = 0; a < 3; ++a) {
+    Vec3 axis{};
+    (a == 0 ? axis.x : a == 1 ? axis.y : axis.z) = 1;
+    if (along == std::string(1, axes[a])) return {.shape = RampShape::Linear, .axis = axis};
+    if (along == std::string("radial-") + axes[a])
+      return {.shape = RampShape::Radial, .axis = axis};
+  }
+  if (along == "radial") return {.shape = RampShape::Radial, .axis = {0, 0, 0}};
+  if (along == "depth") return {.shape = RampShape::Depth};
+  throw InputError("--grade-along: '" + along +
+                   "' is not x, y, z, radial, radial-x, radial-y, radial-z or depth");
+}
+
+// Flags on top of the recipe (or the defaults): what is given on the command line wins.
+void apply_flags(const FillArgs& args, FillOptions& options) {
+  TpmsOptions& lattice = options.lattice;
+  if (args.voxel) options.grid.voxel_size = *args.voxel;
+  if (args.lattice) lattice.type = lattice_from_name(*args.lattice);
+  if (args.sheet) lattice.style = LatticeStyle::Sheet;
+  if (!args.cell.empty()) {
+    if (args.cell.size() != 1 && args.cell.size() != 3)
+      throw InputError("--cell takes one size or three (x y z), in mm");
+    lattice.cell =
+        args.cell.size() == 1 ? Vec3{args.cell[0], args.cell[0], args.cell[0]} : three(args.cell);
+  }
+  const bool sheet = lattice.style == LatticeStyle::Sheet;
+  if (sheet && args.level)
+    throw InputError("--level is for network lattices; use --thickness with --sheet");
+  if (!sheet && args.thickness) throw InputError("--thickness needs --sheet");
+  if (args.porosity && (args.level || args.thickness))
+    throw InputError("--porosity sets the " + std::string(sheet ? "thickness" : "level") +
+                     "; give one or the other");
+  if (args.level) lattice.level = *args.level, lattice.porosity.reset();
+  if (args.thickness) lattice.thickness = *args.thickness, lattice.porosity.reset();
+  if (args.porosity) lattice.porosity = *args.porosity;
+  if (!args.rotate.empty()) lattice.rotation = rotation_from_euler(three(args.rotate));
+  if (!args.origin.empty()) lattice.origin = three(args.origin);
+  if (!args.grade.empty()) {
+    Ramp ramp = ramp_along(args.grade_along);
+    if (!args.grade_range.empty()) ramp.from = args.grade_range[0], ramp.to = args.grade_range[1];
+    for (std::size_t g = 0; g + 2 < args.grade.size(); g += 3) {
+      const Graded what = graded_from_name(args.grade[g]);
+      Ramp r = ramp;
+      try {
+        r.start = std::stod(args.grade[g + 1]);
+        r.end = std::stod(args.grade[g + 2]);
+      } catch (const std::exception&) {
+        throw InputError("--grade " + args.grade[g] + ": '" + args.grade[g + 1] + " " +
+                         args.grade[g + 2] + "' are not two numbers");
+      }
+      std::erase_if(options.lattice.grading, [&](const Grading& e) { return e.what == what; });
+      options.lattice.grading.push_back({what, r});
+    }
+  } else if (!args.grade_range.empty() || args.grade_along != "z") {
+    throw InputError("--grade-along and --grade-range describe a --grade: give one");
+  }
+  if (args.skin) options.skin = *args.skin;
+  if (args.skin_windows) options.skin_windows = true;
+  if (options.skin_windows && !(options.skin > 0))
+    throw InputError("--skin-windows opens a skin: give --skin too");
+  if (args.band) options.band.width = *args.band;
+  if (args.inside) {
+    if (*args.inside == "parity")
+      options.inside = InsideRule::Parity;
+    else if (*args.inside == "winding")
+      options.inside = InsideRule::Winding;
+    else if (*args.inside == "auto")
+      options.inside.reset();
+    else
+      throw InputError("--inside: '" + *args.inside + "' is not auto, parity or winding");
+  }
+  if (args.full_field) options.full_field = true;
+  if (args.keep_islands) options.keep_islands = true;
+  if (args.no_self_intersections) options.check_self_intersections = false;
+  if (!args.memory.empty()) options.memory_budget = parse_bytes(args.memory);
+  validate(options.lattice);
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -67,30 +155,8 @@ int run_fill(const FillArgs& args) {
     threads.emplace(tbb::global_control::max_allowed_parallelism,
                     static_cast<std::size_t>(args.threads));
 
-  FillOptions options;
-  options.grid.voxel_size = args.voxel;
-  options.lattice.type = lattice_from_name(args.lattice);
-  options.lattice.style = args.sheet ? LatticeStyle::Sheet : LatticeStyle::Network;
-  if (args.cell.size() != 1 && args.cell.size() != 3)
-    throw InputError("--cell takes one size or three (x y z), in mm");
-  options.lattice.cell = args.cell.size() == 1 ? Vec3{args.cell[0], args.cell[0], args.cell[0]}
-                                               : Vec3{args.cell[0], args.cell[1], args.cell[2]};
-  if (args.sheet && args.level)
-    throw InputError("--level is for network lattices; use --thickness with --sheet");
-  if (!args.sheet && args.thickness) throw InputError("--thickness needs --sheet");
-  if (args.level) options.lattice.level = *args.level;
-  if (args.thickness) options.lattice.thickness = *args.thickness;
-  options.band.width = args.band;
-  if (args.inside == "parity")
-    options.inside = InsideRule::Parity;
-  else if (args.inside == "winding")
-    options.inside = InsideRule::Winding;
-  else if (args.inside != "auto")
-    throw InputError("--inside: '" + args.inside + "' is not auto, parity or winding");
-  options.full_field = args.full_field;
-  options.keep_islands = args.keep_islands;
-  options.check_self_intersections = !args.no_self_intersections;
-  if (!args.memory.empty()) options.memory_budget = parse_bytes(args.memory);
+  FillOptions options = args.recipe.empty() ? FillOptions{} : read_recipe_file(args.recipe);
+  apply_flags(args, options);
   // Fail on a bad output name before the work, not after it.
   if (format_from_extension(args.output) == MeshFormat::Auto)
     throw InputError(args.output + ": unknown extension (use .stl, .obj, .ply or .off)");
@@ -141,7 +207,11 @@ Command add_fill_command(CLI::App& app) {
       "Examples:\n"
       "  tpmsfill fill femur.stl scaffold.stl --lattice gyroid --cell 2 --voxel 0.1\n"
       "  tpmsfill fill part.obj shell.stl --lattice diamond --sheet --thickness 0.4 --report "
-      "r.json\n\n"
+      "r.json\n"
+      "  tpmsfill fill femur.stl implant.stl --porosity 0.7 --grade porosity 0.5 0.8 "
+      "--grade-along depth --skin 0.4\n"
+      "  tpmsfill fill part.stl graded.stl --lattice iwp --grade cell 2 4 --grade-along x\n"
+      "  tpmsfill fill part.stl hybrid.stl --recipe hybrid.json   (docs/recipes.md)\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input,
@@ -151,15 +221,47 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("OUT", args->output,
                   "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
       ->required();
-  sub->add_option("--lattice", args->lattice, "gyroid, primitive or diamond (default gyroid)");
+  sub->add_option("--recipe", args->recipe,
+                  "JSON recipe with every setting below and more (blends of several lattices, "
+                  "explicit ramps; docs/recipes.md); flags given as well override it")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--lattice", args->lattice,
+                  "primitive, gyroid, diamond, iwp, neovius, frd, lidinoid or splitp (default "
+                  "gyroid)");
   sub->add_flag("--sheet", args->sheet, "Sheet (shell) lattice instead of a network");
   sub->add_option("--cell", args->cell,
                   "Cell size in mm: one value, or three for x y z (default 2)")
       ->expected(1, 3);
+  sub->add_option("--porosity", args->porosity,
+                  "Void fraction to reach, e.g. 0.7: solves the network level or the sheet "
+                  "thickness over a sampled unit cell (any type)");
   sub->add_option("--level", args->level,
                   "Network level in mm: 0 is the minimal surface, positive thins the struts "
                   "(default 0)");
   sub->add_option("--thickness", args->thickness, "Sheet wall thickness in mm (default 0.3)");
+  sub->add_option("--rotate", args->rotate,
+                  "Rotate the lattice by RX RY RZ degrees (about x, then y, then z)")
+      ->expected(3);
+  sub->add_option("--origin", args->origin, "Shift the lattice's phase origin to X Y Z (mm)")
+      ->expected(3);
+  sub->add_option("--grade", args->grade,
+                  "Vary porosity, level, thickness or cell between two values, e.g. --grade "
+                  "porosity 0.8 0.5 (repeatable; where: --grade-along)")
+      ->expected(3)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sub->add_option("--grade-along", args->grade_along,
+                  "x, y, z (across the model), radial (from its centre), radial-x/-y/-z (from an "
+                  "axis through its centre) or depth (below its surface, denser near the skin "
+                  "with --grade porosity 0.5 0.8); default z");
+  sub->add_option("--grade-range", args->grade_range,
+                  "Ramp positions A B in mm where the first and second values apply (default: "
+                  "the model's extent; depth: 0 to a quarter of its smallest side)")
+      ->expected(2);
+  sub->add_option("--skin", args->skin,
+                  "Unite a solid shell this thick (mm) inside the model's surface, so no strut "
+                  "dangles at the boundary (closed: it seals the void in)");
+  sub->add_flag("--skin-windows", args->skin_windows,
+                "Open the skin at every pore that meets it, so powder or resin can drain");
   sub->add_option("--voxel", args->voxel, "Grid spacing in mm (default 0.1)");
   sub->add_option("--inside", args->inside,
                   "What counts as inside: winding (the generalized winding number >= 1/2 of the "

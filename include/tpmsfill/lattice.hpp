@@ -1,0 +1,142 @@
+/// @file lattice.hpp
+/// @brief Lattice design: a base TPMS (tpms.hpp) whose porosity, level, thickness and cell
+/// size vary in space, other types blended in over regions, or a field the caller supplies.
+///
+/// The design evaluates to one field φ_L (mm, solid where φ_L < 0) that compose.hpp clips to
+/// the model exactly as it clips a plain TPMS:
+///  - Grading: a quantity follows a Ramp (linear along a direction, radial from an axis or a
+///    point, or by depth below the model's surface). Cell-size grading warps the coordinates
+///    so that the phase is the integral of 1/T along the ramp: cells stretch, none is torn.
+///  - Blending: φ_L = (1 − μ)·φ_base + μ·φ_k for each Blend in turn, μ rising from 0 to 1
+///    across a transition band of the given width centred on the region's boundary (a sigmoid,
+///    or the Beta growth function of Yin et al. 2003 as used by Yang et al. 2023).
+///  - A custom field replaces the base TPMS; blends still apply on top of it.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/tpms.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+/// Where a graded quantity changes.
+enum class RampShape {
+  Linear,  ///< along `axis` from `point`: t = (p − point)·axis/|axis|
+  Radial,  ///< distance from the line through `point` along `axis` (zero axis: from `point`)
+  Depth,   ///< depth below the model's surface (0 on it), from the occupancy's voxel distance
+};
+
+/// A value that goes linearly from `start` at ramp coordinate `from` to `end` at `to` (mm),
+/// constant beyond. Unset positions are resolved from the model's bounding box by
+/// resolve_design(): the ramp then spans the model (linear: the box's extent along the axis;
+/// radial: 0 at the box centre to the farthest corner; depth: 0 to a quarter of the box's
+/// smallest side).
+struct Ramp {
+  RampShape shape = RampShape::Linear;
+  std::optional<Vec3> point = {};  ///< unset: the box centre (radial) or the origin (linear)
+  Vec3 axis = {0, 0, 1};           ///< direction (linear) or axis (radial; zero = spherical)
+  std::optional<double> from = {}, to = {};
+  double start = 0, end = 0;  ///< the values at `from` and `to`
+};
+
+/// What a Grading varies.
+enum class Graded {
+  Porosity,   ///< of every layer, through its CellSamples (level or thickness follows)
+  Level,      ///< network level, mm
+  Thickness,  ///< sheet thickness, mm
+  Cell,       ///< cell size, mm (scales the base cell: local cell = cell × value / cell.x)
+};
+
+struct Grading {
+  Graded what = Graded::Porosity;
+  Ramp ramp = {};
+};
+
+/// A region of space, for blending: inside it the blended lattice takes over.
+enum class RegionShape {
+  HalfSpace,  ///< the side of the plane through `point` that `axis` points to
+  Slab,       ///< within size/2 of the plane through `point` normal to `axis`
+  Sphere,     ///< within `size` (radius) of `point`
+  Cylinder,   ///< within `size` (radius) of the line through `point` along `axis`
+};
+
+struct Region {
+  RegionShape shape = RegionShape::HalfSpace;
+  Vec3 point = {0, 0, 0};
+  Vec3 axis = {0, 0, 1};
+  double size = 0;  ///< slab thickness or radius, mm
+};
+
+/// How μ rises across the transition band (t = 0 at its outer edge, 1 at its inner edge).
+enum class Transition {
+  Sigmoid,  ///< logistic 1/(1 + e^{−10(t − ½)}), rescaled to exactly 0 and 1 at the edges
+  Beta,     ///< Beta growth (1 + (1 − t)/(1 − t_m))·t^{1/(1 − t_m)}, t_m = `peak`
+};
+
+struct Blend {
+  TpmsOptions lattice = {};  ///< what grows in the region (its own type, style, level, porosity...)
+  Region region = {};
+  double width = 1;  ///< transition width across the region's boundary, mm (> 0)
+  Transition transition = Transition::Sigmoid;
+  double peak = 0.5;  ///< Beta: where μ grows fastest, 0 < peak < 1 (0.5 is smoothstep)
+};
+
+/// A lattice field supplied by the caller, mm, solid where negative (any field whose zero set
+/// is a surface: another implicit lattice, a strut network's distance, a measured density).
+/// `block` is called for blocks of whole grid rows in parallel (a Grid with its own origin and
+/// dims, values x fastest); `at` per point. Set either; `block` wins. Both must be safe to
+/// call from several threads at once and return the same value for the same point.
+struct CustomField {
+  std::function<float(Vec3)> at = {};
+  std::function<void(const Grid& block, float* values)> block = {};
+  explicit operator bool() const { return at || block; }
+};
+
+/// A base lattice (the TpmsOptions part) with grading, blends or a custom field.
+struct LatticeDesign : TpmsOptions {
+  std::vector<Grading> grading = {};  ///< at most one per Graded quantity
+  std::vector<Blend> blends = {};     ///< applied in order
+  CustomField custom = {};            ///< replaces the base TPMS when set
+};
+
+/// @throws InputError  a layer fails validate(TpmsOptions), a quantity is graded twice, porosity
+///                     and level/thickness are both graded, a level grading on a sheet or a
+///                     thickness grading on a network, a cell grading by depth (the phase
+///                     could not stay continuous), a non-positive cell value, a zero ramp
+///                     axis for linear ramps, a blend width ≤ 0, peak ∉ (0, 1), or a region
+///                     of non-positive size
+void validate(const LatticeDesign& design);
+
+/// The design with everything fill() needs fixed: porosities solved into levels or
+/// thicknesses (resolve_porosity, per layer) and unset ramp positions taken from `model` (the
+/// model's bounding box). What the report echoes.
+LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model);
+
+/// φ_L at every node of `grid`.
+/// @param depth  depth below the model's surface at every node, mm (needed for Depth ramps;
+///               voxel.hpp's distance_transform of the occupancy)
+/// @throws InputError  invalid design, or a Depth ramp without `depth`
+Field lattice_field(const Grid& grid, const LatticeDesign& design, const Field* depth = nullptr,
+                    Progress* progress = nullptr);
+
+/// φ_L at one point (no Depth ramps).
+float lattice_value(Vec3 p, const LatticeDesign& design);
+
+/// Names used by the CLI and recipes: "porosity", "level", "thickness", "cell"; "linear",
+/// "radial", "depth"; "half-space", "slab", "sphere", "cylinder"; "sigmoid", "beta".
+std::string_view graded_name(Graded what);
+std::string_view ramp_name(RampShape shape);
+std::string_view region_name(RegionShape shape);
+std::string_view transition_name(Transition transition);
+/// @throws InputError  unknown name (the message lists the known ones)
+Graded graded_from_name(std::string_view name);
+RampShape ramp_from_name(std::string_view name);
+RegionShape region_from_name(std::string_view name);
+Transition transition_from_name(std::string_view name);
+
+}  // namespace tpmsfill

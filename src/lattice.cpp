@@ -1,0 +1,572 @@
+// Lattice design: grading, blending and custom fields on top of the TPMS table, evaluated row
+// by row. Without rotation or a radial warp a layer is separable and its per-axis
+// trigonometry is computed once per grid line; otherwise per node.
+#include "tpmsfill/lattice.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "detail/lattice_rows.hpp"
+#include "detail/parallel.hpp"
+#include "detail/tpms_kernel.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace tpmsfill {
+namespace {
+
+template <class E, std::size_t N>
+E from_name(std::string_view name, const E (&all)[N], std::string_view (*to_name)(E),
+            const char* what) {
+  std::string known;
+  for (E e : all) {
+    if (name == to_name(e)) return e;
+    known += (known.empty() ? "" : ", ") + std::string(to_name(e));
+  }
+  throw InputError("unknown " + std::string(what) + " '" + std::string(name) +
+                   "' (known: " + known + ")");
+}
+
+constexpr Graded kGraded[] = {Graded::Porosity, Graded::Level, Graded::Thickness, Graded::Cell};
+constexpr RampShape kRamps[] = {RampShape::Linear, RampShape::Radial, RampShape::Depth};
+constexpr RegionShape kRegions[] = {RegionShape::HalfSpace, RegionShape::Slab, RegionShape::Sphere,
+                                    RegionShape::Cylinder};
+constexpr Transition kTransitions[] = {Transition::Sigmoid, Transition::Beta};
+
+bool finite(Vec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+Vec3 unit(Vec3 v) {
+  const double n = norm(v);
+  return n > 0 ? (1.0 / n) * v : Vec3{};
+}
+
+const Grading* find_grading(const LatticeDesign& d, Graded what) {
+  for (const Grading& g : d.grading)
+    if (g.what == what) return &g;
+  return nullptr;
+}
+
+// ---- ramps --------------------------------------------------------------------------------
+
+// A resolved ramp: coordinate t(p) and the clamped linear value v(t).
+struct RampEval {
+  RampShape shape = RampShape::Linear;
+  Vec3 point, axis;  // axis unit (zero: spherical)
+  double from = 0, to = 1, start = 0, end = 0;
+
+  explicit RampEval(const Ramp& r)
+      : shape(r.shape),
+        point(r.point.value_or(Vec3{})),
+        axis(unit(r.axis)),
+        from(r.from.value_or(0)),
+        to(r.to.value_or(1)),
+        start(r.start),
+        end(r.end) {}
+
+  // Distance from the axis (or the point), and the unit direction away from it.
+  double radius(Vec3 p, Vec3* direction) const {
+    Vec3 d = p - point;
+    d = d - dot(d, axis) * axis;
+    const double r = norm(d);
+    if (direction) *direction = r > 0 ? (1.0 / r) * d : Vec3{};
+    return r;
+  }
+  double coordinate(Vec3 p) const {
+    return shape == RampShape::Linear ? dot(p - point, axis) : radius(p, nullptr);
+  }
+  double fraction(double t) const { return std::clamp((t - from) / (to - from), 0.0, 1.0); }
+  double value(double t) const { return start + (end - start) * fraction(t); }
+  // ∫ from `from` to t of dτ / value(τ), for a positive ramp (cell sizes).
+  double integral_of_inverse(double t) const {
+    const double lo = std::min(from, to), hi = std::max(from, to);
+    const double v_lo = value(lo), v_hi = value(hi);
+    auto inside = [&](double x) {  // ∫ lo..x, lo ≤ x ≤ hi, over the linear part
+      const double slope = (v_hi - v_lo) / (hi - lo);
+      if (std::fabs(slope) * (hi - lo) <= 1e-12 * v_lo) return (x - lo) / v_lo;
+      return std::log(value(x) / v_lo) / slope;
+    };
+    double g;
+    if (t <= lo)
+      g = (t - lo) / v_lo;
+    else if (t <= hi)
+      g = inside(t);
+    else
+      g = inside(hi) + (t - hi) / v_hi;
+    return from <= to ? g : g - inside(hi);
+  }
+};
+
+// ---- regions and transitions ---------------------------------------------------------------
+
+double region_distance(const Region& r, Vec3 p) {  // signed, negative inside
+  const Vec3 n = unit(r.axis);
+  const Vec3 d = p - r.point;
+  switch (r.shape) {
+    case RegionShape::HalfSpace:
+      return -dot(d, n);
+    case RegionShape::Slab:
+      return std::fabs(dot(d, n)) - 0.5 * r.size;
+    case RegionShape::Sphere:
+      return norm(d) - r.size;
+    case RegionShape::Cylinder:
+      return norm(d - dot(d, n) * n) - r.size;
+  }
+  return 0;
+}
+
+double blend_weight(const Blend& b, Vec3 p) {
+  const double t = std::clamp(0.5 - region_distance(b.region, p) / b.width, 0.0, 1.0);
+  if (t <= 0 || t >= 1) return t;
+  if (b.transition == Transition::Beta) {
+    const double e = 1.0 / (1.0 - b.peak);
+    return (1.0 + (1.0 - t) * e) * std::pow(t, e);
+  }
+  auto sigma = [](double x) { return 1.0 / (1.0 + std::exp(-10.0 * (x - 0.5))); };
+  return (sigma(t) - sigma(0)) / (sigma(1) - sigma(0));
+}
+
+}  // namespace
+
+// ---- names -----------------------------------------------------------------------------------
+
+std::string_view graded_name(Graded what) {
+  switch (what) {
+    case Graded::Porosity:
+      return "porosity";
+    case Graded::Level:
+      return "level";
+    case Graded::Thickness:
+      return "thickness";
+    case Graded::Cell:
+      return "cell";
+  }
+  return "unknown";
+}
+std::string_view ramp_name(RampShape shape) {
+  switch (shape) {
+    case RampShape::Linear:
+      return "linear";
+    case RampShape::Radial:
+      return "radial";
+    case RampShape::Depth:
+      return "depth";
+  }
+  return "unknown";
+}
+std::string_view region_name(RegionShape shape) {
+  switch (shape) {
+    case RegionShape::HalfSpace:
+      return "half-space";
+    case RegionShape::Slab:
+      return "slab";
+    case RegionShape::Sphere:
+      return "sphere";
+    case RegionShape::Cylinder:
+      return "cylinder";
+  }
+  return "unknown";
+}
+std::string_view transition_name(Transition transition) {
+  return transition == Transition::Beta ? "beta" : "sigmoid";
+}
+Graded graded_from_name(std::string_view name) {
+  return from_name(name, kGraded, graded_name, "graded quantity");
+}
+RampShape ramp_from_name(std::string_view name) {
+  return from_name(name, kRamps, ramp_name, "ramp");
+}
+RegionShape region_from_name(std::string_view name) {
+  return from_name(name, kRegions, region_name, "region");
+}
+Transition transition_from_name(std::string_view name) {
+  return from_name(name, kTransitions, transition_name, "transition");
+}
+
+// ---- validation and resolution ----------------------------------------------------------------
+
+void validate(const LatticeDesign& d) {
+  validate(static_cast<const TpmsOptions&>(d));
+  bool network = d.style == LatticeStyle::Network && !d.custom,
+       sheet = d.style == LatticeStyle::Sheet && !d.custom;
+  for (const Blend& b : d.blends) {
+    validate(b.lattice);
+    (b.lattice.style == LatticeStyle::Network ? network : sheet) = true;
+    if (!(b.width > 0) || !std::isfinite(b.width))
+      throw InputError("a blend's transition width must be a positive number of millimetres");
+    if (!(b.peak > 0 && b.peak < 1))
+      throw InputError("a Beta transition's peak must be between 0 and 1");
+    const Region& r = b.region;
+    if (!finite(r.point) || !finite(r.axis) || !std::isfinite(r.size))
+      throw InputError("a blend region's point, axis and size must be finite");
+    if (r.shape != RegionShape::Sphere && norm(r.axis) == 0)
+      throw InputError(std::string("a ") + std::string(region_name(r.shape)) +
+                       " region needs a non-zero axis");
+    if (r.shape != RegionShape::HalfSpace && !(r.size > 0))
+      throw InputError(std::string("a ") + std::string(region_name(r.shape)) +
+                       " region needs a positive size (thickness or radius, mm)");
+  }
+  for (const Grading& g : d.grading) {
+    const std::string what(graded_name(g.what));
+    int count = 0;
+    for (const Grading& h : d.grading) count += h.what == g.what;
+    if (count > 1) throw InputError("the " + what + " is graded twice");
+    const Ramp& r = g.ramp;
+    if (!finite(r.axis) || (r.point && !finite(*r.point)) || !std::isfinite(r.start) ||
+        !std::isfinite(r.end) || (r.from && !std::isfinite(*r.from)) ||
+        (r.to && !std::isfinite(*r.to)))
+      throw InputError("the " + what + " grading has a value or position that is not finite");
+    if (r.shape == RampShape::Linear && norm(r.axis) == 0)
+      throw InputError("the " + what + " grading's linear ramp needs a non-zero axis");
+    if (r.from && r.to && *r.from == *r.to)
+      throw InputError("the " + what + " grading's ramp starts and ends at the same place");
+    switch (g.what) {
+      case Graded::Porosity:
+        if (!(r.start > 0 && r.start < 1 && r.end > 0 && r.end < 1))
+          throw InputError("graded porosities must be between 0 and 1");
+        if (find_grading(d, Graded::Level) || find_grading(d, Graded::Thickness))
+          throw InputError("porosity and level or thickness cannot both be graded");
+        break;
+      case Graded::Level:
+        if (!network) throw InputError("level grading needs a network lattice");
+        break;
+      case Graded::Thickness:
+        if (!sheet) throw InputError("thickness grading needs a sheet lattice");
+        if (!(r.start > 0 && r.end > 0))
+          throw InputError("graded sheet thicknesses must be positive");
+        break;
+      case Graded::Cell:
+        if (!(r.start > 0 && r.end > 0)) throw InputError("graded cell sizes must be positive");
+        if (r.shape == RampShape::Depth)
+          throw InputError(
+              "the cell size cannot be graded by depth: the phase could not stay continuous "
+              "(grade it along a direction or radially)");
+        break;
+    }
+  }
+}
+
+LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
+  validate(design);
+  LatticeDesign r = design;
+  static_cast<TpmsOptions&>(r) = resolve_porosity(design);
+  for (Blend& b : r.blends) b.lattice = resolve_porosity(b.lattice);
+  for (Grading& g : r.grading) {
+    Ramp& ramp = g.ramp;
+    if (ramp.point && ramp.from && ramp.to) continue;
+    if (model.empty())
+      throw InputError("the " + std::string(graded_name(g.what)) +
+                       " grading's ramp needs explicit positions (no model to span)");
+    const Vec3 centre = 0.5 * (model.min + model.max), size = model.size();
+    if (ramp.shape != RampShape::Depth)
+      ramp.point = ramp.point.value_or(ramp.shape == RampShape::Radial ? centre : Vec3{});
+    ramp.axis = unit(ramp.axis);
+    double lo = 0, hi = 0;
+    if (ramp.shape == RampShape::Depth) {
+      hi = 0.25 * std::fmin(size.x, std::fmin(size.y, size.z));
+    } else {
+      const RampEval e(ramp);
+      lo = ramp.shape == RampShape::Radial ? 0 : HUGE_VAL, hi = -HUGE_VAL;
+      for (int c = 0; c < 8; ++c) {
+        const Vec3 corner{c & 1 ? model.max.x : model.min.x, c & 2 ? model.max.y : model.min.y,
+                          c & 4 ? model.max.z : model.min.z};
+        const double t = e.coordinate(corner);
+        lo = std::fmin(lo, t), hi = std::fmax(hi, t);
+      }
+    }
+    if (!(hi > lo)) hi = lo + 1;  // a flat model along the ramp: any span will do
+    ramp.from = ramp.from.value_or(lo);
+    ramp.to = ramp.to.value_or(hi);
+    if (*ramp.from == *ramp.to)
+      throw InputError("the " + std::string(graded_name(g.what)) +
+                       " grading's ramp starts and ends at the same place");
+  }
+  return r;
+}
+
+// ---- evaluation -------------------------------------------------------------------------------
+
+namespace detail {
+namespace {
+
+// The cell-size warp w(p): along the ramp, dw/dt = T_ref/T(t), so the phase is the integral of
+// 1/T and no cell is torn. Its Jacobian J maps the gradient in w to the gradient in p.
+struct Warp {
+  bool on = false;
+  RampEval ramp{Ramp{}};
+  double reference = 1;  // T_ref, mm
+  int axis = -1;         // linear ramp along a world axis: separable
+};
+
+// Where a node is, in world and warped coordinates, with what the Jacobian needs.
+struct Frame {
+  Vec3 p, w;
+  Vec3 direction;      // linear: ramp axis; radial: away from the axis
+  double stretch = 1;  // dw/dt along `direction`
+  double across = 1;   // radial: U(r)/r, the stretch across the ramp
+  double scale = 1;    // local cell / reference cell
+  double depth = 0;
+
+  Vec3 gradient(const Warp& warp, Vec3 g) const {
+    if (!warp.on) return g;
+    const double along = dot(direction, g);
+    if (warp.ramp.shape == RampShape::Linear) return g + ((stretch - 1) * along) * direction;
+    const Vec3 a = warp.ramp.axis;
+    const double axial = dot(a, g);
+    return across * g + ((stretch - across) * along) * direction + ((1 - across) * axial) * a;
+  }
+};
+
+Frame make_frame(const Warp& warp, Vec3 p) {
+  Frame f;
+  f.p = f.w = p;
+  if (!warp.on) return f;
+  const RampEval& r = warp.ramp;
+  if (r.shape == RampShape::Linear) {
+    const double t = r.coordinate(p);
+    const double u = r.from + warp.reference * r.integral_of_inverse(t);
+    f.direction = r.axis;
+    f.w = p + (u - t) * r.axis;
+    f.scale = r.value(t) / warp.reference;
+    f.stretch = 1 / f.scale;
+    return f;
+  }
+  const double radius = r.radius(p, &f.direction);
+  const double u = warp.reference * (r.integral_of_inverse(radius) - r.integral_of_inverse(0));
+  f.scale = r.value(radius) / warp.reference;
+  f.stretch = 1 / f.scale;
+  f.across = radius > 0 ? u / radius : f.stretch;
+  f.w = p + (u - radius) * f.direction;
+  return f;
+}
+
+struct Layer {
+  TpmsOptions o;
+  double k[3];
+  double clamp;
+  bool refine;  // refines()
+  bool separable;
+  Mat3 to_lattice;                // Rᵀ
+  CellSamples samples;            // porosity grading only
+  std::vector<AxisTrig> trig[3];  // separable: per node index along each axis
+};
+
+}  // namespace
+
+struct LatticeRows::Impl {
+  Grid grid;
+  const Field* depth = nullptr;
+  LatticeDesign design;
+  Warp warp;
+  std::vector<Layer> layers;  // base first (absent with a custom field), then the blends
+  std::optional<RampEval> porosity, level, thickness;
+  RampShape porosity_shape{}, level_shape{}, thickness_shape{};
+  bool per_node_frame = false;
+  std::vector<double> stretch[3], scale[3];  // separable warp: per node index along its axis
+  std::vector<double> warped;                // separable warp: warped coordinate along it
+
+  double ramp_t(const RampEval& r, const Frame& f) const {
+    return r.shape == RampShape::Depth ? f.depth : r.coordinate(f.p);
+  }
+
+  double layer_value(const Layer& L, const Frame& f, int i, int j, int k) const {
+    AxisTrig tx, ty, tz;
+    Vec3 g, q;
+    FGrad fg;
+    if (L.separable) {
+      tx = L.trig[0][i], ty = L.trig[1][j], tz = L.trig[2][k];
+      fg = tpms_f(L.o.type, tx, ty, tz);
+      g = {L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
+      if (L.refine)
+        q = Vec3{warp.axis == 0 ? warped[i] : grid.coordinate(0, i),
+                 warp.axis == 1 ? warped[j] : grid.coordinate(1, j),
+                 warp.axis == 2 ? warped[k] : grid.coordinate(2, k)} -
+            L.o.origin;
+      if (warp.on) {
+        const int idx[3] = {i, j, k};
+        const int a = warp.axis;
+        const double s = stretch[a][idx[a]];
+        g = {a == 0 ? s * g.x : g.x, a == 1 ? s * g.y : g.y, a == 2 ? s * g.z : g.z};
+      }
+    } else {
+      q = L.to_lattice * (f.w - L.o.origin);
+      tx = axis_trig(L.k[0] * q.x), ty = axis_trig(L.k[1] * q.y), tz = axis_trig(L.k[2] * q.z);
+      fg = tpms_f(L.o.type, tx, ty, tz);
+      g = f.gradient(warp, L.o.rotation * Vec3{L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz});
+    }
+    double d = tpms_distance(fg.f, g.x, g.y, g.z, L.clamp);
+    if (L.refine && std::fabs(d) < L.clamp) {
+      // In lattice coordinates (rotation is an isometry), then scaled as the warp scales f̃.
+      const double gq[3] = {L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
+      const double qq[3] = {q.x, q.y, q.z};
+      const double ratio = std::sqrt(gq[0] * gq[0] + gq[1] * gq[1] + gq[2] * gq[2]) / norm(g);
+      d = refined_distance(L.o.type, L.k, qq, fg.f, gq) * ratio;
+    }
+    const bool network = L.o.style == LatticeStyle::Network;
+    double v;
+    if (porosity)
+      v = level_for_porosity(L.samples, L.o.style,
+                             std::clamp(porosity->value(ramp_t(*porosity, f)), 1e-6, 1 - 1e-6)) *
+          f.scale;
+    else if (network && level)
+      v = level->value(ramp_t(*level, f));
+    else if (!network && thickness)
+      v = thickness->value(ramp_t(*thickness, f));
+    else
+      v = (network ? L.o.level : L.o.thickness) * (L.o.porosity ? f.scale : 1.0);
+    return network ? d + v : std::fabs(d) - 0.5 * v;
+  }
+
+  Frame frame(int i, int j, int k) const {
+    const Vec3 p = grid.node(i, j, k);
+    Frame f;
+    if (per_node_frame) {
+      f = make_frame(warp, p);
+    } else {
+      f.p = f.w = p;
+      if (warp.on) {
+        const int idx[3] = {i, j, k};
+        f.scale = scale[warp.axis][idx[warp.axis]];
+      }
+    }
+    if (depth) f.depth = depth->values[grid.index(i, j, k)];
+    return f;
+  }
+};
+
+LatticeRows::LatticeRows(const LatticeDesign& design, const Grid& grid, const Field* depth)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.grid = grid;
+  m.depth = depth;
+  m.design = design;
+  if (depth && depth->values.size() != grid.node_count())
+    throw InputError("lattice_field: the depth field does not match the grid");
+  if (const Grading* g = find_grading(design, Graded::Cell)) {
+    m.warp.on = true;
+    m.warp.ramp = RampEval(g->ramp);
+    m.warp.reference = design.cell.x;
+    const Vec3 a = m.warp.ramp.axis;
+    if (g->ramp.shape == RampShape::Linear)
+      for (int axis = 0; axis < 3; ++axis)
+        if (std::fabs(a[axis]) == 1) m.warp.axis = axis;
+  }
+  auto ramp = [&](Graded what, std::optional<RampEval>& out) {
+    if (const Grading* g = find_grading(design, what)) {
+      out.emplace(g->ramp);
+      if (g->ramp.shape == RampShape::Depth && !depth)
+        throw InputError("a depth ramp needs the depth below the model's surface");
+    }
+  };
+  ramp(Graded::Porosity, m.porosity);
+  ramp(Graded::Level, m.level);
+  ramp(Graded::Thickness, m.thickness);
+
+  std::vector<TpmsOptions> options;
+  if (!design.custom) options.push_back(design);
+  for (const Blend& b : design.blends) options.push_back(b.lattice);
+  for (const TpmsOptions& o : options) {
+    Layer L;
+    L.o = o;
+    for (int axis = 0; axis < 3; ++axis) L.k[axis] = 2 * M_PI / o.cell[axis];
+    L.clamp = std::fmax(o.cell.x, std::fmax(o.cell.y, o.cell.z));
+    L.refine = refines(o);
+    L.to_lattice = o.rotation.transposed();
+    L.separable = o.rotation.is_identity() && (!m.warp.on || m.warp.axis >= 0);
+    if (m.porosity) L.samples = sample_cell(o);
+    m.per_node_frame = m.per_node_frame || (!L.separable && m.warp.on);
+    m.layers.push_back(std::move(L));
+  }
+  // Separable warp: warped coordinate, stretch and scale per node index along its axis (the
+  // linear warp moves coordinates along that axis only).
+  std::vector<double>& warped = m.warped;
+  if (m.warp.on && m.warp.axis >= 0) {
+    const int a = m.warp.axis;
+    for (int n = 0; n < grid.dims[a]; ++n) {
+      Vec3 p{};
+      (a == 0 ? p.x : a == 1 ? p.y : p.z) = grid.coordinate(a, n);
+      const Frame f = make_frame(m.warp, p);
+      warped.push_back(f.w[a]);
+      m.stretch[a].push_back(f.stretch);
+      m.scale[a].push_back(f.scale);
+    }
+  }
+  for (Layer& L : m.layers) {
+    if (!L.separable) continue;
+    for (int axis = 0; axis < 3; ++axis)
+      for (int n = 0; n < grid.dims[axis]; ++n) {
+        const double x = axis == m.warp.axis ? warped[n] : grid.coordinate(axis, n);
+        L.trig[axis].push_back(axis_trig(L.k[axis] * (x - L.o.origin[axis])));
+      }
+  }
+}
+
+LatticeRows::~LatticeRows() = default;
+
+void LatticeRows::row(int j, int k, float* out, const std::uint8_t* need) const {
+  const Impl& m = *impl_;
+  const int nx = m.grid.dims[0];
+  std::vector<float> custom;
+  if (m.design.custom.block) {
+    Grid block = m.grid;
+    block.origin = m.grid.node(0, j, k);
+    block.dims = {nx, 1, 1};
+    custom.resize(static_cast<std::size_t>(nx));
+    m.design.custom.block(block, custom.data());
+  }
+  const std::size_t first_blend = m.design.custom ? 0 : 1;
+  for (int i = 0; i < nx; ++i) {
+    if (need && !need[i]) continue;
+    const Frame f = m.frame(i, j, k);
+    double phi;
+    if (m.design.custom.block)
+      phi = custom[static_cast<std::size_t>(i)];
+    else if (m.design.custom)
+      phi = m.design.custom.at(f.p);
+    else
+      phi = m.layer_value(m.layers[0], f, i, j, k);
+    for (std::size_t b = 0; b < m.design.blends.size(); ++b) {
+      const double mu = blend_weight(m.design.blends[b], f.p);
+      if (mu <= 0) continue;
+      const double other = m.layer_value(m.layers[first_blend + b], f, i, j, k);
+      phi = mu >= 1 ? other : (1 - mu) * phi + mu * other;
+    }
+    out[i] = static_cast<float>(phi);
+  }
+}
+
+}  // namespace detail
+
+Field lattice_field(const Grid& grid, const LatticeDesign& design, const Field* depth,
+                    Progress* progress) {
+  const LatticeDesign resolved = resolve_design(design, Box3{});
+  const detail::LatticeRows rows(resolved, grid, depth);
+  Field field{grid, std::vector<float>(grid.node_count())};
+  const std::size_t count = static_cast<std::size_t>(grid.dims[1]) * grid.dims[2];
+  detail::ProgressCounter counter(progress, "tpms", count);
+  detail::parallel_for(count, 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t r = begin; r < end; ++r)
+      rows.row(static_cast<int>(r % grid.dims[1]), static_cast<int>(r / grid.dims[1]),
+               field.values.data() + r * grid.dims[0]);
+    counter.add(end - begin);
+  });
+  counter.finish();
+  return field;
+}
+
+float lattice_value(Vec3 p, const LatticeDesign& design) {
+  const LatticeDesign resolved = resolve_design(design, Box3{});
+  for (const Grading& g : resolved.grading)
+    if (g.ramp.shape == RampShape::Depth)
+      throw InputError("lattice_value: a depth ramp needs a grid (use lattice_field)");
+  Grid one;
+  one.origin = p;
+  one.spacing = 1;
+  one.dims = {1, 1, 1};
+  float v = 0;
+  detail::LatticeRows(resolved, one, nullptr).row(0, 0, &v);
+  return v;
+}
+
+}  // namespace tpmsfill

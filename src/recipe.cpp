@@ -1,0 +1,346 @@
+// Recipes: FillOptions ⇄ JSON (nlohmann, kept private). Every key is checked: an unknown or
+// misspelt one is an error naming its path, never silently ignored.
+#include "tpmsfill/recipe.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/formats.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace tpmsfill {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// A JSON object being read: remembers its path for messages and which keys were used.
+class Reader {
+ public:
+  Reader(const json& value, std::string path, const std::string& source)
+      : value_(value), path_(std::move(path)), source_(source) {
+    if (!value_.is_object()) fail("", "must be an object");
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw InputError(source_ + ": " + where(key) + ": " + what);
+  }
+  std::string where(const std::string& key) const {
+    return path_.empty() ? (key.empty() ? "recipe" : key) : key.empty() ? path_ : path_ + "." + key;
+  }
+  const json* get(const std::string& key) {
+    used_.push_back(key);
+    auto it = value_.find(key);
+    return it == value_.end() ? nullptr : &*it;
+  }
+  Reader object(const std::string& key, const json& value) const {
+    return Reader(value, where(key), source_);
+  }
+  const std::string& source() const { return source_; }
+
+  void number(const std::string& key, double& out) {
+    if (const json* v = get(key)) out = as_number(key, *v);
+  }
+  void integer(const std::string& key, int& out) {
+    if (const json* v = get(key)) {
+      if (!v->is_number_integer()) fail(key, "must be an integer");
+      out = v->get<int>();
+    }
+  }
+  void boolean(const std::string& key, bool& out) {
+    if (const json* v = get(key)) {
+      if (!v->is_boolean()) fail(key, "must be true or false");
+      out = v->get<bool>();
+    }
+  }
+  void text(const std::string& key, std::string& out) {
+    if (const json* v = get(key)) {
+      if (!v->is_string()) fail(key, "must be a string");
+      out = v->get<std::string>();
+    }
+  }
+  template <class E>
+  void name(const std::string& key, E& out, E (*from_name)(std::string_view)) {
+    std::string s;
+    text(key, s);
+    if (s.empty() && !value_.contains(key)) return;
+    try {
+      out = from_name(s);
+    } catch (const InputError& e) {
+      fail(key, e.what());
+    }
+  }
+  // [x, y, z] (or one number for all three when `scalar` is allowed).
+  void vec3(const std::string& key, Vec3& out, bool scalar = false) {
+    const json* v = get(key);
+    if (!v) return;
+    if (scalar && v->is_number()) {
+      const double s = as_number(key, *v);
+      out = {s, s, s};
+      return;
+    }
+    if (!v->is_array() || v->size() != 3)
+      fail(key, scalar ? "must be a number or [x, y, z]" : "must be [x, y, z]");
+    out = {as_number(key, (*v)[0]), as_number(key, (*v)[1]), as_number(key, (*v)[2])};
+  }
+  void optional_number(const std::string& key, std::optional<double>& out) {
+    if (const json* v = get(key)) out = as_number(key, *v);
+  }
+  void optional_vec3(const std::string& key, std::optional<Vec3>& out) {
+    if (!value_.contains(key)) {
+      get(key);  // known here, even when absent
+      return;
+    }
+    Vec3 v;
+    vec3(key, v);
+    out = v;
+  }
+
+  // Every key of the object must have been asked for.
+  void finish() const {
+    for (auto it = value_.begin(); it != value_.end(); ++it)
+      if (std::find(used_.begin(), used_.end(), it.key()) == used_.end()) {
+        std::string known;
+        for (const std::string& k : used_) known += (known.empty() ? "" : ", ") + k;
+        fail(it.key(), "unknown key (known here: " + known + ")");
+      }
+  }
+
+ private:
+  double as_number(const std::string& key, const json& v) const {
+    if (!v.is_number()) fail(key, "must be a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(key, "must be finite");
+    return d;
+  }
+
+  const json& value_;
+  std::string path_;
+  const std::string& source_;
+  std::vector<std::string> used_;
+};
+
+void read_lattice(Reader& r, TpmsOptions& o) {
+  r.name("type", o.type, lattice_from_name);
+  std::string style;
+  r.text("style", style);
+  if (style == "sheet")
+    o.style = LatticeStyle::Sheet;
+  else if (style == "network")
+    o.style = LatticeStyle::Network;
+  else if (!style.empty())
+    r.fail("style", "'" + style + "' is not network or sheet");
+  r.vec3("cell", o.cell, true);
+  r.number("level", o.level);
+  r.number("thickness", o.thickness);
+  r.optional_number("porosity", o.porosity);
+  r.vec3("origin", o.origin);
+  Vec3 euler;
+  if (const json* v = r.get("rotation"); v && !v->is_null()) {
+    r.vec3("rotation", euler);
+    o.rotation = rotation_from_euler(euler);
+  }
+  if (const json* v = r.get("rotation_matrix")) {
+    if (!v->is_array() || v->size() != 9)
+      r.fail("rotation_matrix", "must be 9 numbers, row by row");
+    for (std::size_t i = 0; i < 9; ++i) {
+      if (!(*v)[i].is_number()) r.fail("rotation_matrix", "must be 9 numbers, row by row");
+      o.rotation.m[i] = (*v)[i].get<double>();
+    }
+  }
+  r.finish();
+  try {
+    validate(o);
+  } catch (const InputError& e) {
+    r.fail("", e.what());
+  }
+}
+
+Ramp read_ramp(Reader& r) {
+  Ramp ramp;
+  r.name("ramp", ramp.shape, ramp_from_name);
+  r.optional_vec3("point", ramp.point);
+  r.vec3("axis", ramp.axis);
+  r.optional_number("from", ramp.from);
+  r.optional_number("to", ramp.to);
+  r.number("start", ramp.start);
+  r.number("end", ramp.end);
+  return ramp;
+}
+
+template <class F>
+void for_each_in_array(Reader& r, const std::string& key, const F& f) {
+  const json* v = r.get(key);
+  if (!v) return;
+  if (!v->is_array()) r.fail(key, "must be an array of objects");
+  for (std::size_t i = 0; i < v->size(); ++i) {
+    Reader item = r.object(key + "[" + std::to_string(i) + "]", (*v)[i]);
+    f(item);
+    item.finish();
+  }
+}
+
+json vec(Vec3 v) {
+  return json::array({v.x, v.y, v.z});
+}
+
+// `full`: every key, for blends (keys a blend leaves out would be the base lattice's).
+json lattice_json(const TpmsOptions& o, bool full) {
+  json j;
+  j["type"] = lattice_name(o.type);
+  j["style"] = o.style == LatticeStyle::Network ? "network" : "sheet";
+  j["cell"] = o.cell.x == o.cell.y && o.cell.y == o.cell.z ? json(o.cell.x) : vec(o.cell);
+  if (o.style == LatticeStyle::Network)
+    j["level"] = o.level;
+  else
+    j["thickness"] = o.thickness;
+  if (o.porosity) j["porosity"] = *o.porosity;
+  j["origin"] = vec(o.origin);
+  if (full || !o.rotation.is_identity()) j["rotation_matrix"] = o.rotation.m;
+  return j;
+}
+
+}  // namespace
+
+FillOptions read_recipe(std::string_view text, const std::string& source,
+                        const FillOptions& defaults) {
+  json root;
+  try {
+    root = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    // nlohmann counts bytes; say the line, as for mesh files.
+    const std::size_t byte = std::min(e.byte, text.size());
+    std::uint64_t line = 1;
+    for (std::size_t i = 0; i + 1 < byte; ++i) line += text[i] == '\n';
+    std::string why = e.what();
+    if (auto p = why.find("; "); p != std::string::npos) why = why.substr(p + 2);
+    io::fail_at_line(source, line, "not valid JSON: " + why);
+  }
+  FillOptions o = defaults;
+  Reader r(root, "", source);
+  std::string description;  // free text for people (catalogues, job sheets): read, not used
+  r.text("description", description);
+  r.number("voxel", o.grid.voxel_size);
+  r.integer("padding", o.grid.padding);
+  r.integer("band", o.band.width);
+  r.number("skin", o.skin);
+  r.boolean("skin_windows", o.skin_windows);
+  std::string inside;
+  r.text("inside", inside);
+  if (inside == "parity")
+    o.inside = InsideRule::Parity;
+  else if (inside == "winding")
+    o.inside = InsideRule::Winding;
+  else if (inside == "auto")
+    o.inside.reset();
+  else if (!inside.empty())
+    r.fail("inside", "'" + inside + "' is not auto, parity or winding");
+  r.boolean("full_field", o.full_field);
+  r.boolean("keep_islands", o.keep_islands);
+  r.boolean("self_intersections", o.check_self_intersections);
+  if (const json* v = r.get("custom"); v && !(v->is_boolean() && !v->get<bool>()))
+    r.fail("custom", "a custom field is code: it cannot come from a recipe");
+  if (const json* v = r.get("lattice")) {
+    Reader l = r.object("lattice", *v);
+    read_lattice(l, o.lattice);
+  }
+  const TpmsOptions base = o.lattice;
+  if (r.get("grading")) o.lattice.grading.clear();
+  for_each_in_array(r, "grading", [&](Reader& item) {
+    Grading g;
+    item.name("what", g.what, graded_from_name);
+    if (!item.get("what")) item.fail("what", "missing (porosity, level, thickness or cell)");
+    g.ramp = read_ramp(item);
+    o.lattice.grading.push_back(g);
+  });
+  if (r.get("blends")) o.lattice.blends.clear();
+  for_each_in_array(r, "blends", [&](Reader& item) {
+    Blend b;
+    b.lattice = base;
+    if (const json* v = item.get("lattice")) {
+      // A level or thickness of its own replaces an inherited porosity.
+      if (v->is_object() && (v->contains("level") || v->contains("thickness")) &&
+          !v->contains("porosity"))
+        b.lattice.porosity.reset();
+      Reader l = item.object("lattice", *v);
+      read_lattice(l, b.lattice);
+    }
+    if (const json* v = item.get("region")) {
+      Reader g = item.object("region", *v);
+      g.name("shape", b.region.shape, region_from_name);
+      g.vec3("point", b.region.point);
+      g.vec3("axis", b.region.axis);
+      g.number("size", b.region.size);
+      g.finish();
+    } else {
+      item.fail("region", "missing (a half-space, slab, sphere or cylinder)");
+    }
+    item.number("width", b.width);
+    item.name("transition", b.transition, transition_from_name);
+    item.number("peak", b.peak);
+    o.lattice.blends.push_back(b);
+  });
+  r.finish();
+  try {
+    validate(o.lattice);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  return o;
+}
+
+FillOptions read_recipe_file(const std::string& path, const FillOptions& defaults) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open the recipe");
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  if (in.bad()) throw IoError(path + ": cannot read the recipe");
+  return read_recipe(bytes.str(), path, defaults);
+}
+
+std::string recipe_json(const FillOptions& o) {
+  json j;
+  j["voxel"] = o.grid.voxel_size;
+  j["padding"] = o.grid.padding;
+  j["band"] = o.band.width;
+  j["inside"] = !o.inside ? "auto" : *o.inside == InsideRule::Parity ? "parity" : "winding";
+  j["skin"] = o.skin;
+  j["skin_windows"] = o.skin_windows;
+  j["full_field"] = o.full_field;
+  j["keep_islands"] = o.keep_islands;
+  j["self_intersections"] = o.check_self_intersections;
+  if (o.lattice.custom) j["custom"] = true;
+  j["lattice"] = lattice_json(o.lattice, false);
+  json grading = json::array();
+  for (const Grading& g : o.lattice.grading) {
+    json e;
+    e["what"] = graded_name(g.what);
+    e["ramp"] = ramp_name(g.ramp.shape);
+    if (g.ramp.point) e["point"] = vec(*g.ramp.point);
+    if (g.ramp.shape != RampShape::Depth) e["axis"] = vec(g.ramp.axis);
+    if (g.ramp.from) e["from"] = *g.ramp.from;
+    if (g.ramp.to) e["to"] = *g.ramp.to;
+    e["start"] = g.ramp.start;
+    e["end"] = g.ramp.end;
+    grading.push_back(e);
+  }
+  j["grading"] = grading;
+  json blends = json::array();
+  for (const Blend& b : o.lattice.blends) {
+    json e;
+    e["lattice"] = lattice_json(b.lattice, true);
+    e["region"] = {{"shape", region_name(b.region.shape)},
+                   {"point", vec(b.region.point)},
+                   {"axis", vec(b.region.axis)},
+                   {"size", b.region.size}};
+    e["width"] = b.width;
+    e["transition"] = transition_name(b.transition);
+    if (b.transition == Transition::Beta) e["peak"] = b.peak;
+    blends.push_back(e);
+  }
+  j["blends"] = blends;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace tpmsfill

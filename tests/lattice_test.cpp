@@ -1,0 +1,456 @@
+// Lattice design: every TPMS type as a distance, porosity and thickness you ask for, rotation,
+// grading, blending, skins, recipes and custom fields — each judged on the field or on fill()'s
+// validated output, with the tolerance stated.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <tpmsfill/classify.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
+#include <tpmsfill/lattice.hpp>
+#include <tpmsfill/recipe.hpp>
+#include <tpmsfill/spatial.hpp>
+#include <tpmsfill/validate.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+
+namespace {
+
+FillOptions cube_job(double voxel, const TpmsOptions& lattice) {
+  FillOptions o;
+  o.grid.voxel_size = voxel;
+  static_cast<TpmsOptions&>(o.lattice) = lattice;
+  return o;
+}
+
+// A point of the zero set of `phi` on the segment a–b (phi(a) and phi(b) of opposite signs).
+template <class F>
+Vec3 zero_between(const F& phi, Vec3 a, Vec3 b) {
+  double fa = phi(a);
+  for (int it = 0; it < 60; ++it) {
+    const Vec3 m = 0.5 * (a + b);
+    const double fm = phi(m);
+    if ((fm < 0) == (fa < 0))
+      a = m, fa = fm;
+    else
+      b = m;
+  }
+  return 0.5 * (a + b);
+}
+
+// |∇φ| by central differences.
+template <class F>
+double gradient_norm(const F& phi, Vec3 p, double h = 1e-5) {
+  const double gx = phi(p + Vec3{h, 0, 0}) - phi(p - Vec3{h, 0, 0});
+  const double gy = phi(p + Vec3{0, h, 0}) - phi(p - Vec3{0, h, 0});
+  const double gz = phi(p + Vec3{0, 0, h}) - phi(p - Vec3{0, 0, h});
+  return std::sqrt(gx * gx + gy * gy + gz * gz) / (2 * h);
+}
+
+// Zero-set points of φ_TPMS found along random segments in one cell.
+template <class F>
+std::vector<Vec3> surface_points(const F& phi, int wanted, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 2);
+  std::vector<Vec3> points;
+  for (int tries = 0; tries < 20 * wanted && static_cast<int>(points.size()) < wanted; ++tries) {
+    const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)};
+    if ((phi(a) < 0) != (phi(b) < 0)) points.push_back(zero_between(phi, a, b));
+  }
+  return points;
+}
+
+// Fraction of a grid's nodes that the output mesh encloses, per slab of nodes along z.
+std::vector<double> solid_fraction_per_slab(const TriangleSoup& mesh, const Box3& box,
+                                            double spacing, int slabs) {
+  Grid g;
+  g.spacing = spacing;
+  g.origin = box.min + Vec3{spacing / 2, spacing / 2, spacing / 2};
+  const Vec3 size = box.size();
+  g.dims = {static_cast<int>(size.x / spacing), static_cast<int>(size.y / spacing),
+            static_cast<int>(size.z / spacing)};
+  const Occupancy occupancy = classify_grid(build_index(mesh), g);
+  std::vector<double> solid(slabs, 0), count(slabs, 0);
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        const int s = std::min(slabs - 1, k * slabs / g.dims[2]);
+        solid[s] += occupancy.inside.values[g.index(i, j, k)];
+        count[s] += 1;
+      }
+  for (int s = 0; s < slabs; ++s) solid[s] /= count[s];
+  return solid;
+}
+
+// Largest change of phi between neighbouring samples h apart along the segment a–b. A
+// continuous field's shrinks with h; a jump (a torn cell) stays.
+template <class F>
+double largest_step(const F& phi, Vec3 a, Vec3 b, double h) {
+  const int n = static_cast<int>(norm(b - a) / h);
+  double largest = 0, previous = phi(a);
+  for (int s = 1; s <= n; ++s) {
+    const double v = phi(a + (static_cast<double>(s) / n) * (b - a));
+    largest = std::max(largest, std::fabs(v - previous));
+    previous = v;
+  }
+  return largest;
+}
+
+}  // namespace
+
+TEST(Lattice, EveryTypeIsAFirstOrderDistanceAtItsSurface) {
+  // f/|∇f| has a unit gradient on the zero set exactly when ∇f is right: a wrong derivative in
+  // the type table shows up as |∇φ| ≠ 1. Rotated, with an anisotropic cell and an origin shift.
+  for (Lattice type : kAllLattices) {
+    for (const Mat3& rotation : {Mat3{}, rotation_from_euler({20, -35, 50})}) {
+      const TpmsOptions o{
+          .type = type, .cell = {2, 2.5, 1.5}, .origin = {0.3, -0.2, 0.1}, .rotation = rotation};
+      auto phi = [&](Vec3 p) { return static_cast<double>(tpms_value(p, o)); };
+      const auto points = surface_points(phi, 40, 7);
+      ASSERT_GE(points.size(), 20u) << lattice_name(type);
+      for (Vec3 p : points)
+        EXPECT_NEAR(gradient_norm(phi, p, 1e-4), 1.0, 0.02) << lattice_name(type);
+    }
+  }
+}
+
+TEST(Lattice, NamesRoundTripAndUnknownNamesListTheKnown) {
+  for (Lattice type : kAllLattices) EXPECT_EQ(lattice_from_name(lattice_name(type)), type);
+  EXPECT_EQ(lattice_from_name("schwarz-d"), Lattice::Diamond);
+  try {
+    lattice_from_name("gyroidd");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lidinoid"), std::string::npos);
+  }
+}
+
+TEST(Lattice, RotationTurnsTheField) {
+  // φ with rotation R at p equals φ without it at Rᵀp (origin 0); a quarter turn about z maps
+  // the cubic primitive lattice onto itself.
+  const Mat3 r = rotation_from_euler({10, 20, 30});
+  const TpmsOptions turned{.type = Lattice::Gyroid, .rotation = r}, plain{.type = Lattice::Gyroid};
+  const TpmsOptions quarter{.type = Lattice::Primitive,
+                            .rotation = rotation_from_euler({0, 0, 90})};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-3, 3);
+  for (int n = 0; n < 200; ++n) {
+    const Vec3 p{u(rng), u(rng), u(rng)};
+    EXPECT_NEAR(tpms_value(p, turned), tpms_value(r.transposed() * p, plain), 1e-5);
+    EXPECT_NEAR(tpms_value(p, quarter), tpms_value(p, TpmsOptions{.type = Lattice::Primitive}),
+                1e-5);
+  }
+  EXPECT_THROW(validate(TpmsOptions{.rotation = Mat3{{1, 0, 0, 0, 1, 0, 0, 0, -1}}}), InputError);
+  EXPECT_THROW(validate(TpmsOptions{.rotation = Mat3{{2, 0, 0, 0, 1, 0, 0, 0, 1}}}), InputError);
+}
+
+TEST(Lattice, PorosityWithinOnePercentForEveryTypeNetworkAndSheet) {
+  // A cube of 2 × 2 × 2 whole cells (the lattice is periodic, so it measures the cell), at
+  // a = T/40: the output's porosity is within ±1 % of the target for every type and style.
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {4, 4, 4});
+  for (Lattice type : kAllLattices)
+    for (LatticeStyle style : {LatticeStyle::Network, LatticeStyle::Sheet})
+      for (double target : {0.7}) {
+        FillOptions o = cube_job(0.05, {.type = type, .style = style, .porosity = target});
+        o.keep_islands = true;
+        o.check_self_intersections = false;
+        const FillResult r = fill(cube, o);
+        EXPECT_NEAR(r.report.porosity(), target, 0.01)
+            << lattice_label(o.lattice) << " level " << r.report.level << " thickness "
+            << r.report.thickness;
+      }
+}
+
+TEST(Lattice, PorositySolveIsMonotoneAndReachesTheExtremes) {
+  for (LatticeStyle style : {LatticeStyle::Network, LatticeStyle::Sheet}) {
+    const CellSamples cell = sample_cell({.type = Lattice::Iwp, .style = style});
+    double previous = style == LatticeStyle::Network ? -HUGE_VAL : HUGE_VAL;
+    for (double p : {0.1, 0.3, 0.5, 0.7, 0.9, 0.97}) {
+      const double v = level_for_porosity(cell, style, p);
+      // More void: a higher network level, a thinner sheet.
+      if (style == LatticeStyle::Network)
+        EXPECT_GT(v, previous);
+      else
+        EXPECT_LT(v, previous);
+      previous = v;
+      TpmsOptions o{.type = Lattice::Iwp, .style = style};
+      (style == LatticeStyle::Network ? o.level : o.thickness) = v;
+      EXPECT_NEAR(1 - lattice_solid_fraction(o), p, 0.002);
+    }
+    EXPECT_THROW(level_for_porosity(cell, style, 1.0), InputError);
+  }
+}
+
+TEST(Lattice, SheetWallsHaveTheRequestedThicknessAlongTheNormal) {
+  // Sample points of the output's surface away from the cube's faces; the wall thickness
+  // there is the distance along the inward normal to the wall's other side. The median over
+  // the samples is within 10 % of the requested thickness (a = 0.05 mm, t = 0.3 mm).
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {4, 4, 4});
+  for (Lattice type : kAllLattices) {
+    FillOptions o = cube_job(0.05, {.type = type, .style = LatticeStyle::Sheet, .thickness = 0.3});
+    o.check_self_intersections = false;
+    const TriangleSoup mesh = fill(cube, o).mesh;
+    std::vector<double> thickness;
+    for (std::size_t t = 0; t < mesh.triangles.size() && thickness.size() < 150; t += 97) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 a = mesh.points[tri[0]], b = mesh.points[tri[1]], c = mesh.points[tri[2]];
+      const Vec3 centroid = (1.0 / 3) * (a + b + c);
+      if (std::min({centroid.x, centroid.y, centroid.z}) < 0.5 ||
+          std::max({centroid.x, centroid.y, centroid.z}) > 3.5)
+        continue;
+      Vec3 n = cross(b - a, c - a);
+      n = (-1.0 / norm(n)) * n;  // inward
+      const Vec3 start = centroid + 1e-6 * n;
+      double nearest = HUGE_VAL;
+      for (const auto& other : mesh.triangles) {  // Möller–Trumbore
+        const Vec3 p0 = mesh.points[other[0]], e1 = mesh.points[other[1]] - p0,
+                   e2 = mesh.points[other[2]] - p0;
+        const Vec3 q = cross(n, e2);
+        const double det = dot(e1, q);
+        if (std::fabs(det) < 1e-14) continue;
+        const Vec3 s = start - p0;
+        const double u = dot(s, q) / det;
+        if (u < 0 || u > 1) continue;
+        const Vec3 r = cross(s, e1);
+        const double v = dot(n, r) / det;
+        if (v < 0 || u + v > 1) continue;
+        const double d = dot(e2, r) / det;
+        if (d > 1e-9) nearest = std::min(nearest, d);
+      }
+      if (nearest < 1.0) thickness.push_back(nearest);
+    }
+    ASSERT_GE(thickness.size(), 50u);
+    std::nth_element(thickness.begin(), thickness.begin() + thickness.size() / 2, thickness.end());
+    EXPECT_NEAR(thickness[thickness.size() / 2], 0.3, 0.03) << lattice_name(type);
+  }
+}
+
+TEST(Lattice, GradedPorosityIsMonotoneAlongTheAxis) {
+  // Porosity 0.8 at the bottom to 0.5 at the top of a 8 mm cube: the solid fraction of the
+  // output, measured per slab of 1 mm, rises slab by slab, and the end slabs are within 5 % of
+  // the ramp's values there.
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {8, 8, 8});
+  FillOptions o = cube_job(0.1, {.type = Lattice::Gyroid});
+  o.lattice.grading.push_back(
+      {Graded::Porosity,
+       {.shape = RampShape::Linear, .axis = {0, 0, 1}, .start = 0.8, .end = 0.5}});
+  const TriangleSoup mesh = fill(cube, o).mesh;
+  const auto solid = solid_fraction_per_slab(mesh, bounding_box(cube), 0.05, 8);
+  for (int s = 1; s < 8; ++s) EXPECT_GT(solid[s], solid[s - 1]) << s;
+  EXPECT_NEAR(1 - solid[0], 0.8 - 0.3 / 16, 0.05);
+  EXPECT_NEAR(1 - solid[7], 0.5 + 0.3 / 16, 0.05);
+}
+
+TEST(Lattice, CellGradingKeepsThePhaseContinuous) {
+  // Cell size 1.5 → 4 mm along x. The field stays a distance (no jump between neighbouring
+  // samples: a torn cell would show one), the zero crossings along x are T/2 apart at each
+  // end, and the filled output is valid (fill validates: closed, manifold, no cracks).
+  LatticeDesign d{{.type = Lattice::Primitive}};
+  d.grading.push_back({Graded::Cell,
+                       {.shape = RampShape::Linear,
+                        .point = Vec3{0, 0, 0},
+                        .axis = {1, 0, 0},
+                        .from = 0,
+                        .to = 20,
+                        .start = 1.5,
+                        .end = 4}});
+  auto phi = [&](Vec3 p) { return static_cast<double>(lattice_value(p, d)); };
+  const double coarse = largest_step(phi, {-2, 0.1, 0.2}, {24, 0.1, 0.2}, 0.01);
+  EXPECT_LT(largest_step(phi, {-2, 0.1, 0.2}, {24, 0.1, 0.2}, 0.0025), 0.5 * coarse);
+  EXPECT_LT(coarse, 0.05);  // a torn cell would jump by about T/2
+  // Along y = z = T/4 the primitive is cos X alone: it changes sign every T_x/2.
+  std::vector<double> crossings;
+  double previous = phi({-2, 0.5, 0.5});
+  for (double x = -2 + 0.005; x <= 24; x += 0.005) {
+    const double v = phi({x, 0.5, 0.5});
+    if ((v < 0) != (previous < 0)) crossings.push_back(x);
+    previous = v;
+  }
+  ASSERT_GE(crossings.size(), 8u);
+  EXPECT_NEAR(crossings[1] - crossings[0], 0.75, 0.02);  // T = 1.5 below x = 0
+  EXPECT_NEAR(crossings.back() - crossings[crossings.size() - 2], 2.0, 0.02);  // T = 4 beyond 20
+
+  FillOptions o = cube_job(0.1, {.type = Lattice::Gyroid});
+  o.lattice.grading.push_back(
+      {Graded::Cell, {.shape = RampShape::Linear, .axis = {1, 0, 0}, .start = 1.5, .end = 4}});
+  const FillResult r = fill(test::make_box({0, 0, 0}, {12, 6, 6}), o);
+  EXPECT_TRUE(r.report.validation.valid());
+  EXPECT_EQ(r.report.components(), 1u);
+  // Radial cell grading (from an axis) is continuous too.
+  LatticeDesign radial{{.type = Lattice::Gyroid}};
+  radial.grading.push_back({Graded::Cell,
+                            {.shape = RampShape::Radial,
+                             .point = Vec3{0, 0, 0},
+                             .axis = {0, 0, 1},
+                             .from = 0,
+                             .to = 6,
+                             .start = 1.5,
+                             .end = 3}});
+  auto radial_phi = [&](Vec3 p) { return static_cast<double>(lattice_value(p, radial)); };
+  const double radial_coarse = largest_step(radial_phi, {0.001, 0.002, 0.3}, {8, 4.8, 0.3}, 0.01);
+  EXPECT_LT(largest_step(radial_phi, {0.001, 0.002, 0.3}, {8, 4.8, 0.3}, 0.0025),
+            0.5 * radial_coarse);
+}
+
+TEST(Lattice, HybridTransitionIsContinuousAndAddsNoComponent) {
+  // Gyroid below x = 5, primitive above, across 2 mm, by a sigmoid and by a Beta function: the
+  // blended field has no jump, and the output is one valid component (islands kept, so an
+  // extra component would show).
+  for (Transition transition : {Transition::Sigmoid, Transition::Beta}) {
+    FillOptions o = cube_job(0.1, {.type = Lattice::Gyroid});
+    o.lattice.blends.push_back(
+        {.lattice = {.type = Lattice::Primitive},
+         .region = {.shape = RegionShape::HalfSpace, .point = {5, 0, 0}, .axis = {1, 0, 0}},
+         .width = 2,
+         .transition = transition});
+    auto phi = [&](Vec3 p) { return static_cast<double>(lattice_value(p, o.lattice)); };
+    const double coarse = largest_step(phi, {0, 0.3, 0.7}, {10, 0.3, 0.7}, 0.01);
+    EXPECT_LT(largest_step(phi, {0, 0.3, 0.7}, {10, 0.3, 0.7}, 0.0025), 0.5 * coarse);
+    // Far from the transition each side is its own lattice.
+    EXPECT_FLOAT_EQ(lattice_value({1, 0.3, 0.7}, o.lattice),
+                    tpms_value({1, 0.3, 0.7}, {.type = Lattice::Gyroid}));
+    EXPECT_FLOAT_EQ(lattice_value({9, 0.3, 0.7}, o.lattice),
+                    tpms_value({9, 0.3, 0.7}, {.type = Lattice::Primitive}));
+    o.keep_islands = true;
+    const FillResult r = fill(test::make_box({0, 0, 0}, {10, 6, 6}), o);
+    EXPECT_EQ(r.report.components(), 1u) << transition_name(transition);
+  }
+}
+
+TEST(Lattice, SkinIsWithinOneVoxelOfItsThickness) {
+  // A lattice that is void everywhere (level above its clamp) leaves only the skin: a hollow
+  // box whose volume gives the wall thickness, within one voxel of the requested 0.5 mm.
+  const double a = 0.1, skin = 0.5, side = 10;
+  FillOptions o = cube_job(a, {.type = Lattice::Gyroid, .level = 50});
+  o.skin = skin;
+  const FillResult r = fill(test::make_box({0, 0, 0}, {side, side, side}), o);
+  const double cavity = std::cbrt(side * side * side - r.report.lattice_volume());
+  EXPECT_NEAR((side - cavity) / 2, skin, a);
+  EXPECT_EQ(r.report.components(), 2u);  // the outer surface and the cavity's
+  // With a lattice, a closed skin seals the void in (cavities: components of negative
+  // volume); with windows at least 99 % of the void drains.
+  auto sealed = [&](bool windows) {
+    FillOptions o = cube_job(a, {.type = Lattice::Gyroid});
+    o.skin = skin;
+    o.skin_windows = windows;
+    const FillResult r = fill(test::make_box({0, 0, 0}, {side, side, side}), o);
+    double cavities = 0;
+    for (const auto& c : mesh_components(r.mesh).info) cavities += std::min(0.0, c.volume);
+    return -cavities / (side * side * side - r.report.lattice_volume());
+  };
+  EXPECT_NEAR(sealed(false), 1.0, 0.01);
+  EXPECT_LT(sealed(true), 0.01);
+}
+
+TEST(Lattice, CustomFieldsPlugIntoTheSamePipeline) {
+  // The gyroid supplied by the caller, per point and per block, gives the built-in field.
+  const TpmsOptions gyroid{.type = Lattice::Gyroid};
+  LatticeDesign by_point, by_block;
+  by_point.custom.at = [&](Vec3 p) { return tpms_value(p, gyroid); };
+  by_block.custom.block = [&](const Grid& block, float* values) {
+    for (int k = 0; k < block.dims[2]; ++k)
+      for (int j = 0; j < block.dims[1]; ++j)
+        for (int i = 0; i < block.dims[0]; ++i)
+          values[block.index(i, j, k)] = tpms_value(block.node(i, j, k), gyroid);
+  };
+  const Grid g = test::grid_around({{0, 0, 0}, {3, 3, 3}}, 0.1, 0);
+  const Field reference = tpms_field(g, gyroid);
+  EXPECT_EQ(lattice_field(g, by_point).values, reference.values);
+  EXPECT_EQ(lattice_field(g, by_block).values, reference.values);
+  // And through fill(): the same output as the built-in lattice.
+  FillOptions builtin = cube_job(0.1, gyroid), custom = builtin;
+  custom.lattice = by_block;
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {5, 5, 5});
+  const FillResult a = fill(cube, builtin), b = fill(cube, custom);
+  EXPECT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
+  EXPECT_DOUBLE_EQ(a.report.lattice_volume(), b.report.lattice_volume());
+}
+
+TEST(Lattice, DesignErrorsAreClear) {
+  LatticeDesign d;
+  d.grading.push_back({Graded::Cell, {.shape = RampShape::Depth, .start = 1, .end = 2}});
+  EXPECT_THROW(validate(d), InputError);
+  d.grading = {{Graded::Level, {.start = 0, .end = 0.2}}};
+  d.style = LatticeStyle::Sheet;
+  EXPECT_THROW(validate(d), InputError);
+  d = {};
+  d.blends.push_back({.width = 0});
+  EXPECT_THROW(validate(d), InputError);
+  d = {};
+  d.blends.push_back({.region = {.shape = RegionShape::Sphere, .size = 0}});
+  EXPECT_THROW(validate(d), InputError);
+  d = {};
+  d.porosity = 1.5;
+  EXPECT_THROW(validate(d), InputError);
+}
+
+TEST(Recipe, RoundTripsEverySetting) {
+  FillOptions o;
+  o.grid.voxel_size = 0.07;
+  o.skin = 0.4;
+  o.skin_windows = true;
+  o.inside = InsideRule::Parity;
+  o.lattice.type = Lattice::Neovius;
+  o.lattice.style = LatticeStyle::Sheet;
+  o.lattice.cell = {2, 3, 4};
+  o.lattice.porosity = 0.65;
+  o.lattice.rotation = rotation_from_euler({0, 0, 45});
+  o.lattice.grading.push_back({Graded::Cell,
+                               {.shape = RampShape::Radial,
+                                .point = Vec3{1, 2, 3},
+                                .axis = {0, 0, 1},
+                                .from = 0,
+                                .to = 9,
+                                .start = 2,
+                                .end = 3}});
+  o.lattice.blends.push_back({.lattice = {.type = Lattice::Iwp, .level = 0.1},
+                              .region = {.shape = RegionShape::Cylinder, .size = 3},
+                              .width = 1.5,
+                              .transition = Transition::Beta,
+                              .peak = 0.3});
+  const std::string text = recipe_json(o);
+  const FillOptions back = read_recipe(text, "r.json");
+  EXPECT_EQ(recipe_json(back), text);
+  EXPECT_EQ(back.lattice.rotation, o.lattice.rotation);
+  EXPECT_EQ(back.lattice.blends.at(0).lattice.type, Lattice::Iwp);
+  EXPECT_EQ(*back.lattice.grading.at(0).ramp.to, 9.0);
+}
+
+TEST(Recipe, ErrorsSayWhere) {
+  auto message = [](const std::string& text) {
+    try {
+      read_recipe(text, "r.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("{\n  \"voxel\": 0.1,\n  \"lattice\": {\"tpye\": \"gyroid\"}\n}")
+                .rfind("r.json: lattice.tpye: unknown key", 0),
+            0u);
+  EXPECT_EQ(message("{\n  \"voxel\": 0.1,\n  \"skin\": ,\n}").rfind("r.json:3:", 0), 0u);
+  EXPECT_NE(
+      message("{\"blends\": [{\"region\": {\"shape\": \"cube\"}}]}").find("blends[0].region.shape"),
+      std::string::npos);
+  EXPECT_NE(message("{\"lattice\": {\"porosity\": 2}}").find("porosity"), std::string::npos);
+  EXPECT_NE(message("{\"custom\": true}").find("custom"), std::string::npos);
+}
+
+TEST(Recipe, ReportEchoesTheResolvedRecipe) {
+  // Rerunning the echoed recipe reproduces the output exactly.
+  FillOptions o = cube_job(0.1, {.type = Lattice::Diamond, .porosity = 0.6});
+  o.lattice.grading.push_back({Graded::Porosity, {.start = 0.7, .end = 0.5}});
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {5, 5, 5});
+  const FillResult first = fill(cube, o);
+  const FillOptions echoed = read_recipe(first.report.recipe, "echo");
+  ASSERT_TRUE(echoed.lattice.grading.at(0).ramp.to.has_value());
+  EXPECT_DOUBLE_EQ(*echoed.lattice.grading[0].ramp.to, 5.0);
+  const FillResult second = fill(cube, echoed);
+  EXPECT_EQ(first.mesh.points, second.mesh.points);
+  EXPECT_EQ(first.mesh.triangles, second.mesh.triangles);
+}
