@@ -262,10 +262,15 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   TriangleSoup mesh =
       stage("marching cubes", [&] { return marching_cubes(phi, {.progress = options.progress}); });
 
-  if (!options.keep_islands) {
-    stage("islands", [&] {
-      const Components comps = mesh_components(mesh);
-      if (comps.info.size() < 2) return;  // one piece is the main body: no need to label parts
+  stage("islands", [&] {
+    const Components comps = mesh_components(mesh);
+    for (const auto& c : comps.info)
+      if (c.volume < 0) ++r.cavities, r.cavities_volume -= c.volume;
+    if (r.cavities && options.skin > 0 && !options.skin_windows)
+      r.warnings.push_back("the closed skin seals " + std::to_string(r.cavities) +
+                           " void(s) in, where unfused powder or resin cannot drain "
+                           "(--skin-windows opens the skin at the pores)");
+    if (!options.keep_islands && comps.info.size() >= 2) {
       const std::vector<bool> keep = main_bodies(mesh, comps, phi, label_regions(occupancy.inside));
       for (std::size_t c = 0; c < keep.size(); ++c)
         if (!keep[c]) {
@@ -273,8 +278,8 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
           r.islands_volume += std::fabs(comps.info[c].volume);
         }
       if (r.islands_removed) mesh = keep_components(mesh, comps, keep);
-    });
-  }
+    }
+  });
   phi = Field{};
   occupancy = Occupancy{};
 

@@ -121,6 +121,8 @@ std::string to_json(const FillReport& r) {
       {"surface_density", r.surface_density()},
       {"islands_removed", r.islands_removed},
       {"islands_volume", r.islands_volume},
+      {"cavities", r.cavities},
+      {"cavities_volume", r.cavities_volume},
       {"validation",
        {{"closed", v.closed()},
         {"manifold", v.manifold()},

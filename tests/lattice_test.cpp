@@ -454,3 +454,14 @@ TEST(Recipe, ReportEchoesTheResolvedRecipe) {
   EXPECT_EQ(first.mesh.points, second.mesh.points);
   EXPECT_EQ(first.mesh.triangles, second.mesh.triangles);
 }
+
+TEST(Recipe, DocumentedRecipesRead) {
+  // The recipes docs/recipes.md shows and the catalogue renders are valid and blend.
+  const auto files =
+      test::files_in(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs" / "recipes", 1 << 20);
+  ASSERT_GE(files.size(), 3u);
+  for (const auto& f : files) {
+    const FillOptions o = read_recipe_file(f.string());
+    EXPECT_FALSE(o.lattice.blends.empty()) << f;
+  }
+}

@@ -55,6 +55,8 @@ struct FillReport {
   double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3
+  std::uint64_t cavities = 0;         ///< closed voids in the output (negative-volume surfaces)
+  double cavities_volume = 0;         ///< their volume, mm^3
   ValidationReport validation;        ///< of the written mesh
   std::vector<StageTime> stages;      ///< in pipeline order
   std::vector<std::string> warnings;  ///< one sentence each
