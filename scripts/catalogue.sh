@@ -1,0 +1,388 @@
+#!/usr/bin/env bash
+# The lattice catalogue: fills small inputs and the real femur with `tpmsfill fill`, one run per
+# lattice feature, renders each output with build/tests/render_png, and writes the page that
+# shows them (docs/catalogue.md). Same commands, same images: every step is deterministic.
+#
+#   bash scripts/catalogue.sh [OUT_DIR] [IMAGE...]
+#
+#   OUT_DIR  where the PNGs go (default: the repository's docs/images); the page goes to
+#            docs/catalogue.md when OUT_DIR is docs/images, else to OUT_DIR/catalogue.md
+#   IMAGE    make only these images: names or shell patterns ('types-*', 'grade-*'); the page
+#            is still written whole, from every PNG that OUT_DIR holds
+#
+# Environment: BUILD_DIR (default build); CATALOGUE_NO_BUILD=1 skips setup and build (use what
+# BUILD_DIR holds); KEEP_DIR=DIR keeps the inputs and the filled meshes there.
+#
+# An image whose fill needs an option or lattice this tpmsfill does not have yet is reported
+# "pending" and skipped, and the page shows its command without a picture; run the script
+# again once the option exists. Each feature is one function below (image_*): to add one, write
+# a function and list it in `features`.
+# shellcheck disable=SC2016,SC2317  # backquotes are markdown; image_* run through "$feature"
+set -euo pipefail
+caller="$PWD"
+cd "$(dirname "$0")/.."
+out_dir="${1:-docs/images}"
+[[ -z "${1:-}" || "$out_dir" == /* ]] || out_dir="$caller/$out_dir"
+shift || true
+patterns=("$@")
+build_dir="${BUILD_DIR:-build}"
+
+if [[ "${CATALOGUE_NO_BUILD:-}" != 1 ]]; then
+  bash scripts/setup.sh
+  bash scripts/build.sh "$build_dir" >/dev/null
+fi
+tpmsfill="$PWD/$build_dir/tpmsfill"
+render_png="$PWD/$build_dir/tests/render_png"
+for tool in "$tpmsfill" "$render_png"; do
+  [[ -x "$tool" ]] || { echo "catalogue: $tool is missing (build with TPMSFILL_BUILD_TESTS=ON)" >&2; exit 2; }
+done
+mkdir -p "$out_dir"
+out_dir="$(cd "$out_dir" && pwd)"
+if [[ "$out_dir" == "$PWD/docs/images" ]]; then
+  page="$PWD/docs/catalogue.md" link_prefix="images/"
+else
+  page="$out_dir/catalogue.md" link_prefix=""
+fi
+if [[ -n "${KEEP_DIR:-}" ]]; then
+  work=$(cd "$caller" && mkdir -p "$KEEP_DIR" && cd "$KEEP_DIR" && pwd)
+else
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+fi
+fill_help=$("$tpmsfill" fill --help)
+
+# --- inputs (written into $work; the commands below run there and name them relatively) -------
+
+# cube SIZE: an axis-aligned cube from (0,0,0) to (SIZE,SIZE,SIZE), 12 outward triangles.
+cube() {
+  local s=$1
+  cat <<EOF
+OFF
+8 12 0
+0 0 0
+$s 0 0
+$s $s 0
+0 $s 0
+0 0 $s
+$s 0 $s
+$s $s $s
+0 $s $s
+3 0 2 1
+3 0 3 2
+3 4 5 6
+3 4 6 7
+3 0 1 5
+3 0 5 4
+3 1 2 6
+3 1 6 5
+3 2 3 7
+3 2 7 6
+3 3 0 4
+3 3 4 7
+EOF
+}
+cube 10 >"$work/cube10.off"
+cube 20 >"$work/cube20.off"
+# A cylinder of radius 10 mm around the z axis from z = 0 to 20 mm: 96 sides, fanned end caps.
+awk -v n=96 -v r=10 -v h=20 'BEGIN {
+  pi = atan2(0, -1)
+  print "OFF"; print 2 * n + 2, 4 * n, 0
+  for (k = 0; k < 2; ++k) for (i = 0; i < n; ++i)
+    printf "%.9f %.9f %g\n", r * cos(2 * pi * i / n), r * sin(2 * pi * i / n), k * h
+  print 0, 0, 0; print 0, 0, h
+  for (i = 0; i < n; ++i) {
+    j = (i + 1) % n
+    print 3, i, j, n + j; print 3, i, n + j, n + i        # side, outward
+    print 3, 2 * n, j, i; print 3, 2 * n + 1, n + i, n + j  # bottom (down), top (up)
+  }
+}' >"$work/cylinder.off"
+# Debian's femur (libcgal-demo): 1 unit long, centred on the origin; --scale 35 makes it the
+# benchmark's 35 mm bone (x -6.9..6.9, y -5.9..5.9, z -17.5..17.5 mm, the head at -z).
+femur_tarball=/usr/share/doc/libcgal-demo/data.tar.gz
+have_femur=0
+if [[ -f "$femur_tarball" ]]; then
+  tar -xzf "$femur_tarball" -C "$work" --strip-components=2 data/meshes/femur.off && have_femur=1
+fi
+
+# --- one image ---------------------------------------------------------------------------------
+
+names=() fill_commands=() render_commands=() notes=() statuses=()
+now() { date +%s.%N; }
+
+# shot NAME INPUT "RENDER OPTIONS" "FILL OPTIONS" "what to look for"
+# Runs `tpmsfill fill INPUT NAME.stl FILL OPTIONS` in $work and renders NAME.stl to
+# OUT_DIR/NAME.png at --size 480 with RENDER OPTIONS. Records the commands and the note for the
+# page whether or not the image is made in this run.
+shot() {
+  local name=$1 input=$2 render_options=$3 fill_options=$4 note=$5
+  local fill_cmd="tpmsfill fill $input $name.stl $fill_options"
+  local render_cmd="render_png $name.stl $name.png --size 480${render_options:+ $render_options}"
+  names+=("$name") fill_commands+=("$fill_cmd") render_commands+=("$render_cmd") notes+=("$note")
+  local status=""
+  if ((${#patterns[@]})); then
+    status="not selected"
+    for p in "${patterns[@]}"; do
+      # shellcheck disable=SC2053  # the pattern is meant to match as a glob
+      [[ "$name" == $p ]] && status=""
+    done
+  fi
+  if [[ -z "$status" && "$input" == femur.off && $have_femur == 0 ]]; then
+    status="skipped: no $femur_tarball (apt-get install libcgal-demo)"
+  fi
+  if [[ -z "$status" ]]; then
+    local word
+    for word in $fill_options; do
+      if [[ "$word" == --* ]] && ! grep -qE -- "(^|[ ,])$word([ ,=]|$)" <<<"$fill_help"; then
+        status="pending: this tpmsfill has no $word"
+        break
+      fi
+    done
+  fi
+  if [[ -n "$status" ]]; then
+    statuses+=("$status")
+    [[ "$status" == "not selected" ]] || printf '%-28s %s\n' "$name" "$status"
+    return 0
+  fi
+
+  local t0 t1 t2 code=0
+  t0=$(now)
+  # shellcheck disable=SC2086  # the options are words
+  (cd "$work" && "$tpmsfill" fill "$input" "$name.stl" $fill_options --quiet) \
+    2>"$work/$name.err" || code=$?
+  t1=$(now)
+  if ((code != 0)); then
+    local why
+    why=$(head -n 1 "$work/$name.err")
+    if ((code == 2)) && grep -qiE "unknown lattice|not expected|unknown option" "$work/$name.err"; then
+      status="pending: $why"
+    else
+      status="FAILED (exit $code): $why"
+    fi
+    statuses+=("$status")
+    printf '%-28s %s\n' "$name" "$status"
+    return 0
+  fi
+  # shellcheck disable=SC2086
+  if ! (cd "$work" && "$render_png" "$name.stl" "$out_dir/$name.png" --size 480 $render_options) \
+    2>"$work/$name.err"; then
+    status="FAILED: $(head -n 1 "$work/$name.err")"
+    statuses+=("$status")
+    printf '%-28s %s\n' "$name" "$status"
+    return 0
+  fi
+  t2=$(now)
+  local bytes triangles kb
+  bytes=$(stat -c %s "$work/$name.stl")
+  triangles=$(((bytes - 84) / 50))  # binary STL: 84-byte header, 50 bytes a triangle
+  kb=$(($(stat -c %s "$out_dir/$name.png") / 1024))
+  status=$(awk -v n="$triangles" -v f="$t1" -v s="$t0" -v r="$t2" -v kb="$kb" \
+    'BEGIN { printf "made: %d triangles, fill %.1f s, render %.1f s, %d KB", n, f - s, r - f, kb }')
+  ((kb < 250)) || status+=" (over 250 KB)"
+  statuses+=("$status")
+  printf '%-28s %s\n' "$name" "$status"
+  [[ -n "${KEEP_DIR:-}" ]] || rm -f "$work/$name.stl"
+}
+
+# --- the features, one function each ------------------------------------------------------------
+
+types=(primitive gyroid diamond iwp neovius frd lidinoid splitp)
+
+image_types() {
+  local t
+  for t in "${types[@]}"; do
+    shot "types-network-$t" cube10.off "" "--lattice $t --cell 5 --voxel 0.1" \
+      "the $t network: solid struts around one side of the surface"
+    shot "types-sheet-$t" cube10.off "" "--lattice $t --sheet --cell 5 --voxel 0.1" \
+      "the $t sheet: a wall along the minimal surface, open on both sides"
+  done
+}
+
+image_porosity() {
+  local p
+  for p in 0.5 0.7 0.85; do
+    shot "porosity-$p" cube10.off "" "--lattice gyroid --cell 5 --voxel 0.1 --porosity $p" \
+      "porosity $p: the level is solved so that $(awk -v p="$p" 'BEGIN { print 100 * p }') % of the cube is void"
+  done
+}
+
+image_rotation() {
+  shot rotation cube10.off "" "--lattice gyroid --cell 5 --voxel 0.1 --rotate 0 0 45" \
+    "the same gyroid turned 45° about z: the channels now run diagonally across the faces"
+}
+
+image_grade_linear() {
+  shot grade-linear cube20.off "" \
+    "--lattice gyroid --cell 2.5 --voxel 0.1 --grade porosity 0.85 0.5 --grade-along z" \
+    "porosity from 0.85 at the bottom to 0.5 at the top: the struts thicken upwards"
+}
+
+image_grade_radial() {
+  shot grade-radial cylinder.off "--view 35 50" \
+    "--lattice gyroid --cell 2.5 --voxel 0.1 --grade porosity 0.85 0.5 --grade-along radial-z" \
+    "porosity from 0.85 on the axis to 0.5 at the rim: the top face shows open centre, dense ring"
+}
+
+image_grade_depth() {
+  shot grade-depth femur.off "--view -80 -160 --clip x -1" \
+    "--scale 35 --lattice gyroid --cell 2 --voxel 0.1 --grade porosity 0.5 0.85 --grade-along depth --grade-range 0 3" \
+    "cut open along the bone: dense (porosity 0.5) at the surface, open (0.85) from 3 mm deep"
+}
+
+image_grade_cell() {
+  shot grade-cell cube20.off "" \
+    "--lattice gyroid --cell 3 --voxel 0.1 --grade cell 3 6 --grade-along x" \
+    "cells growing from 3 mm to 6 mm along x, left to right on the front face"
+}
+
+image_skin() {
+  shot skin femur.off "--view -80 -160 --clip x -1" \
+    "--scale 35 --lattice gyroid --cell 2 --voxel 0.1 --skin 0.5" \
+    "cut open along the bone: a closed 0.5 mm shell around the gyroid core"
+}
+
+image_femur_gyroid() {
+  shot femur-gyroid femur.off "--view 0 -160" "--scale 35 --lattice gyroid --cell 2 --voxel 0.1" \
+    "the main job: the 35 mm femur filled with 2 mm gyroid cells, clipped to the bone's surface"
+}
+
+# >>> HYBRID RECIPES SLOT: every docs/recipes/*.json, filled into the 20 mm cube, image named
+# >>> after the recipe. The fill gets only --recipe and --voxel: lattice types, cells and the
+# >>> blend region come from the recipe.
+image_recipes() {
+  local recipe name note
+  [[ -e "$work/docs" ]] || ln -s "$PWD/docs" "$work/docs"
+  for recipe in docs/recipes/*.json; do
+    [[ -f "$recipe" ]] || continue
+    name=$(basename "$recipe" .json)
+    # The recipe's "description", if it has one, is the sentence under the picture.
+    note=$(sed -n 's/.*"description"[[:space:]]*:[[:space:]]*"\([^"]*\)".*/\1/p' "$recipe" | head -n 1)
+    shot "$name" cube20.off "" "--recipe $recipe --voxel 0.1" \
+      "${note:-the hybrid lattice of $recipe}"
+  done
+}
+# <<< HYBRID RECIPES SLOT
+
+features=(image_types image_porosity image_rotation image_grade_linear image_grade_radial
+  image_grade_depth image_grade_cell image_skin image_femur_gyroid image_recipes)
+for feature in "${features[@]}"; do "$feature"; done
+
+# --- the page ----------------------------------------------------------------------------------
+
+index_of() {
+  local i
+  for i in "${!names[@]}"; do [[ "${names[$i]}" == "$1" ]] && { echo "$i"; return; }; done
+  echo "catalogue: no image named $1" >&2
+  exit 1
+}
+picture() {  # markdown for NAME's picture, or a note that it is not made yet
+  if [[ -f "$out_dir/$1.png" ]]; then echo "![$1](${link_prefix}$1.png)"; else echo "*(pending)*"; fi
+}
+commands() {  # the commands behind NAME, as a shell block
+  local i
+  i=$(index_of "$1")
+  printf '```\n%s\n%s\n```\n' "${fill_commands[$i]}" "${render_commands[$i]}"
+}
+section() {  # section TITLE NAME: picture, commands, what to look for
+  local i
+  i=$(index_of "$2")
+  printf '## %s\n\n%s\n\n%s\n\n%s.\n\n' "$1" "$(picture "$2")" "$(commands "$2")" \
+    "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
+}
+types_table() {  # types_table TYPE...: one column per type, network row and sheet row
+  local t
+  printf '|'; for t in "$@"; do printf ' | %s' "$t"; done; printf ' |\n'
+  printf '|---'; for t in "$@"; do printf '|:---:'; done; printf '|\n'
+  for style in network sheet; do
+    printf '| %s' "$style"; for t in "$@"; do printf ' | %s' "$(picture "types-$style-$t")"; done
+    printf ' |\n'
+  done
+}
+
+tmp_page="$page.tmp"
+{
+  cat <<'EOF'
+# Lattice catalogue
+
+One picture per lattice feature, each a real `tpmsfill fill` output rendered by
+`build/tests/render_png` (orthographic, 2×2 supersampled; where the mesh is cut open with
+`--clip`, the cut is drawn flat in a darker, warmer tint). Every picture is made by
+[`scripts/catalogue.sh`](../scripts/catalogue.sh), which builds, writes the inputs, runs the
+commands shown under each picture and writes this page:
+
+```
+bash scripts/catalogue.sh                  # all images into docs/images, this page
+bash scripts/catalogue.sh docs/images 'grade-*'   # only some
+```
+
+Inputs, written by the script: `cube10.off` and `cube20.off`, cubes of 10 and 20 mm from the
+origin (12 triangles each); `cylinder.off`, radius 10 mm around the z axis, 20 mm high; and
+`femur.off`, the proximal femur Debian's `libcgal-demo` ships, made 35 mm long by `--scale 35`
+(its head is at −z, so its views look from below with −z up). Pictures marked *(pending)* need
+an option this build of tpmsfill does not have yet.
+
+## Lattice types
+
+Eight triply periodic minimal surfaces in the 10 mm cube with 5 mm cells: the network (solid on
+one side of the surface) above, the sheet (a wall of `--thickness`, default 0.3 mm, along it)
+below.
+
+EOF
+  types_table "${types[@]:0:4}"
+  echo
+  types_table "${types[@]:4}"
+  cat <<'EOF'
+
+```
+tpmsfill fill cube10.off types-network-TYPE.stl --lattice TYPE --cell 5 --voxel 0.1
+tpmsfill fill cube10.off types-sheet-TYPE.stl --lattice TYPE --sheet --cell 5 --voxel 0.1
+render_png types-network-TYPE.stl types-network-TYPE.png --size 480
+```
+
+Look for each surface's symmetry: primitive's straight channels along the axes, the gyroid's
+helical channels, diamond's tetrahedral struts, and the thin sheet of each.
+
+## Porosity
+
+EOF
+  printf '| porosity 0.5 | porosity 0.7 | porosity 0.85 |\n|:---:|:---:|:---:|\n'
+  printf '| %s | %s | %s |\n\n' "$(picture porosity-0.5)" "$(picture porosity-0.7)" \
+    "$(picture porosity-0.85)"
+  commands porosity-0.7
+  cat <<'EOF'
+
+`--porosity P` solves the level (network) or the wall thickness (sheet) so that the fraction P
+of the part is void: the struts thin from left to right while the cell stays 5 mm.
+
+EOF
+  section "Rotation" rotation
+  section "Grading: linear" grade-linear
+  section "Grading: radial" grade-radial
+  section "Grading: with depth below the surface" grade-depth
+  section "Grading: cell size" grade-cell
+  section "Skin" skin
+  section "The femur" femur-gyroid
+  hybrids=()
+  for i in "${!names[@]}"; do
+    [[ "${fill_commands[$i]}" == *--recipe* ]] && hybrids+=("${names[$i]}")
+  done
+  if ((${#hybrids[@]})); then
+    printf '## Hybrid lattices\n\nTwo lattice types blended across a region, from the recipes in `docs/recipes/`.\n\n'
+    for name in "${hybrids[@]}"; do section "$name" "$name"; done
+  fi
+} >"$tmp_page"
+mv "$tmp_page" "$page"
+
+# --- what was made -------------------------------------------------------------------------------
+
+echo
+echo "| image | status |"
+echo "|---|---|"
+for i in "${!names[@]}"; do
+  [[ "${statuses[$i]}" == "not selected" ]] && continue
+  echo "| ${names[$i]} | ${statuses[$i]} |"
+done
+echo
+echo "page: $page; images: $out_dir"
+failed=0
+for s in "${statuses[@]}"; do [[ "$s" == FAILED* ]] && failed=1; done
+exit $failed
