@@ -2,9 +2,11 @@
 #include "tpmsfill/voxel.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 
+#include "detail/distance_transform.hpp"
 #include "detail/parallel.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -243,6 +245,20 @@ Regions label_regions(const Mask& mask) {
     r.runs[a].region = number[root];
   }
   return r;
+}
+
+// --- distance transform ------------------------------------------------------------------
+
+Field distance_transform(const Mask& mask, bool beyond_grid_set) {
+  Field out{mask.grid, std::vector<float>(mask.values.size())};
+  const double a = mask.grid.spacing;
+  detail::squared_distance_transform<false>(
+      mask, beyond_grid_set, [&](std::size_t node, std::uint32_t d2, std::uint32_t) {
+        out.values[node] = d2 == detail::kNoUnset
+                               ? std::numeric_limits<float>::infinity()
+                               : static_cast<float>(std::sqrt(static_cast<double>(d2)) * a);
+      });
+  return out;
 }
 
 }  // namespace tpmsfill

@@ -1,10 +1,14 @@
 // Stage "voxel": dilation, boundary and band against brute-force definitions.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <set>
+#include <tpmsfill/error.hpp>
 #include <tpmsfill/voxel.hpp>
 
 using namespace tpmsfill;
@@ -195,4 +199,115 @@ TEST(Voxel, RegionsMatchFloodFill) {
                     m.values[n] ? static_cast<std::uint32_t>(label[n]) : 0xffffffffu);
         }
   }
+}
+
+// --- distance transform ---------------------------------------------------------------------
+
+namespace {
+
+// Brute force: squared distance (voxels²) from each node to the nearest unset node, the nodes
+// of a one-node ring beyond the grid counting as unset unless beyond_grid_set; the result as
+// distance_transform rounds it (+infinity: none).
+std::vector<float> brute_distance(const Mask& m, bool beyond_grid_set) {
+  const Grid& g = m.grid;
+  std::vector<std::array<int, 3>> unset;
+  const int pad = beyond_grid_set ? 0 : 1;
+  for (int k = -pad; k < g.dims[2] + pad; ++k)
+    for (int j = -pad; j < g.dims[1] + pad; ++j)
+      for (int i = -pad; i < g.dims[0] + pad; ++i) {
+        const bool in =
+            i >= 0 && j >= 0 && k >= 0 && i < g.dims[0] && j < g.dims[1] && k < g.dims[2];
+        if (!in || !m.values[g.index(i, j, k)]) unset.push_back({i, j, k});
+      }
+  std::vector<float> out(m.values.size());
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        std::uint64_t best = UINT64_MAX;
+        for (const auto& u : unset) {
+          const std::int64_t di = u[0] - i, dj = u[1] - j, dk = u[2] - k;
+          best = std::min<std::uint64_t>(best, di * di + dj * dj + dk * dk);
+        }
+        out[g.index(i, j, k)] =
+            best == UINT64_MAX
+                ? std::numeric_limits<float>::infinity()
+                : static_cast<float>(std::sqrt(static_cast<double>(best)) * g.spacing);
+      }
+  return out;
+}
+
+// Mostly set, with a few unset nodes: distances of several voxels in every direction.
+Mask sparse_holes(unsigned seed, std::array<int, 3> dims, int per_mille) {
+  Mask m = empty_mask(dims[0], dims[1], dims[2]);
+  m.grid.spacing = 0.37;
+  std::mt19937 rng(seed);
+  for (auto& v : m.values) v = static_cast<int>(rng() % 1000) >= per_mille;
+  return m;
+}
+
+}  // namespace
+
+TEST(Voxel, DistanceTransformMatchesBruteForce) {
+  std::vector<Mask> masks;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    Mask blobs = random_blobs(seed, 13);
+    blobs.grid.spacing = 0.25;
+    masks.push_back(blobs);
+    masks.push_back(sparse_holes(seed, {17, 12, 9}, 4));
+    masks.push_back(sparse_holes(seed + 10, {9, 14, 11}, 60));
+  }
+  // Distances over 90 voxels, where the envelope takes over from the window (see
+  // distance_transform.hpp), in every pass.
+  masks.push_back(sparse_holes(8, {230, 3, 2}, 2));
+  masks.push_back(sparse_holes(9, {2, 190, 3}, 4));
+  masks.push_back(sparse_holes(10, {3, 2, 200}, 3));
+  masks.push_back(sparse_holes(4, {1, 23, 7}, 20));   // one node wide
+  masks.push_back(sparse_holes(5, {31, 1, 1}, 30));   // a single row
+  masks.push_back(sparse_holes(6, {12, 10, 8}, 0));   // no unset node
+  masks.push_back(sparse_holes(7, {6, 7, 8}, 1000));  // all unset
+  for (std::size_t c = 0; c < masks.size(); ++c)
+    for (bool beyond : {false, true}) {
+      const Field d = distance_transform(masks[c], beyond);
+      ASSERT_EQ(d.grid, masks[c].grid);
+      const std::vector<float> expected = brute_distance(masks[c], beyond);
+      for (std::size_t n = 0; n < expected.size(); ++n)
+        ASSERT_EQ(d.values[n], expected[n])
+            << "mask " << c << " beyond " << beyond << " node " << n;
+    }
+}
+
+TEST(Voxel, DistanceTransformOfAFullMask) {
+  Mask m = empty_mask(5, 6, 7);
+  std::fill(m.values.begin(), m.values.end(), 1);
+  const Field inside = distance_transform(m, false);  // bounded by the grid's faces
+  EXPECT_EQ(inside.values[m.grid.index(0, 0, 0)], 1.0f);
+  EXPECT_EQ(inside.values[m.grid.index(2, 3, 3)], 3.0f);  // 3 to x = -1 and x = 5, z = -1, z = 7
+  const Field none = distance_transform(m, true);
+  EXPECT_TRUE(
+      std::all_of(none.values.begin(), none.values.end(), [](float v) { return std::isinf(v); }));
+  m.values[m.grid.index(4, 5, 6)] = 0;
+  const Field corner = distance_transform(m, true);
+  EXPECT_FLOAT_EQ(corner.values[0], static_cast<float>(std::sqrt(16.0 + 25.0 + 36.0)));
+}
+
+TEST(Voxel, DistanceTransformIsIndependentOfThreads) {
+  Mask m = random_blobs(3, 70);
+  m.grid.spacing = 0.1;
+  std::vector<float> one, many;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = distance_transform(m, true).values;
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+    many = distance_transform(m, true).values;
+  }
+  EXPECT_EQ(one, many);
+  EXPECT_GT(*std::max_element(one.begin(), one.end()), 1.0f);
+}
+
+TEST(Voxel, DistanceTransformRejectsAMismatchedMask) {
+  Mask m = empty_mask(4, 4, 4);
+  m.values.pop_back();
+  EXPECT_THROW(distance_transform(m), InputError);
 }

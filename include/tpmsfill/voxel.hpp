@@ -54,4 +54,18 @@ struct Regions {
 };
 Regions label_regions(const Mask& mask);
 
+/// Euclidean distance, mm (grid.spacing units), from every node to the nearest node where
+/// `mask` is unset; 0 at unset nodes. Exact on the nodes: separable squared EDT
+/// (Felzenszwalb & Huttenlocher 2012 / Saito & Toriwaki), a pass along x, y, then z,
+/// parallel over rows, deterministic. Node-to-node distances: a surface that lies between
+/// nodes is up to one voxel nearer than the unset node beyond it (measure.hpp corrects this).
+/// @param beyond_grid_set  whether nodes beyond the grid count as set (true) or unset (false).
+///                         With false every distance is at most the distance to just beyond
+///                         the grid's faces; with true the grid's border is ignored, and a
+///                         mask with no unset node gives +infinity everywhere.
+/// @throws InputError  mask.values does not match mask.grid, or the grid is too large for
+///                     squared distances in 32 bits (Σ (dims + 1)² >= 2³², e.g. a cube of
+///                     37,000 nodes a side)
+Field distance_transform(const Mask& mask, bool beyond_grid_set = false);
+
 }  // namespace tpmsfill
