@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -15,13 +15,17 @@
 #     and the same femur with three holes cut into it
 #  repair:
 #  8. `tpmsfill repair` on every mesh of ../shared/meshes, the output checked afterwards
+#  lattice:
+#  9. porosity asked vs measured for all 8 types, network and sheet, in a cube of whole cells
+#     at two voxel sizes
+# 10. the femur filled with each lattice-design feature: wall time, compose time, porosity
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -173,4 +177,61 @@ PY
     printf '| %s | %s | %s | %.0f | %s | %s |\n' "$(basename "$f")" "$code" "$wall" \
       "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts" "$verdict"
   done
+fi
+
+if [[ "$section" == all || "$section" == lattice ]]; then
+  printf 'OFF\n8 12 0\n0 0 0\n4 0 0\n4 4 0\n0 4 0\n0 0 4\n4 0 4\n4 4 4\n0 4 4\n3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n' >"$tmp/cube4.off"
+  echo
+  echo "## 9. porosity asked (0.7) vs measured, 4 mm cube = 2 x 2 x 2 cells of T = 2 mm, islands kept"
+  echo "| type | network a = 0.1 | network a = 0.05 | sheet a = 0.1 | sheet a = 0.05 | solved level / thickness mm |"
+  echo "|---|---:|---:|---:|---:|---|"
+  for type in primitive gyroid diamond iwp neovius frd lidinoid splitp; do
+    row="| $type"
+    solved=""
+    for style in "" --sheet; do
+      for a in 0.1 0.05; do
+        ./build/tpmsfill fill "$tmp/cube4.off" "$tmp/p.stl" --quiet --lattice "$type" $style \
+          --porosity 0.7 --voxel "$a" --keep-islands --no-self-intersections --report "$tmp/p.json"
+        read -r por value < <(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); l=r["lattice"]; print(100*r["porosity"], l["thickness"] if "sheet" in l["type"] else l["level"])' "$tmp/p.json")
+        row="$row | $(printf '%.2f %%' "$por")"
+        [[ "$a" == 0.05 ]] && solved="$solved $(printf '%.4f' "$value")"
+      done
+    done
+    echo "$row | $solved |"
+  done
+
+  echo
+  echo "## 10. the femur (35 mm, a = 0.1 mm) with each lattice-design feature"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+  ./build/tests/bench_fill_inputs "$tmp/femur.off" "$tmp" >/dev/null
+  cat >"$tmp/hybrid.json" <<'JSON'
+{"lattice": {"type": "gyroid", "cell": 2, "porosity": 0.7},
+ "blends": [{"lattice": {"type": "primitive"},
+             "region": {"shape": "half-space", "point": [0, 0, 0], "axis": [0, 0, 1]},
+             "width": 3, "transition": "beta"}]}
+JSON
+  echo "| design | wall s | compose s | porosity % | components | valid |"
+  echo "|---|---:|---:|---:|---:|---|"
+  design() {
+    local name=$1
+    shift
+    /usr/bin/time -f "%e" -o "$tmp/time.txt" ./build/tpmsfill fill "$tmp/femur35.stl" \
+      "$tmp/d.stl" --quiet --cell 2 --voxel 0.1 --report "$tmp/d.json" "$@"
+    python3 - "$tmp/d.json" "$name" "$tmp/time.txt" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+wall = float(open(sys.argv[3]).read().split()[-1])
+compose = [s["seconds"] for s in r["stages"] if s["name"] == "compose"][0]
+print(f"| {sys.argv[2]} | {wall:.2f} | {compose:.3f} | {100 * r['porosity']:.2f} | "
+      f"{r['output']['components']} | {r['valid']} |")
+PY
+  }
+  design "gyroid network, level 0"
+  design "iwp sheet, --porosity 0.7" --lattice iwp --sheet --porosity 0.7
+  design "gyroid, --rotate 30 20 10" --rotate 30 20 10
+  design "gyroid, porosity 0.5 -> 0.85 by depth 0-3 mm" --grade porosity 0.5 0.85 --grade-along depth --grade-range 0 3
+  design "gyroid, cell 1.5 -> 3 along z" --grade cell 1.5 3 --grade-along z
+  design "gyroid/primitive hybrid (recipe, Beta, 3 mm)" --recipe "$tmp/hybrid.json"
+  design "gyroid, --skin 0.5" --skin 0.5
+  design "gyroid, --skin 0.5 --skin-windows" --skin 0.5 --skin-windows
 fi

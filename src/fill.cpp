@@ -18,6 +18,7 @@
 #include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/measure.hpp"
 #include "tpmsfill/recipe.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/validate.hpp"
@@ -236,8 +237,15 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
         "thinner than the voxel size)");
 
   const DistanceOptions distance_options{.progress = options.progress};
-  const ComposeOptions compose_options{
-      .skin = options.skin, .skin_windows = options.skin_windows, .progress = options.progress};
+  // Depth ramps grade by the distance below the surface: the occupancy's distance transform.
+  std::optional<Field> depth;
+  for (const Grading& g : design.grading)
+    if (g.ramp.shape == RampShape::Depth && !depth)
+      depth = stage("depth", [&] { return distance_transform(occupancy.inside); });
+  const ComposeOptions compose_options{.skin = options.skin,
+                                       .skin_windows = options.skin_windows,
+                                       .depth = depth ? &*depth : nullptr,
+                                       .progress = options.progress};
   Field phi;
   if (!options.full_field) {
     const BandOptions band_options{
@@ -280,8 +288,19 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
       if (r.islands_removed) mesh = keep_components(mesh, comps, keep);
     }
   });
+  if (options.measure)
+    r.measures = stage("measure", [&] {
+      // Nodes on the model's surface (φ_model = 0, a face on a grid plane; compose moved their
+      // φ to the smallest float) are neither void nor solid: counted as void they would join
+      // a sheet's two labyrinths along the face.
+      Mask interior = occupancy.inside;
+      for (std::size_t n = 0; n < interior.values.size(); ++n)
+        if (phi.values[n] == std::numeric_limits<float>::min()) interior.values[n] = 0;
+      return measure_lattice(phi, interior, {.progress = options.progress});
+    });
   phi = Field{};
   occupancy = Occupancy{};
+  depth.reset();
 
   if (mesh.triangles.empty())
     throw InputError(

@@ -254,7 +254,7 @@ LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
   for (Blend& b : r.blends) b.lattice = resolve_porosity(b.lattice);
   for (Grading& g : r.grading) {
     Ramp& ramp = g.ramp;
-    if (ramp.point && ramp.from && ramp.to) continue;
+    if ((ramp.point || ramp.shape == RampShape::Depth) && ramp.from && ramp.to) continue;
     if (model.empty())
       throw InputError("the " + std::string(graded_name(g.what)) +
                        " grading's ramp needs explicit positions (no model to span)");

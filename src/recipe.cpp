@@ -238,6 +238,7 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
     r.fail("inside", "'" + inside + "' is not auto, parity or winding");
   r.boolean("full_field", o.full_field);
   r.boolean("keep_islands", o.keep_islands);
+  r.boolean("measure", o.measure);
   r.boolean("self_intersections", o.check_self_intersections);
   if (const json* v = r.get("custom"); v && !(v->is_boolean() && !v->get<bool>()))
     r.fail("custom", "a custom field is code: it cannot come from a recipe");
@@ -309,6 +310,7 @@ std::string recipe_json(const FillOptions& o) {
   j["skin_windows"] = o.skin_windows;
   j["full_field"] = o.full_field;
   j["keep_islands"] = o.keep_islands;
+  j["measure"] = o.measure;
   j["self_intersections"] = o.check_self_intersections;
   if (o.lattice.custom) j["custom"] = true;
   j["lattice"] = lattice_json(o.lattice, false);

@@ -11,6 +11,12 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
+json sizes(const SizeDistribution& d) {
+  return {{"samples", d.samples}, {"min", d.min}, {"mean", d.mean}, {"max", d.max},
+          {"p10", d.p10},         {"p50", d.p50}, {"p90", d.p90},   {"bin_edges", d.bin_edges},
+          {"counts", d.counts}};
+}
+
 json point(Vec3 p) {
   return json::array({p.x, p.y, p.z});
 }
@@ -121,6 +127,13 @@ std::string to_json(const FillReport& r) {
       {"surface_density", r.surface_density()},
       {"islands_removed", r.islands_removed},
       {"islands_volume", r.islands_volume},
+      {"measures", !r.measures
+                       ? json(nullptr)
+                       : json{{"pore_diameter", sizes(r.measures->pore)},
+                              {"wall_thickness", sizes(r.measures->wall)},
+                              {"void_components", r.measures->void_components},
+                              {"labyrinths", r.measures->labyrinths},
+                              {"largest_void_fraction", r.measures->largest_void_fraction}}},
       {"cavities", r.cavities},
       {"cavities_volume", r.cavities_volume},
       {"validation",
@@ -175,6 +188,22 @@ std::string to_text(const FillReport& r) {
               100 * r.unclipped_porosity);
   s += format("surface      %.3g mm^-1 per solid volume, %.3g mm^-1 per model volume\n",
               r.specific_surface(), r.surface_density());
+  if (r.measures) {
+    const LatticeMeasures& m = *r.measures;
+    auto line = [&](const char* label, const SizeDistribution& d) {
+      if (!d.samples) return std::string(label) + "none measured\n";
+      return std::string(label) +
+             format("mean %.3g mm (10-90 %%: %.3g-%.3g", d.mean, d.p10, d.p90) +
+             format(", max %.3g mm)\n", d.max);
+    };
+    s += line("pores        diameter ", m.pore);
+    s += line("walls        thickness ", m.wall);
+    s += format("void         %.0f labyrinth(s)", static_cast<double>(m.labyrinths)) +
+         (m.labyrinths == 1   ? std::string(": one connected void")
+          : m.labyrinths == 2 ? std::string(": two interwoven voids, as a sheet makes")
+                              : std::string()) +
+         format(" (%.0f piece(s) in all)\n", static_cast<double>(m.void_components));
+  }
   if (r.islands_removed)
     s += format("islands      %.0f removed (%.3g mm3)\n", static_cast<double>(r.islands_removed),
                 r.islands_volume);

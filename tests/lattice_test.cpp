@@ -465,3 +465,52 @@ TEST(Recipe, DocumentedRecipesRead) {
     EXPECT_FALSE(o.lattice.blends.empty()) << f;
   }
 }
+
+TEST(Lattice, DepthGradingIsDenserNearTheSurface) {
+  // Porosity 0.5 on the surface of a 12 mm cube rising to 0.85 from 3 mm deep: the outer 1 mm
+  // shell of the output is denser than its central 4 mm cube, each within 6 % of the ramp's
+  // mean there (0.5–0.6 in the shell, 0.85 at the centre).
+  FillOptions o = cube_job(0.1, {.type = Lattice::Gyroid});
+  o.lattice.grading.push_back(
+      {Graded::Porosity,
+       {.shape = RampShape::Depth, .from = 0, .to = 3, .start = 0.5, .end = 0.85}});
+  const Box3 box{{0, 0, 0}, {12, 12, 12}};
+  const TriangleSoup mesh = fill(test::make_box(box.min, box.max), o).mesh;
+  const Grid g = test::grid_around(box, 0.05, 0);
+  const Occupancy solid = classify_grid(build_index(mesh), g);
+  double shell = 0, shell_n = 0, core = 0, core_n = 0;
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        const Vec3 p = g.node(i, j, k);
+        const double depth = std::min({p.x, p.y, p.z, 12 - p.x, 12 - p.y, 12 - p.z});
+        if (depth < 0) continue;
+        const double s = solid.inside.values[g.index(i, j, k)];
+        if (depth < 1) shell += s, shell_n += 1;
+        if (depth > 4) core += s, core_n += 1;
+      }
+  EXPECT_NEAR(1 - shell / shell_n, 0.55, 0.06);
+  EXPECT_NEAR(1 - core / core_n, 0.85, 0.06);
+}
+
+TEST(Lattice, ReportMeasuresPoresWallsAndLabyrinths) {
+  // A network's void is one labyrinth, a sheet's two; at porosity 0.8 the pores are wider
+  // than the struts, and the sheet's walls measure about their thickness (within a voxel).
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {8, 8, 8});
+  auto measured = [](FillOptions o) {
+    o.measure = true;
+    return o;
+  };
+  const FillResult network =
+      fill(cube, measured(cube_job(0.1, {.type = Lattice::Gyroid, .porosity = 0.8})));
+  ASSERT_TRUE(network.report.measures.has_value());
+  EXPECT_EQ(network.report.measures->labyrinths, 1u);
+  EXPECT_GT(network.report.measures->pore.mean, network.report.measures->wall.mean);
+  const FillResult sheet = fill(
+      cube, measured(cube_job(
+                0.1, {.type = Lattice::Gyroid, .style = LatticeStyle::Sheet, .thickness = 0.4})));
+  EXPECT_EQ(sheet.report.measures->labyrinths, 2u);
+  EXPECT_NEAR(sheet.report.measures->wall.p50, 0.4, 0.1);
+  EXPECT_GT(network.report.specific_surface(), 0);
+  EXPECT_FALSE(fill(cube, cube_job(0.1, {})).report.measures.has_value());  // off by default
+}

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tpmsfill/clean.hpp"
+#include "tpmsfill/measure.hpp"
 #include "tpmsfill/types.hpp"
 #include "tpmsfill/validate.hpp"
 
@@ -55,6 +56,7 @@ struct FillReport {
   double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3
+  std::optional<LatticeMeasures> measures;  ///< pores, walls, labyrinths (FillOptions::measure)
   std::uint64_t cavities = 0;         ///< closed voids in the output (negative-volume surfaces)
   double cavities_volume = 0;         ///< their volume, mm^3
   ValidationReport validation;        ///< of the written mesh

@@ -31,7 +31,7 @@ struct FillArgs {
   std::string grade_along = "z";
   double scale = 1.0;
   std::optional<int> band;
-  bool skin_windows = false;
+  bool skin_windows = false, measure = false;
   bool full_field = false, keep_islands = false, no_self_intersections = false, quiet = false;
   std::string memory;
   int threads = 0;
@@ -140,6 +140,7 @@ void apply_flags(const FillArgs& args, FillOptions& options) {
   }
   if (args.full_field) options.full_field = true;
   if (args.keep_islands) options.keep_islands = true;
+  if (args.measure) options.measure = true;
   if (args.no_self_intersections) options.check_self_intersections = false;
   if (!args.memory.empty()) options.memory_budget = parse_bytes(args.memory);
   validate(options.lattice);
@@ -281,6 +282,9 @@ Command add_fill_command(CLI::App& app) {
                 "reference; slow)");
   sub->add_flag("--keep-islands", args->keep_islands,
                 "Keep lattice pieces that float free of the main body (removed by default)");
+  sub->add_flag("--measure", args->measure,
+                "Measure pore size, wall thickness and void labyrinths into the report (costs "
+                "about as much as the fill itself on small jobs)");
   sub->add_flag("--no-self-intersections", args->no_self_intersections,
                 "Skip the self-intersection search when validating");
   sub->add_option("--memory", args->memory,
