@@ -218,7 +218,7 @@ image_grade_linear() {
 
 image_grade_radial() {
   shot grade-radial cylinder.off "--view 35 50" \
-    "--lattice gyroid --cell 2.5 --voxel 0.1 --grade porosity 0.85 0.5 --grade-along radial-z" \
+    "--lattice gyroid --cell 2.5 --voxel 0.1 --grade porosity 0.85 0.5 --grade-along radial-z --grade-range 0 10" \
     "porosity from 0.85 on the axis to 0.5 at the rim: the top face shows open centre, dense ring"
 }
 
