@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the mesh readers with libFuzzer + ASan + UBSan, one run per reader.
+# Fuzzes the mesh readers and the recipe reader with libFuzzer + ASan + UBSan, one run each.
 #   scripts/fuzz.sh [seconds per reader]        (default 120)
 # Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
 set -euo pipefail
@@ -17,7 +17,7 @@ fi
 
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTPMSFILL_FUZZ=ON -DTPMSFILL_BUILD_TESTS=OFF -DTPMSFILL_BUILD_EXAMPLES=OFF
-cmake --build "$build" --target read_mesh_fuzz
+cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz
 fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 
 # Seed corpus: one small valid file per format, written here, plus assimp's test models when
@@ -71,4 +71,18 @@ for reader in auto stl obj ply off; do
     status=1
   fi
 done
+# Recipes: seeded with the documented ones.
+corpus="$build/corpus/recipe"
+findings="$build/findings/recipe"
+mkdir -p "$corpus" "$findings" "$seeds/recipe"
+cp "$root"/docs/recipes/*.json "$seeds/recipe/"
+echo "== recipe: ${seconds}s"
+"$build/tests/fuzz/read_recipe_fuzz" "$corpus" "$seeds/recipe" -max_total_time="$seconds" \
+  -rss_limit_mb=2048 -timeout=5 -max_len=8192 -artifact_prefix="$findings/" \
+  -print_final_stats=1 2>&1 |
+  grep -E '^(#[0-9]+ +DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|artifact_prefix)' || true
+if compgen -G "$findings/*" >/dev/null; then
+  echo "!! recipe: findings in $findings" >&2
+  status=1
+fi
 exit $status

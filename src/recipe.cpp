@@ -208,9 +208,11 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   json root;
   try {
     root = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
-    // nlohmann counts bytes; say the line, as for mesh files.
-    const std::size_t byte = std::min(e.byte, text.size());
+  } catch (const json::exception& e) {
+    // nlohmann counts bytes; say the line, as for mesh files. (A number too large for a
+    // double is an out_of_range error, which has no position: blame the end.)
+    const auto* parse = dynamic_cast<const json::parse_error*>(&e);
+    const std::size_t byte = std::min(parse ? parse->byte : text.size(), text.size());
     std::uint64_t line = 1;
     for (std::size_t i = 0; i + 1 < byte; ++i) line += text[i] == '\n';
     std::string why = e.what();

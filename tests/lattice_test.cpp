@@ -439,6 +439,8 @@ TEST(Recipe, ErrorsSayWhere) {
       std::string::npos);
   EXPECT_NE(message("{\"lattice\": {\"porosity\": 2}}").find("porosity"), std::string::npos);
   EXPECT_NE(message("{\"custom\": true}").find("custom"), std::string::npos);
+  // A number beyond a double (found by fuzzing: nlohmann throws out_of_range, not parse_error).
+  EXPECT_EQ(message("{\"voxel\": 21111E1111111111}").rfind("r.json:1: not valid JSON", 0), 0u);
 }
 
 TEST(Recipe, ReportEchoesTheResolvedRecipe) {
