@@ -167,15 +167,25 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
   write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 5.0, 3));
   const std::string in = "'" + (dir / "ball.stl").string() + "' ";
   const std::string lattice = "'" + (dir / "lattice.stl").string() + "'";
+  test::write_file(dir / "bad.json", "{\n  \"lattice\": {\"tpye\": \"gyroid\"}\n}\n");
   std::string out;
-  const std::vector<std::string> cases = {in + lattice + " --lattice kelvin",
-                                          in + lattice + " --inside majority",
-                                          in + lattice + " --voxel 0",
-                                          in + lattice + " --cell 1 2",
-                                          in + lattice + " --thickness 0.2",
-                                          in + lattice + " --voxel 0.001 --memory 64M",
-                                          in + "'" + (dir / "x.xyz").string() + "'",
-                                          "'" + (dir / "missing.stl").string() + "' " + lattice};
+  const std::vector<std::string> cases = {
+      in + lattice + " --lattice kelvin",
+      in + lattice + " --inside majority",
+      in + lattice + " --voxel 0",
+      in + lattice + " --cell 1 2",
+      in + lattice + " --thickness 0.2",
+      in + lattice + " --voxel 0.001 --memory 64M",
+      in + lattice + " --porosity 0.7 --level 0.1",
+      in + lattice + " --porosity 1.2",
+      in + lattice + " --grade porosity 0.8 0.5 --grade-along w",
+      in + lattice + " --grade-along depth",
+      in + lattice + " --grade cell 2 4 --grade-along depth",
+      in + lattice + " --grade level 0 0.2 --sheet",
+      in + lattice + " --skin-windows",
+      in + lattice + " --recipe '" + (dir / "bad.json").string() + "'",
+      in + "'" + (dir / "x.xyz").string() + "'",
+      "'" + (dir / "missing.stl").string() + "' " + lattice};
   for (const std::string& args : cases) {
     EXPECT_EQ(test::run_command(cli() + " fill " + args, &out), 2) << args << "\n" << out;
     EXPECT_EQ(count_lines(out), 1u) << out;
@@ -184,6 +194,39 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
   EXPECT_EQ(
       test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 64M", &out), 2);
   EXPECT_NE(out.find("voxel size of"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(
+                cli() + " fill " + in + lattice + " --recipe '" + (dir / "bad.json").string() + "'",
+                &out),
+            2);
+  EXPECT_NE(out.find("lattice.tpye: unknown key"), std::string::npos) << out;
+}
+
+TEST(Cli, FillTakesTheLatticeDesignFlagsAndEchoesTheRecipe) {
+  // Every design flag at once on a ball; the report's recipe, given back as --recipe, writes
+  // the same bytes.
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 5.0, 3));
+  const std::string in = "'" + (dir / "ball.stl").string() + "' ";
+  std::string out;
+  ASSERT_EQ(test::run_command(cli() + " fill " + in + "'" + (dir / "a.stl").string() +
+                                  "' --lattice splitp --cell 3 --porosity 0.6 --rotate 10 20 30 "
+                                  "--origin 0.5 0 0 --grade porosity 0.7 0.5 --grade-along "
+                                  "radial --skin 0.3 --skin-windows --measure --voxel 0.2 "
+                                  "--report '" +
+                                  (dir / "r.json").string() + "'",
+                              &out),
+            0)
+      << out;
+  const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_EQ(report["lattice"]["porosity_target"], 0.6);
+  EXPECT_EQ(report["measures"]["labyrinths"], 1);
+  test::write_file(dir / "echo.json", report["recipe"].dump());
+  ASSERT_EQ(test::run_command(cli() + " fill " + in + "'" + (dir / "b.stl").string() +
+                                  "' --quiet --recipe '" + (dir / "echo.json").string() + "'",
+                              &out),
+            0)
+      << out;
+  EXPECT_EQ(test::read_file(dir / "a.stl"), test::read_file(dir / "b.stl"));
 }
 
 TEST(Cli, FillHandlesHolesAndRefusesASheetInOneLine) {
