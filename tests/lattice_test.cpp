@@ -516,3 +516,25 @@ TEST(Lattice, ReportMeasuresPoresWallsAndLabyrinths) {
   EXPECT_GT(network.report.specific_surface(), 0);
   EXPECT_FALSE(fill(cube, cube_job(0.1, {})).report.measures.has_value());  // off by default
 }
+
+TEST(Lattice, BlendRegionsTakeOverInsideAndLeaveOutside) {
+  // Deep inside each region (beyond half the width) the blended lattice is the region's own;
+  // far outside it is the base; in the transition it lies between the two.
+  const TpmsOptions base{.type = Lattice::Gyroid}, other{.type = Lattice::Neovius};
+  const Region regions[] = {
+      {.shape = RegionShape::HalfSpace, .point = {0, 0, 0}, .axis = {0, 0, 1}},
+      {.shape = RegionShape::Slab, .point = {0, 0, 0}, .axis = {0, 0, 1}, .size = 4},
+      {.shape = RegionShape::Sphere, .point = {0, 0, 0}, .size = 3},
+      {.shape = RegionShape::Cylinder, .point = {0, 0, 0}, .axis = {0, 0, 1}, .size = 3}};
+  for (const Region& region : regions)
+    for (Transition transition : {Transition::Sigmoid, Transition::Beta}) {
+      LatticeDesign d{base};
+      d.blends.push_back(
+          {.lattice = other, .region = region, .width = 1, .transition = transition});
+      const Vec3 inside{0.3, 0.2, 0.8}, outside{7.3, 6.2, -8.4};
+      EXPECT_FLOAT_EQ(lattice_value(inside, d), tpms_value(inside, other))
+          << region_name(region.shape);
+      EXPECT_FLOAT_EQ(lattice_value(outside, d), tpms_value(outside, base))
+          << region_name(region.shape);
+    }
+}
