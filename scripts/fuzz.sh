@@ -56,33 +56,26 @@ fi
 cp "$seeds"/{stl,obj,ply,off}/* "$seeds/auto/"
 gzip -c "$seeds/stl/ascii.stl" >"$seeds/auto/ascii.stl.gz"
 
+# fuzz NAME PROGRAM MAX_LEN: one timed run on seeds/NAME, findings in findings/NAME.
 status=0
-for reader in auto stl obj ply off; do
-  corpus="$build/corpus/$reader"
-  findings="$build/findings/$reader"
+fuzz() {
+  local name=$1 program=$2 max_len=$3
+  local corpus="$build/corpus/$name" findings="$build/findings/$name"
   mkdir -p "$corpus" "$findings"
-  echo "== $reader: ${seconds}s"
-  TPMSFILL_FUZZ_FORMAT="$reader" "$fuzzer" "$corpus" "$seeds/$reader" \
-    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=5 -max_len=65536 \
-    -artifact_prefix="$findings/" -print_final_stats=1 2>&1 |
+  echo "== $name: ${seconds}s"
+  "$program" "$corpus" "$seeds/$name" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=5 \
+    -max_len="$max_len" -artifact_prefix="$findings/" -print_final_stats=1 2>&1 |
     grep -E '^(#[0-9]+ +DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|artifact_prefix)' || true
   if compgen -G "$findings/*" >/dev/null; then
-    echo "!! $reader: findings in $findings" >&2
+    echo "!! $name: findings in $findings" >&2
     status=1
   fi
+}
+for reader in auto stl obj ply off; do
+  TPMSFILL_FUZZ_FORMAT="$reader" fuzz "$reader" "$fuzzer" 65536
 done
-# Recipes: seeded with the documented ones.
-corpus="$build/corpus/recipe"
-findings="$build/findings/recipe"
-mkdir -p "$corpus" "$findings" "$seeds/recipe"
+# Recipes, seeded with the documented ones.
+mkdir -p "$seeds/recipe"
 cp "$root"/docs/recipes/*.json "$seeds/recipe/"
-echo "== recipe: ${seconds}s"
-"$build/tests/fuzz/read_recipe_fuzz" "$corpus" "$seeds/recipe" -max_total_time="$seconds" \
-  -rss_limit_mb=2048 -timeout=5 -max_len=8192 -artifact_prefix="$findings/" \
-  -print_final_stats=1 2>&1 |
-  grep -E '^(#[0-9]+ +DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|artifact_prefix)' || true
-if compgen -G "$findings/*" >/dev/null; then
-  echo "!! recipe: findings in $findings" >&2
-  status=1
-fi
+fuzz recipe "$build/tests/fuzz/read_recipe_fuzz" 8192
 exit $status
