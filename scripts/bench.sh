@@ -30,6 +30,16 @@ levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
+# timed COMMAND...: runs it, a failure being data rather than the script's end, and sets
+# code (exit status), wall (s) and kb (peak RSS). Redirections on the call apply to COMMAND.
+timed() {
+  set +e
+  /usr/bin/time -f "%e %M" -o "$tmp/time.txt" "$@"
+  code=$?
+  set -e
+  read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+}
+
 echo "## machine: $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB, $(uname -m)"
 if [[ "$section" == all || "$section" == io ]]; then
 echo
@@ -47,11 +57,7 @@ printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 0 0\nv
 echo "| file | exit | wall s | peak RSS MB | message |"
 echo "|---|---:|---:|---:|---|"
 for f in "$tmp"/*; do
-  set +e
-  /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill check "$f" >/dev/null 2>"$tmp/err.txt"
-  code=$?
-  set -e
-  read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+  timed ./build/tpmsfill check "$f" >/dev/null 2>"$tmp/err.txt"
   printf '| %s | %s | %s | %.0f | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" \
     "$(head -1 "$tmp/err.txt" | sed "s|$tmp/||")"
 done
@@ -63,11 +69,7 @@ if [[ -d ../shared/meshes ]]; then
   echo "|---|---:|---:|---:|---:|---:|---:|---:|"
   for f in ../shared/meshes/*.{off,stl,STL,obj,ply}; do
     [[ -f "$f" ]] || continue
-    set +e
-    /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill check --json "$f" >"$tmp/out.json" 2>/dev/null
-    code=$?
-    set -e
-    read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+    timed ./build/tpmsfill check --json "$f" >"$tmp/out.json" 2>/dev/null
     facts=$(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); print(" | ".join(str(j[k]) for k in ("triangles","holes","self_intersecting_pairs","components")))' "$tmp/out.json" 2>/dev/null || echo "- | - | - | -")
     printf '| %s | %s | %s | %.0f | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts"
   done
@@ -79,9 +81,8 @@ fi
 fill_case() {
   local name=$1 in=$2
   shift 2
-  /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill fill "$in" "$tmp/$name-out.stl" \
-    --quiet --report "$tmp/$name.json" "$@"
-  read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+  timed ./build/tpmsfill fill "$in" "$tmp/$name-out.stl" --quiet --report "$tmp/$name.json" "$@"
+  ((code == 0)) || exit "$code"
   python3 - "$tmp/$name.json" "$name" "$wall" "$kb" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -123,12 +124,8 @@ if [[ "$section" == all || "$section" == fill ]]; then
       # cell = longest side / 15, voxel = cell / 10.
       read -r cell voxel < <(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); b=j["bbox"]; L=max(b["max"][i]-b["min"][i] for i in range(3)); print(L/15, L/150)' "$tmp/c.json" 2>/dev/null || echo "0 0")
       [[ "$cell" != 0 ]] || continue
-      set +e
-      /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill fill "$f" "$tmp/shared-out.stl" --quiet \
+      timed ./build/tpmsfill fill "$f" "$tmp/shared-out.stl" --quiet \
         --cell "$cell" --voxel "$voxel" --report "$tmp/shared.json" 2>"$tmp/err.txt"
-      code=$?
-      set -e
-      read -r wall kb < <(tail -n 1 "$tmp/time.txt")
       verdict="-"
       if [[ $code == 0 ]]; then
         ./build/tpmsfill check "$tmp/shared-out.stl" >/dev/null && verdict="valid" || verdict="NOT VALID"
@@ -156,12 +153,7 @@ if [[ "$section" == all || "$section" == repair ]] && [[ -d ../shared/meshes ]];
   for f in ../shared/meshes/*.{off,stl,STL,obj,ply}; do
     [[ -f "$f" ]] || continue
     rm -f "$tmp/repaired.stl"
-    set +e
-    /usr/bin/time -f "%e %M" -o "$tmp/time.txt" ./build/tpmsfill repair "$f" "$tmp/repaired.stl" \
-      --json >"$tmp/repair.json" 2>/dev/null
-    code=$?
-    set -e
-    read -r wall kb < <(tail -n 1 "$tmp/time.txt")
+    timed ./build/tpmsfill repair "$f" "$tmp/repaired.stl" --json >"$tmp/repair.json" 2>/dev/null
     verdict="nothing written"
     if [[ -f "$tmp/repaired.stl" ]]; then
       ./build/tpmsfill check "$tmp/repaired.stl" >/dev/null && verdict="valid" || verdict="NOT VALID"
@@ -215,12 +207,13 @@ JSON
   design() {
     local name=$1
     shift
-    /usr/bin/time -f "%e" -o "$tmp/time.txt" ./build/tpmsfill fill "$tmp/femur35.stl" \
-      "$tmp/d.stl" --quiet --cell 2 --voxel 0.1 --report "$tmp/d.json" "$@"
-    python3 - "$tmp/d.json" "$name" "$tmp/time.txt" <<'PY'
+    timed ./build/tpmsfill fill "$tmp/femur35.stl" "$tmp/d.stl" --quiet --cell 2 --voxel 0.1 \
+      --report "$tmp/d.json" "$@"
+    ((code == 0)) || exit "$code"
+    python3 - "$tmp/d.json" "$name" "$wall" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
-wall = float(open(sys.argv[3]).read().split()[-1])
+wall = float(sys.argv[3])
 compose = [s["seconds"] for s in r["stages"] if s["name"] == "compose"][0]
 print(f"| {sys.argv[2]} | {wall:.2f} | {compose:.3f} | {100 * r['porosity']:.2f} | "
       f"{r['output']['components']} | {r['valid']} |")

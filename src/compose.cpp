@@ -11,6 +11,11 @@
 
 namespace tpmsfill {
 
+void validate(const ComposeOptions& o) {
+  if (!(o.skin >= 0) || !std::isfinite(o.skin))
+    throw InputError("the skin thickness must be a non-negative number of millimetres");
+}
+
 int skin_band_width(double skin, double spacing) {
   return skin > 0 ? static_cast<int>(std::ceil(skin / spacing)) + 2 : 1;
 }
@@ -25,15 +30,14 @@ enum Known : std::uint8_t { kOutside = 0, kInside = 1, kDistance = 2 };
 template <class ModelRow>
 Field compose_rows(const Grid& grid, const LatticeDesign& design, const ComposeOptions& o,
                    const ModelRow& model_row) {
-  if (!(o.skin >= 0) || !std::isfinite(o.skin))
-    throw InputError("the skin thickness must be a non-negative number of millimetres");
+  validate(o);
   const detail::LatticeRows lattice(resolve_design(design, Box3{}), grid, o.depth);
   // Any positive value serves outside the band: no cell there has a corner with φ < 0.
   const float outside = static_cast<float>(
       1 + o.skin + 2 * std::fmax(design.cell.x, std::fmax(design.cell.y, design.cell.z)));
   const float skin = static_cast<float>(o.skin);
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
-  const std::size_t rows = static_cast<std::size_t>(grid.dims[1]) * grid.dims[2];
+  const std::size_t rows = grid.row_count();
   Field field{grid, std::vector<float>(grid.node_count())};
   detail::ProgressCounter counter(o.progress, "compose", rows);
   detail::parallel_for(rows, 16, [&](std::size_t begin, std::size_t end) {

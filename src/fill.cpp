@@ -12,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "detail/names.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/compose.hpp"
@@ -148,6 +149,19 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
 
 }  // namespace
 
+namespace {
+constexpr detail::Named<std::optional<InsideRule>> kInsideNames[] = {
+    {std::nullopt, "auto"}, {InsideRule::Winding, "winding"}, {InsideRule::Parity, "parity"}};
+}  // namespace
+
+std::string_view inside_name(std::optional<InsideRule> rule) {
+  return detail::name_of(kInsideNames, rule);
+}
+
+std::optional<InsideRule> inside_from_name(std::string_view name) {
+  return detail::from_name(kInsideNames, name, "inside rule");
+}
+
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return 4ull << 30;
@@ -162,8 +176,7 @@ std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
 
 FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   validate(options.lattice);
-  if (!(options.skin >= 0) || !std::isfinite(options.skin))
-    throw InputError("the skin thickness must be a non-negative number of millimetres");
+  validate(ComposeOptions{.skin = options.skin});  // fail before any work
   FillResult result;
   FillReport& r = result.report;
   StageClock stage(r);
@@ -192,7 +205,7 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   r.samples = grid.node_count();
 
   const InsideRule rule = options.inside.value_or(InsideRule::Winding);
-  r.inside_rule = rule == InsideRule::Winding ? "winding" : "parity";
+  r.inside_rule = inside_name(rule);
   std::optional<MeshIndex> tree;
   Occupancy occupancy;
   auto classify = [&] {
@@ -290,13 +303,7 @@ FillResult fill(const TriangleSoup& model, const FillOptions& options) {
   });
   if (options.measure)
     r.measures = stage("measure", [&] {
-      // Nodes on the model's surface (φ_model = 0, a face on a grid plane; compose moved their
-      // φ to the smallest float) are neither void nor solid: counted as void they would join
-      // a sheet's two labyrinths along the face.
-      Mask interior = occupancy.inside;
-      for (std::size_t n = 0; n < interior.values.size(); ++n)
-        if (phi.values[n] == std::numeric_limits<float>::min()) interior.values[n] = 0;
-      return measure_lattice(phi, interior, {.progress = options.progress});
+      return measure_lattice(phi, occupancy.inside, {.progress = options.progress});
     });
   phi = Field{};
   occupancy = Occupancy{};

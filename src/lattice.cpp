@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detail/lattice_rows.hpp"
+#include "detail/names.hpp"
 #include "detail/parallel.hpp"
 #include "detail/tpms_kernel.hpp"
 #include "tpmsfill/error.hpp"
@@ -15,23 +16,18 @@
 namespace tpmsfill {
 namespace {
 
-template <class E, std::size_t N>
-E from_name(std::string_view name, const E (&all)[N], std::string_view (*to_name)(E),
-            const char* what) {
-  std::string known;
-  for (E e : all) {
-    if (name == to_name(e)) return e;
-    known += (known.empty() ? "" : ", ") + std::string(to_name(e));
-  }
-  throw InputError("unknown " + std::string(what) + " '" + std::string(name) +
-                   "' (known: " + known + ")");
-}
-
-constexpr Graded kGraded[] = {Graded::Porosity, Graded::Level, Graded::Thickness, Graded::Cell};
-constexpr RampShape kRamps[] = {RampShape::Linear, RampShape::Radial, RampShape::Depth};
-constexpr RegionShape kRegions[] = {RegionShape::HalfSpace, RegionShape::Slab, RegionShape::Sphere,
-                                    RegionShape::Cylinder};
-constexpr Transition kTransitions[] = {Transition::Sigmoid, Transition::Beta};
+constexpr detail::Named<Graded> kGraded[] = {{Graded::Porosity, "porosity"},
+                                             {Graded::Level, "level"},
+                                             {Graded::Thickness, "thickness"},
+                                             {Graded::Cell, "cell"}};
+constexpr detail::Named<RampShape> kRamps[] = {
+    {RampShape::Linear, "linear"}, {RampShape::Radial, "radial"}, {RampShape::Depth, "depth"}};
+constexpr detail::Named<RegionShape> kRegions[] = {{RegionShape::HalfSpace, "half-space"},
+                                                   {RegionShape::Slab, "slab"},
+                                                   {RegionShape::Sphere, "sphere"},
+                                                   {RegionShape::Cylinder, "cylinder"}};
+constexpr detail::Named<Transition> kTransitions[] = {{Transition::Sigmoid, "sigmoid"},
+                                                      {Transition::Beta, "beta"}};
 
 bool finite(Vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -132,56 +128,28 @@ double blend_weight(const Blend& b, Vec3 p) {
 // ---- names -----------------------------------------------------------------------------------
 
 std::string_view graded_name(Graded what) {
-  switch (what) {
-    case Graded::Porosity:
-      return "porosity";
-    case Graded::Level:
-      return "level";
-    case Graded::Thickness:
-      return "thickness";
-    case Graded::Cell:
-      return "cell";
-  }
-  return "unknown";
+  return detail::name_of(kGraded, what);
 }
 std::string_view ramp_name(RampShape shape) {
-  switch (shape) {
-    case RampShape::Linear:
-      return "linear";
-    case RampShape::Radial:
-      return "radial";
-    case RampShape::Depth:
-      return "depth";
-  }
-  return "unknown";
+  return detail::name_of(kRamps, shape);
 }
 std::string_view region_name(RegionShape shape) {
-  switch (shape) {
-    case RegionShape::HalfSpace:
-      return "half-space";
-    case RegionShape::Slab:
-      return "slab";
-    case RegionShape::Sphere:
-      return "sphere";
-    case RegionShape::Cylinder:
-      return "cylinder";
-  }
-  return "unknown";
+  return detail::name_of(kRegions, shape);
 }
 std::string_view transition_name(Transition transition) {
-  return transition == Transition::Beta ? "beta" : "sigmoid";
+  return detail::name_of(kTransitions, transition);
 }
 Graded graded_from_name(std::string_view name) {
-  return from_name(name, kGraded, graded_name, "graded quantity");
+  return detail::from_name(kGraded, name, "graded quantity");
 }
 RampShape ramp_from_name(std::string_view name) {
-  return from_name(name, kRamps, ramp_name, "ramp");
+  return detail::from_name(kRamps, name, "ramp");
 }
 RegionShape region_from_name(std::string_view name) {
-  return from_name(name, kRegions, region_name, "region");
+  return detail::from_name(kRegions, name, "region");
 }
 Transition transition_from_name(std::string_view name) {
-  return from_name(name, kTransitions, transition_name, "transition");
+  return detail::from_name(kTransitions, name, "transition");
 }
 
 // ---- validation and resolution ----------------------------------------------------------------
@@ -347,9 +315,9 @@ struct Layer {
   double clamp;
   bool refine;  // refines()
   bool separable;
-  Mat3 to_lattice;                // Rᵀ
-  CellSamples samples;            // porosity grading only
-  std::vector<AxisTrig> trig[3];  // separable: per node index along each axis
+  Mat3 to_lattice;                             // Rᵀ
+  std::shared_ptr<const CellSamples> samples;  // porosity grading only
+  std::vector<AxisTrig> trig[3];               // separable: per node index along each axis
 };
 
 }  // namespace
@@ -361,8 +329,7 @@ struct LatticeRows::Impl {
   Warp warp;
   std::vector<Layer> layers;  // base first (absent with a custom field), then the blends
   std::optional<RampEval> porosity, level, thickness;
-  RampShape porosity_shape{}, level_shape{}, thickness_shape{};
-  bool per_node_frame = false;
+  bool per_node_frame = false;  // the warp is not separable for some layer
   std::vector<double> stretch[3], scale[3];  // separable warp: per node index along its axis
   std::vector<double> warped;                // separable warp: warped coordinate along it
 
@@ -406,7 +373,7 @@ struct LatticeRows::Impl {
     const bool network = L.o.style == LatticeStyle::Network;
     double v;
     if (porosity)
-      v = level_for_porosity(L.samples, L.o.style,
+      v = level_for_porosity(*L.samples, L.o.style,
                              std::clamp(porosity->value(ramp_t(*porosity, f)), 1e-6, 1 - 1e-6)) *
           f.scale;
     else if (network && level)
@@ -456,7 +423,8 @@ LatticeRows::LatticeRows(const LatticeDesign& design, const Grid& grid, const Fi
     if (const Grading* g = find_grading(design, what)) {
       out.emplace(g->ramp);
       if (g->ramp.shape == RampShape::Depth && !depth)
-        throw InputError("a depth ramp needs the depth below the model's surface");
+        throw InputError(
+            "a depth ramp needs the depth below the model's surface (lattice_field's depth)");
     }
   };
   ramp(Graded::Porosity, m.porosity);
@@ -474,7 +442,7 @@ LatticeRows::LatticeRows(const LatticeDesign& design, const Grid& grid, const Fi
     L.refine = refines(o);
     L.to_lattice = o.rotation.transposed();
     L.separable = o.rotation.is_identity() && (!m.warp.on || m.warp.axis >= 0);
-    if (m.porosity) L.samples = sample_cell(o);
+    if (m.porosity) L.samples = shared_cell_samples(o);
     m.per_node_frame = m.per_node_frame || (!L.separable && m.warp.on);
     m.layers.push_back(std::move(L));
   }
@@ -543,7 +511,7 @@ Field lattice_field(const Grid& grid, const LatticeDesign& design, const Field* 
   const LatticeDesign resolved = resolve_design(design, Box3{});
   const detail::LatticeRows rows(resolved, grid, depth);
   Field field{grid, std::vector<float>(grid.node_count())};
-  const std::size_t count = static_cast<std::size_t>(grid.dims[1]) * grid.dims[2];
+  const std::size_t count = grid.row_count();
   detail::ProgressCounter counter(progress, "tpms", count);
   detail::parallel_for(count, 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t r = begin; r < end; ++r)
@@ -557,9 +525,6 @@ Field lattice_field(const Grid& grid, const LatticeDesign& design, const Field* 
 
 float lattice_value(Vec3 p, const LatticeDesign& design) {
   const LatticeDesign resolved = resolve_design(design, Box3{});
-  for (const Grading& g : resolved.grading)
-    if (g.ramp.shape == RampShape::Depth)
-      throw InputError("lattice_value: a depth ramp needs a grid (use lattice_field)");
   Grid one;
   one.origin = p;
   one.spacing = 1;

@@ -9,8 +9,8 @@
 
 #include "detail/distance_transform.hpp"
 #include "detail/parallel.hpp"
-#include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -25,10 +25,6 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 constexpr double kRidgeBias = 0.5;
 // Ridge nodes are local maxima of the distance up to this many voxels (see ridge_diameters).
 constexpr double kRidgeTolerance = 0.05;
-
-std::size_t row_count(const Grid& g) {
-  return static_cast<std::size_t>(g.dims[1]) * static_cast<std::size_t>(g.dims[2]);
-}
 
 void validate(const Field& phi, const Mask& inside, const MeasureOptions& options) {
   if (inside.values.size() != inside.grid.node_count())
@@ -221,7 +217,7 @@ std::vector<double> ridge_diameters(const SurfaceDistance& d, const SurfaceEstim
   };
   // Fixed chunks of rows, each filling its own list, joined in chunk order, then sorted by node
   // and made unique (climbs from several starts may reach one peak).
-  const std::size_t rows = row_count(g), chunk = 64, chunks = (rows + chunk - 1) / chunk;
+  const std::size_t rows = g.row_count(), chunk = 64, chunks = (rows + chunk - 1) / chunk;
   std::vector<std::vector<Peak>> found(chunks);
   detail::parallel_for(chunks, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t c = begin; c < end; ++c)
@@ -283,71 +279,6 @@ SizeDistribution summarize(std::vector<double> d, int bins, double voxel) {
   return s;
 }
 
-// Sizes, in nodes, of the 6-connected components of the set nodes of `mask`, numbered in order
-// of their first node. Runs along x (count per row, scan, fill, in parallel); runs of
-// neighbouring rows (j − 1 and k − 1) that share an x join (union-find over runs, smaller root
-// wins, so the numbering is independent of the thread count).
-std::vector<std::uint64_t> component_sizes(const Mask& mask) {
-  struct Run {
-    int begin = 0, end = 0;
-  };
-  const Grid& g = mask.grid;
-  const int nx = g.dims[0], ny = g.dims[1];
-  const std::size_t rows = row_count(g);
-  auto scan_row = [&](std::size_t row, auto&& take) {
-    const std::uint8_t* a = mask.values.data() + row * nx;
-    for (int i = 0; i < nx;) {
-      if (!a[i]) {
-        ++i;
-        continue;
-      }
-      const int begin = i;
-      while (i < nx && a[i]) ++i;
-      take(Run{begin, i});
-    }
-  };
-  std::vector<std::uint64_t> start(rows + 1, 0);
-  detail::parallel_for(rows, 64, [&](std::size_t b, std::size_t e) {
-    for (std::size_t row = b; row < e; ++row) scan_row(row, [&](Run) { ++start[row + 1]; });
-  });
-  for (std::size_t row = 0; row < rows; ++row) start[row + 1] += start[row];
-  if (start[rows] >= detail::kNoIndex) throw InputError("too many void runs to label");
-  std::vector<Run> runs(start[rows]);
-  detail::parallel_for(rows, 64, [&](std::size_t b, std::size_t e) {
-    for (std::size_t row = b; row < e; ++row) {
-      std::uint64_t out = start[row];
-      scan_row(row, [&](Run run) { runs[out++] = run; });
-    }
-  });
-  detail::DisjointSets sets(runs.size());
-  auto join_rows = [&](std::size_t row, std::size_t other) {
-    std::uint64_t a = start[row], b = start[other];
-    while (a < start[row + 1] && b < start[other + 1]) {
-      if (runs[a].begin < runs[b].end && runs[b].begin < runs[a].end)
-        sets.unite(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
-      if (runs[a].end < runs[b].end)
-        ++a;
-      else
-        ++b;
-    }
-  };
-  for (std::size_t row = 0; row < rows; ++row) {
-    if (row % ny != 0) join_rows(row, row - 1);                         // j − 1
-    if (row >= static_cast<std::size_t>(ny)) join_rows(row, row - ny);  // k − 1
-  }
-  std::vector<std::uint32_t> number(runs.size(), detail::kNoIndex);
-  std::vector<std::uint64_t> sizes;
-  for (std::size_t a = 0; a < runs.size(); ++a) {
-    const std::uint32_t root = sets.find(static_cast<std::uint32_t>(a));
-    if (number[root] == detail::kNoIndex) {
-      number[root] = static_cast<std::uint32_t>(sizes.size());
-      sizes.push_back(0);
-    }
-    sizes[number[root]] += static_cast<std::uint64_t>(runs[a].end - runs[a].begin);
-  }
-  return sizes;
-}
-
 }  // namespace
 
 LatticeMeasures measure_lattice(const Field& phi, const Mask& inside,
@@ -363,7 +294,13 @@ LatticeMeasures measure_lattice(const Field& phi, const Mask& inside,
       not_solid.values[i] = !solid.values[i];
     }
   });
-  auto is_void = [&](std::size_t i) { return inside.values[i] && !solid.values[i]; };
+  // A node at the smallest positive float lies on a surface (compose moves exact zeros
+  // there): neither solid nor void. On a model face that lies on a grid plane, such nodes
+  // would otherwise join a sheet's two labyrinths along the face.
+  auto is_void = [&](std::size_t i) {
+    return inside.values[i] && !solid.values[i] &&
+           phi.values[i] != std::numeric_limits<float>::min();
+  };
   LatticeMeasures m;
   {
     const SurfaceEstimate estimate{g, phi, -1.0};
@@ -387,7 +324,11 @@ LatticeMeasures measure_lattice(const Field& phi, const Mask& inside,
   detail::parallel_for(n, 1 << 16, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) void_inside.values[i] = is_void(i);
   });
-  const std::vector<std::uint64_t> sizes = component_sizes(void_inside);
+  // 6-connected: two void nodes touching only at an edge or corner are apart.
+  const Regions regions = label_regions(void_inside, Connectivity::Face);
+  std::vector<std::uint64_t> sizes(regions.count, 0);
+  for (const Regions::Run& run : regions.runs)
+    sizes[run.region] += static_cast<std::uint64_t>(run.end - run.begin);
   std::uint64_t total = 0, largest = 0;
   for (std::uint64_t s : sizes) total += s, largest = std::max(largest, s);
   m.void_components = sizes.size();

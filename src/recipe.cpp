@@ -123,14 +123,7 @@ class Reader {
 
 void read_lattice(Reader& r, TpmsOptions& o) {
   r.name("type", o.type, lattice_from_name);
-  std::string style;
-  r.text("style", style);
-  if (style == "sheet")
-    o.style = LatticeStyle::Sheet;
-  else if (style == "network")
-    o.style = LatticeStyle::Network;
-  else if (!style.empty())
-    r.fail("style", "'" + style + "' is not network or sheet");
+  r.name("style", o.style, lattice_style_from_name);
   r.vec3("cell", o.cell, true);
   r.number("level", o.level);
   r.number("thickness", o.thickness);
@@ -189,7 +182,7 @@ json vec(Vec3 v) {
 json lattice_json(const TpmsOptions& o, bool full) {
   json j;
   j["type"] = lattice_name(o.type);
-  j["style"] = o.style == LatticeStyle::Network ? "network" : "sheet";
+  j["style"] = lattice_style_name(o.style);
   j["cell"] = o.cell.x == o.cell.y && o.cell.y == o.cell.z ? json(o.cell.x) : vec(o.cell);
   if (o.style == LatticeStyle::Network)
     j["level"] = o.level;
@@ -228,16 +221,7 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   r.integer("band", o.band.width);
   r.number("skin", o.skin);
   r.boolean("skin_windows", o.skin_windows);
-  std::string inside;
-  r.text("inside", inside);
-  if (inside == "parity")
-    o.inside = InsideRule::Parity;
-  else if (inside == "winding")
-    o.inside = InsideRule::Winding;
-  else if (inside == "auto")
-    o.inside.reset();
-  else if (!inside.empty())
-    r.fail("inside", "'" + inside + "' is not auto, parity or winding");
+  r.name("inside", o.inside, inside_from_name);
   r.boolean("full_field", o.full_field);
   r.boolean("keep_islands", o.keep_islands);
   r.boolean("measure", o.measure);
@@ -307,7 +291,7 @@ std::string recipe_json(const FillOptions& o) {
   j["voxel"] = o.grid.voxel_size;
   j["padding"] = o.grid.padding;
   j["band"] = o.band.width;
-  j["inside"] = !o.inside ? "auto" : *o.inside == InsideRule::Parity ? "parity" : "winding";
+  j["inside"] = inside_name(o.inside);
   j["skin"] = o.skin;
   j["skin_windows"] = o.skin_windows;
   j["full_field"] = o.full_field;

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <string>
 
+#include "detail/names.hpp"
 #include "detail/parallel.hpp"
 #include "detail/tpms_kernel.hpp"
 #include "tpmsfill/error.hpp"
@@ -19,44 +20,44 @@
 
 namespace tpmsfill {
 
+namespace {
+
+// Each type's first entry is its name; the later ones are aliases from_name accepts.
+constexpr detail::Named<Lattice> kLatticeNames[] = {{Lattice::Primitive, "primitive"},
+                                                    {Lattice::Gyroid, "gyroid"},
+                                                    {Lattice::Diamond, "diamond"},
+                                                    {Lattice::Iwp, "iwp"},
+                                                    {Lattice::Neovius, "neovius"},
+                                                    {Lattice::Frd, "frd"},
+                                                    {Lattice::Lidinoid, "lidinoid"},
+                                                    {Lattice::SplitP, "splitp"},
+                                                    {Lattice::Primitive, "schwarz-p"},
+                                                    {Lattice::Diamond, "schwarz-d"},
+                                                    {Lattice::Iwp, "i-wp"},
+                                                    {Lattice::SplitP, "split-p"}};
+constexpr detail::Named<LatticeStyle> kStyleNames[] = {{LatticeStyle::Network, "network"},
+                                                       {LatticeStyle::Sheet, "sheet"}};
+
+}  // namespace
+
 std::string_view lattice_name(Lattice type) {
-  switch (type) {
-    case Lattice::Gyroid:
-      return "gyroid";
-    case Lattice::Primitive:
-      return "primitive";
-    case Lattice::Diamond:
-      return "diamond";
-    case Lattice::Iwp:
-      return "iwp";
-    case Lattice::Neovius:
-      return "neovius";
-    case Lattice::Frd:
-      return "frd";
-    case Lattice::Lidinoid:
-      return "lidinoid";
-    case Lattice::SplitP:
-      return "splitp";
-  }
-  return "unknown";
+  return detail::name_of(kLatticeNames, type);
 }
 
 Lattice lattice_from_name(std::string_view name) {
-  for (Lattice t : kAllLattices)
-    if (name == lattice_name(t)) return t;
-  if (name == "schwarz-p") return Lattice::Primitive;
-  if (name == "schwarz-d") return Lattice::Diamond;
-  if (name == "i-wp") return Lattice::Iwp;
-  if (name == "split-p") return Lattice::SplitP;
-  std::string known;
-  for (Lattice t : kAllLattices)
-    known += (known.empty() ? "" : ", ") + std::string(lattice_name(t));
-  throw InputError("unknown lattice '" + std::string(name) + "' (known: " + known + ")");
+  return detail::from_name(kLatticeNames, name, "lattice");
+}
+
+std::string_view lattice_style_name(LatticeStyle style) {
+  return detail::name_of(kStyleNames, style);
+}
+
+LatticeStyle lattice_style_from_name(std::string_view name) {
+  return detail::from_name(kStyleNames, name, "lattice style");
 }
 
 std::string lattice_label(const TpmsOptions& o) {
-  return std::string(lattice_name(o.type)) +
-         (o.style == LatticeStyle::Network ? " network" : " sheet");
+  return std::string(lattice_name(o.type)) + " " + std::string(lattice_style_name(o.style));
 }
 
 Mat3 rotation_from_euler(Vec3 degrees) {
@@ -154,10 +155,13 @@ static CellSamples sample_cell_uncached(const TpmsOptions& options, int samples)
   return cell;
 }
 
-CellSamples sample_cell(const TpmsOptions& options, int samples) {
+namespace detail {
+
+std::shared_ptr<const CellSamples> shared_cell_samples(const TpmsOptions& options, int samples) {
   validate(options);
   // Solving a porosity needs the sorted cell (tens of ms); point evaluations and repeated
-  // resolution ask for the same few cells again, so the last ones are kept.
+  // resolution ask for the same few cells again, so the last ones are kept, and shared
+  // rather than copied (7 MB each at 96³).
   struct Entry {
     Lattice type;
     LatticeStyle style;
@@ -172,13 +176,19 @@ CellSamples sample_cell(const TpmsOptions& options, int samples) {
     for (const Entry& e : cache)
       if (e.type == options.type && e.style == options.style && e.cell == options.cell &&
           e.samples == samples)
-        return *e.value;
+        return e.value;
   }
   auto value = std::make_shared<const CellSamples>(sample_cell_uncached(options, samples));
   const std::lock_guard<std::mutex> lock(mutex);
   cache.push_front({options.type, options.style, options.cell, samples, value});
   if (cache.size() > 4) cache.pop_back();
-  return *value;
+  return value;
+}
+
+}  // namespace detail
+
+CellSamples sample_cell(const TpmsOptions& options, int samples) {
+  return *detail::shared_cell_samples(options, samples);
 }
 
 double level_for_porosity(const CellSamples& cell, LatticeStyle style, double porosity) {
@@ -198,7 +208,8 @@ TpmsOptions resolve_porosity(const TpmsOptions& options) {
   if (!options.porosity) return options;
   validate(options);
   TpmsOptions r = options;
-  const double v = level_for_porosity(sample_cell(options), options.style, *options.porosity);
+  const double v =
+      level_for_porosity(*detail::shared_cell_samples(options), options.style, *options.porosity);
   (options.style == LatticeStyle::Network ? r.level : r.thickness) = v;
   return r;
 }

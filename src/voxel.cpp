@@ -8,6 +8,7 @@
 
 #include "detail/distance_transform.hpp"
 #include "detail/parallel.hpp"
+#include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -18,14 +19,10 @@ void require_consistent(const Mask& mask) {
     throw InputError("mask size does not match its grid");
 }
 
-std::size_t row_count(const Grid& g) {
-  return static_cast<std::size_t>(g.dims[1]) * static_cast<std::size_t>(g.dims[2]);
-}
-
 // out = in dilated by r along x: a node is set when a set node lies within r along its row.
 void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
   const int nx = g.dims[0];
-  detail::parallel_for(row_count(g), 256, [&](std::size_t begin, std::size_t end) {
+  detail::parallel_for(g.row_count(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t row = begin; row < end; ++row) {
       const std::uint8_t* a = in + row * nx;
       std::uint8_t* b = out + row * nx;
@@ -53,7 +50,7 @@ void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
 void dilate_rows(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r, int axis) {
   const std::size_t nx = g.dims[0];
   const int n_axis = g.dims[axis];
-  detail::parallel_for(row_count(g), 64, [&](std::size_t begin, std::size_t end) {
+  detail::parallel_for(g.row_count(), 64, [&](std::size_t begin, std::size_t end) {
     for (std::size_t row = begin; row < end; ++row) {
       const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
       const int at = axis == 1 ? j : k;
@@ -98,7 +95,7 @@ Mask dilate_complement(const Mask& mask, int voxels) {
   Mask c = dilate(complement(mask), voxels);
   const Grid& g = mask.grid;
   const int nx = g.dims[0], v = voxels;
-  detail::parallel_for(row_count(g), 256, [&](std::size_t b, std::size_t e) {
+  detail::parallel_for(g.row_count(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t row = b; row < e; ++row) {
       const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
       std::uint8_t* a = c.values.data() + row * nx;
@@ -162,29 +159,12 @@ std::uint32_t Regions::region_at(int i, int j, int k) const {
   return i < it->end ? it->region : std::numeric_limits<std::uint32_t>::max();
 }
 
-namespace {
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller id (earlier run) wins
-  }
-};
-
-}  // namespace
-
-Regions label_regions(const Mask& mask) {
+Regions label_regions(const Mask& mask, Connectivity connectivity) {
   require_consistent(mask);
   const Grid& g = mask.grid;
   Regions r;
   r.grid = g;
-  const std::size_t rows = row_count(g);
+  const std::size_t rows = g.row_count();
   r.row_start.assign(rows + 1, 0);
   // Runs per row, counted then filled, so the run order is the node order.
   std::vector<std::uint64_t> counts(rows, 0);
@@ -213,9 +193,12 @@ Regions label_regions(const Mask& mask) {
         }
     }
   });
-  // Union each run with the runs of the 9 rows "before" it (j−1..j+1 at k−1, and j−1 at k)
-  // that overlap it when widened by one node (26-connectivity).
-  UnionFind uf(r.runs.size());
+  // Union each run with the runs of the rows "before" it that touch it. 26-connectivity: the
+  // 4 rows j−1..j+1 at k−1 and j−1 at k, overlapping when widened by one node. 6-connectivity:
+  // the rows j−1 and k−1 only, overlapping in at least one x.
+  const bool faces = connectivity == Connectivity::Face;
+  const int widen = faces ? 0 : 1;
+  detail::DisjointSets sets(r.runs.size());
   for (int k = 0; k < g.dims[2]; ++k)
     for (int j = 0; j < g.dims[1]; ++j) {
       const std::size_t row = static_cast<std::size_t>(j) + static_cast<std::size_t>(g.dims[1]) * k;
@@ -223,16 +206,16 @@ Regions label_regions(const Mask& mask) {
         const Regions::Run& run = r.runs[a];
         for (int dk = -1; dk <= 0; ++dk)
           for (int dj = -1; dj <= 1; ++dj) {
-            if (dk == 0 && dj >= 0) continue;
+            if ((dk == 0 && dj >= 0) || (faces && dj != 0 && dk != 0)) continue;
             const int jj = j + dj, kk = k + dk;
             if (jj < 0 || jj >= g.dims[1] || kk < 0) continue;
             const std::size_t other =
                 static_cast<std::size_t>(jj) + static_cast<std::size_t>(g.dims[1]) * kk;
             for (std::uint64_t b = r.row_start[other]; b < r.row_start[other + 1]; ++b) {
               const Regions::Run& o = r.runs[b];
-              if (o.begin > run.end) break;  // widened overlap: o.begin <= run.end
-              if (o.end >= run.begin)
-                uf.unite(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+              if (o.begin >= run.end + widen) break;
+              if (o.end + widen > run.begin)
+                sets.unite(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
             }
           }
       }
@@ -240,7 +223,7 @@ Regions label_regions(const Mask& mask) {
   // Roots are the earliest run of each region; number regions in root order.
   std::vector<std::uint32_t> number(r.runs.size(), std::numeric_limits<std::uint32_t>::max());
   for (std::size_t a = 0; a < r.runs.size(); ++a) {
-    const std::uint32_t root = uf.find(static_cast<std::uint32_t>(a));
+    const std::uint32_t root = sets.find(static_cast<std::uint32_t>(a));
     if (number[root] == std::numeric_limits<std::uint32_t>::max()) number[root] = r.count++;
     r.runs[a].region = number[root];
   }

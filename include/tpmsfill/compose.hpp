@@ -35,6 +35,9 @@ struct ComposeOptions {
   Progress* progress = nullptr;
 };
 
+/// @throws InputError  the skin is negative or not finite
+void validate(const ComposeOptions& options);
+
 /// Band half-width (voxels) whose distances reach a skin of `skin` mm: every node within
 /// skin + one voxel of the surface is within this many 26-steps of the other side.
 int skin_band_width(double skin, double spacing);

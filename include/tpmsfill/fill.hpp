@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string_view>
 
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/grid.hpp"
@@ -68,6 +69,11 @@ struct FillResult {
   TriangleSoup mesh;  ///< closed, 2-manifold, outward, no self-intersections (validated)
   FillReport report;
 };
+
+/// "auto" (unset), "winding", "parity": FillOptions::inside as the CLI and recipes name it.
+std::string_view inside_name(std::optional<InsideRule> rule);
+/// @throws InputError  not one of those names
+std::optional<InsideRule> inside_from_name(std::string_view name);
 
 /// Fills `model` with the lattice.
 /// @param[in] model  any triangle soup, mm (holes, flips, overlaps and duplicates allowed)

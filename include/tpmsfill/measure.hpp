@@ -52,7 +52,8 @@ struct MeasureOptions {
 
 /// Pore and wall sizes and void connectivity of the lattice clipped to the model.
 ///
-/// solid = inside ∧ φ < 0; void = inside ∧ φ >= 0.
+/// solid = inside ∧ φ < 0; void = inside ∧ φ >= 0, except nodes at the smallest positive
+/// float, which compose.hpp puts on a surface (neither phase).
 /// - pore: distance from void to solid where nodes outside the model also count as void (a
 ///   pore that the model's surface cuts is measured as if it went on) and nodes beyond the
 ///   grid too; sampled at inside void nodes.

@@ -56,6 +56,10 @@ std::string_view lattice_name(Lattice type);
 /// "i-wp", "split-p").
 /// @throws InputError  unknown name (the message lists the known ones)
 Lattice lattice_from_name(std::string_view name);
+/// "network", "sheet".
+std::string_view lattice_style_name(LatticeStyle style);
+/// @throws InputError  neither "network" nor "sheet"
+LatticeStyle lattice_style_from_name(std::string_view name);
 /// "gyroid network", "iwp sheet", ...
 std::string lattice_label(const TpmsOptions& options);
 

@@ -109,6 +109,10 @@ struct Grid {
     return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
            static_cast<std::size_t>(dims[2]);
   }
+  /// Rows of nodes along x: the unit stages parallelise over.
+  std::size_t row_count() const {
+    return static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
+  }
   std::size_t index(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(dims[0]) *

@@ -37,7 +37,8 @@ struct BandOptions {
 /// @throws InputError  width < 1, or inside.values does not match inside.grid
 Band band_voxels(const Mask& inside, const BandOptions& options = {});
 
-/// Connected regions of a mask's set nodes under 26-connectivity, stored as runs along x.
+/// Connected regions of a mask's set nodes (26-connected unless asked otherwise), stored as
+/// runs along x.
 struct Regions {
   struct Run {
     int begin = 0, end = 0;  ///< x range [begin, end) of set nodes in one row
@@ -52,7 +53,11 @@ struct Regions {
   /// Region of node (i, j, k), or UINT32_MAX when the node is not set.
   std::uint32_t region_at(int i, int j, int k) const;
 };
-Regions label_regions(const Mask& mask);
+/// Which neighbours join a region: the 6 face neighbours, or all 26 (faces, edges, corners).
+/// Solid and void pair them: where solid joins across edges and corners (26), void joins only
+/// across faces (6), so two void nodes touching at an edge stay apart.
+enum class Connectivity { Face, Vertex };
+Regions label_regions(const Mask& mask, Connectivity connectivity = Connectivity::Vertex);
 
 /// Euclidean distance, mm (grid.spacing units), from every node to the nearest node where
 /// `mask` is unset; 0 at unset nodes. Exact on the nodes: separable squared EDT

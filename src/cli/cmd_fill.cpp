@@ -128,16 +128,7 @@ void apply_flags(const FillArgs& args, FillOptions& options) {
   if (options.skin_windows && !(options.skin > 0))
     throw InputError("--skin-windows opens a skin: give --skin too");
   if (args.band) options.band.width = *args.band;
-  if (args.inside) {
-    if (*args.inside == "parity")
-      options.inside = InsideRule::Parity;
-    else if (*args.inside == "winding")
-      options.inside = InsideRule::Winding;
-    else if (*args.inside == "auto")
-      options.inside.reset();
-    else
-      throw InputError("--inside: '" + *args.inside + "' is not auto, parity or winding");
-  }
+  if (args.inside) options.inside = inside_from_name(*args.inside);
   if (args.full_field) options.full_field = true;
   if (args.keep_islands) options.keep_islands = true;
   if (args.measure) options.measure = true;

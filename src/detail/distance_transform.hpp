@@ -229,31 +229,30 @@ void squared_distance_transform(const Mask& mask, bool beyond_grid_set, const Fi
   // branch-free sweeps. With beyond_grid_set a row without unset nodes starts from positions
   // kFar beyond its ends, so its distances exceed nx, which marks them kNoUnset.
   constexpr std::int64_t kFar = std::int64_t{1} << 30;  // > any nx, and fits 32 bits
-  parallel_for(
-      static_cast<std::size_t>(g.dims[1]) * g.dims[2], 64, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t row = begin; row < end; ++row) {
-          const std::uint8_t* a = mask.values.data() + row * nx;
-          std::uint32_t* d = d2.get() + row * nx;
-          std::uint32_t* f = kNearest ? near.get() + row * nx : nullptr;
-          std::int64_t last = beyond_grid_set ? -kFar : -1;
-          for (int i = 0; i < nx; ++i) {
-            last = a[i] ? last : i;
-            d[i] = static_cast<std::uint32_t>(i - last);
-            if constexpr (kNearest)
-              f[i] = last < 0 ? kBeyondGrid : static_cast<std::uint32_t>(row * nx + last);
-          }
-          std::int64_t next = beyond_grid_set ? nx + kFar : nx;
-          for (int i = nx - 1; i >= 0; --i) {
-            next = a[i] ? next : i;
-            const auto right = static_cast<std::uint32_t>(next - i);
-            if constexpr (kNearest)
-              if (right < d[i])
-                f[i] = next >= nx ? kBeyondGrid : static_cast<std::uint32_t>(row * nx + next);
-            const std::uint32_t x = std::min(d[i], right);
-            d[i] = x > static_cast<std::uint32_t>(nx) ? kNoUnset : x * x;
-          }
-        }
-      });
+  parallel_for(g.row_count(), 64, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t row = begin; row < end; ++row) {
+      const std::uint8_t* a = mask.values.data() + row * nx;
+      std::uint32_t* d = d2.get() + row * nx;
+      std::uint32_t* f = kNearest ? near.get() + row * nx : nullptr;
+      std::int64_t last = beyond_grid_set ? -kFar : -1;
+      for (int i = 0; i < nx; ++i) {
+        last = a[i] ? last : i;
+        d[i] = static_cast<std::uint32_t>(i - last);
+        if constexpr (kNearest)
+          f[i] = last < 0 ? kBeyondGrid : static_cast<std::uint32_t>(row * nx + last);
+      }
+      std::int64_t next = beyond_grid_set ? nx + kFar : nx;
+      for (int i = nx - 1; i >= 0; --i) {
+        next = a[i] ? next : i;
+        const auto right = static_cast<std::uint32_t>(next - i);
+        if constexpr (kNearest)
+          if (right < d[i])
+            f[i] = next >= nx ? kBeyondGrid : static_cast<std::uint32_t>(row * nx + next);
+        const std::uint32_t x = std::min(d[i], right);
+        d[i] = x > static_cast<std::uint32_t>(nx) ? kNoUnset : x * x;
+      }
+    }
+  });
   const bool edges = !beyond_grid_set;
   envelope_pass<kNearest>(g, 1, edges, d2.get(), near.get(),
                           [&](std::size_t node, std::uint32_t d, std::uint32_t nearest) {

@@ -4,10 +4,15 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 
 #include "tpmsfill/tpms.hpp"
 
 namespace tpmsfill::detail {
+
+/// sample_cell's sorted samples, shared from a small cache instead of copied.
+std::shared_ptr<const CellSamples> shared_cell_samples(const TpmsOptions& options,
+                                                       int samples = 96);
 
 /// cos/sin of X at one coordinate along one axis.
 struct AxisTrig {
