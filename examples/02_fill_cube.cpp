@@ -51,8 +51,8 @@ TriangleSoup make_frame() {
 int main(int argc, char** argv) {
   const char* out = argc > 1 ? argv[1] : "frame-gyroid.stl";
   FillOptions options;
-  options.lattice.type = Lattice::Gyroid;
-  options.lattice.cell = {2.5, 2.5, 2.5};
+  options.design.type = TpmsType::Gyroid;
+  options.design.cell = {2.5, 2.5, 2.5};
   options.grid.voxel_size = 0.2;
   try {
     const FillResult result = fill(make_frame(), options);

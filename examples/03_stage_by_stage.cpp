@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     const Occupancy occupancy = classify_grid(index, grid);                       // winding ≥ ½
     const Band band = band_voxels(occupancy.inside);                              // eq. 6–7
     const auto distance = band_distances(index, occupancy.inside, band);          // eq. 8–9
-    const LatticeDesign lattice{{.type = Lattice::Diamond, .cell = {4, 4, 4}}};
+    const FieldSource lattice = tpms_source({.type = TpmsType::Diamond, .cell = {4, 4, 4}});
     const Field phi = compose_field(occupancy.inside, band, distance, lattice);  // eq. 5, 10
     const TriangleSoup mesh = marching_cubes(phi);                               // iso-surface
     const ValidationReport check = validate_mesh(mesh, {.cell_grid = grid});     // proof

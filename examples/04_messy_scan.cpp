@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
 
     FillOptions options;  // inside = InsideRule::Winding (the default)
     options.grid.voxel_size = 0.25;
-    options.lattice.cell = {4, 4, 4};
+    options.design.cell = {4, 4, 4};
     const FillResult r = fill(messy, options);
     std::printf("%s", to_text(r.report).c_str());
     if (argc > 1) write_mesh(argv[1], r.mesh);

@@ -1,10 +1,11 @@
 // Fill a box with a lattice of your own: a cubic strut lattice given as a signed distance,
-// supplied per point and per block of grid rows, with a gyroid blended in over a half-space.
-// The field plugs into the same compose, marching-cubes and validation path as the built-in
-// TPMS types.
+// plugged into the field seam (field.hpp) as a function of the point and as a source that
+// evaluates blocks of grid rows itself, with a gyroid blended in over a half-space. The field
+// takes the same compose, marching-cubes and validation path as the built-in TPMS types.
 //
 //   05_custom_field [OUT.stl]
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
@@ -46,17 +47,27 @@ int main(int argc, char** argv) {
     o.grid.voxel_size = 0.1;
 
     // Per point: the simplest way in.
-    o.lattice.custom.at = struts;
+    o.design.custom = function_source(struts);
     const FillResult by_point = fill(box, o);
 
-    // Per block of grid rows: the way to bring a field computed in bulk (a GPU kernel, a
-    // sampled density). The block is a Grid of its own; values are x fastest.
-    o.lattice.custom = {};
-    o.lattice.custom.block = [](const Grid& block, float* values) {
-      for (int k = 0; k < block.dims[2]; ++k)
-        for (int j = 0; j < block.dims[1]; ++j)
-          for (int i = 0; i < block.dims[0]; ++i)
-            values[block.index(i, j, k)] = struts(block.node(i, j, k));
+    // A source of its own: on_grid() runs once per grid (the place for tables), and the row
+    // function it returns fills blocks of whole rows, from several threads at once: the way
+    // to bring a field computed in bulk (a GPU kernel, a sampled density). Row r is (j, k) =
+    // (r mod dims[1], r div dims[1]); values are x fastest. `need`, when given, marks the
+    // nodes whose value matters (compose skips the nodes outside the model).
+    o.design.custom.on_grid = [](const Grid& grid) -> RowFunction {
+      return [grid](std::size_t first_row, std::size_t row_count, float* values,
+                    const std::uint8_t* need) {
+        const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
+        for (std::size_t r = 0; r < row_count; ++r) {
+          const std::size_t row = first_row + r;
+          const int j = static_cast<int>(row % grid.dims[1]),
+                    k = static_cast<int>(row / grid.dims[1]);
+          for (std::size_t i = 0; i < nx; ++i)
+            if (!need || need[r * nx + i])
+              values[r * nx + i] = struts(grid.node(static_cast<int>(i), j, k));
+        }
+      };
     };
     const FillResult by_block = fill(box, o);
     if (by_block.mesh.triangles != by_point.mesh.triangles) {
@@ -65,8 +76,8 @@ int main(int argc, char** argv) {
     }
 
     // Blends still apply on top of a custom field: a gyroid grows in for x > 6, across 3 mm.
-    o.lattice.blends.push_back(
-        {.lattice = {.type = Lattice::Gyroid, .cell = {3, 3, 3}, .porosity = 0.7},
+    o.design.blends.push_back(
+        {.tpms = {.type = TpmsType::Gyroid, .cell = {3, 3, 3}, .porosity = 0.7},
          .region = {.shape = RegionShape::HalfSpace, .point = {6, 0, 0}, .axis = {1, 0, 0}},
          .width = 3});
     const FillResult hybrid = fill(box, o);

@@ -10,13 +10,12 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 #include <iterator>
 #include <string>
 #include <utility>
 
 #include "detail/cgal_types.hpp"
+#include "detail/mesh_measures.hpp"
 #include "detail/problem_text.hpp"
 #include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
@@ -27,17 +26,7 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 namespace tpmsfill {
 namespace {
 
-using detail::plural;
-using detail::short_number;
-
 using detail::SoupTopology;
-
-void check_indices(const TriangleSoup& soup) {
-  detail::require_indices_in_range(soup);
-  // Corner slots (3 per triangle) are numbered with 32-bit integers.
-  if (soup.triangles.size() > 0xffffffffu / 3 || soup.points.size() > 0xffffffffu)
-    throw InputError("too many triangles or points to check (at most 1431655765 triangles)");
-}
 
 /// The soup CGAL sees: what repair_polygon_soup() would leave (merged points, no
 /// repeated-corner or duplicate triangles, the first of each duplicate set kept), in input
@@ -74,104 +63,61 @@ double signed_volume(const TriangleSoup& soup, const SoupTopology& topo, Vec3 or
   double six_v = 0;
   for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
     if (topo.flags[t] & SoupTopology::kRepeatedCorner) continue;
-    const Triangle& tri = soup.triangles[t];
-    six_v += dot(soup.points[tri[0]] - origin,
-                 cross(soup.points[tri[1]] - origin, soup.points[tri[2]] - origin));
+    six_v += detail::six_volume(soup, soup.triangles[t], origin);
   }
   return six_v / 6.0;
 }
 
-}  // namespace
+// --- the facts, in the order check.hpp lists them -------------------------------------------
 
-bool MeshCheck::valid() const {
-  return triangles > 0 && closed() && manifold() && consistently_oriented() && outward == true &&
-         degenerate_triangles == 0 && duplicate_triangles == 0 &&
-         self_intersecting_pairs.value_or(0) == 0;
-}
-
-std::vector<std::string> MeshCheck::problems() const {
-  std::vector<std::string> p;
-  if (triangles == 0) p.push_back("the mesh has no triangles");
-  if (!closed()) {
-    // Holes are counted once non-manifold edges are split, which can add border edges.
-    const char* joint = holes <= border_edges ? " in " : " and ";
-    p.push_back(plural(border_edges, "border edge", "border edges") + joint +
-                plural(holes, "hole", "holes") + ": the mesh is open");
-  }
-  if (non_manifold_edges > 0)
-    p.push_back(plural(non_manifold_edges, "non-manifold edge", "non-manifold edges") +
-                " (shared by three or more triangles)");
-  if (non_manifold_vertices > 0)
-    p.push_back(plural(non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") +
-                " (where separate sheets touch at a point)");
-  if (!consistently_oriented())
-    p.push_back(plural(inconsistent_edges, "inconsistently oriented edge",
-                       "inconsistently oriented edges") +
-                ": neighbouring triangles disagree on which side is outside");
-  if (outward == false) {
-    const std::string v = volume ? " (volume " + short_number(*volume) + ")" : "";
-    if (volume && *volume < 0)
-      p.push_back("the mesh is inside out: its normals point inward" + v);
-    else
-      p.push_back("a shell is oriented the wrong way: its normals point into the solid" + v);
-  }
-  if (degenerate_triangles > 0)
-    p.push_back(plural(degenerate_triangles, "degenerate triangle", "degenerate triangles") +
-                " (repeated or collinear corners)");
-  if (duplicate_triangles > 0)
-    p.push_back(plural(duplicate_triangles, "duplicate triangle", "duplicate triangles"));
-  if (self_intersecting_pairs.value_or(0) > 0)
-    p.push_back(plural(*self_intersecting_pairs, "self-intersecting triangle pair",
-                       "self-intersecting triangle pairs"));
-  return p;
-}
-
-MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
-  check_indices(soup);
-  MeshCheck c;
-  const std::size_t max_examples = options.max_examples;
+/// Input: sizes, bounding box, vertices, duplicate and unreferenced points.
+void record_input(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& topo) {
   c.points = soup.points.size();
   c.triangles = soup.triangles.size();
   c.bbox = bounding_box(soup);
-
-  const SoupTopology topo = detail::analyze_soup(soup);
-  auto position = [&](std::uint32_t vertex) { return soup.points[topo.merge.first_point[vertex]]; };
-
-  // --- input ---------------------------------------------------------------------------
   c.vertices = static_cast<std::uint64_t>(
       std::count(topo.vertex_referenced.begin(), topo.vertex_referenced.end(), true));
   c.duplicate_points = c.points - topo.vertex_count;
-  {
-    std::vector<bool> used(soup.points.size(), false);
-    for (const Triangle& t : soup.triangles)
-      for (std::uint32_t v : t) used[v] = true;
-    c.unreferenced_points = static_cast<std::uint64_t>(std::count(used.begin(), used.end(), false));
-  }
+  const std::vector<std::uint8_t> used = detail::used_points(soup);
+  c.unreferenced_points = static_cast<std::uint64_t>(std::count(used.begin(), used.end(), 0));
+}
 
-  // --- faces ---------------------------------------------------------------------------
+/// What the whole-mesh facts need to know about the faces.
+struct FaceFacts {
   bool any_collinear = false;
-  std::uint64_t surface_triangles = 0;  // not repeated-corner
+  std::uint64_t surface_triangles = 0;  ///< not repeated-corner
+};
+
+/// Faces: degenerate and duplicate triangles (with examples), area.
+FaceFacts record_faces(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& topo,
+                       std::size_t max_examples) {
+  FaceFacts faces;
   for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
     const Triangle& tri = soup.triangles[t];
     bool degenerate = (topo.flags[t] & SoupTopology::kRepeatedCorner) != 0;
     if (!degenerate) {
-      ++surface_triangles;
+      ++faces.surface_triangles;
       if (CGAL::collinear(detail::to_cgal(soup.points[tri[0]]),
                           detail::to_cgal(soup.points[tri[1]]),
                           detail::to_cgal(soup.points[tri[2]]))) {
         degenerate = true;
-        any_collinear = true;
+        faces.any_collinear = true;
       }
     }
     if (degenerate && c.degenerate_triangles++ < max_examples)
       c.degenerate_triangle_examples.push_back(static_cast<std::uint32_t>(t));
     if ((topo.flags[t] & SoupTopology::kDuplicate) && c.duplicate_triangles++ < max_examples)
       c.duplicate_triangle_examples.push_back(static_cast<std::uint32_t>(t));
-    const Vec3 a = soup.points[tri[0]], b = soup.points[tri[1]], d = soup.points[tri[2]];
-    c.area += 0.5 * norm(cross(b - a, d - a));
+    c.area += 0.5 * detail::double_area(soup, tri);
   }
+  return faces;
+}
 
-  // --- edges and vertices ----------------------------------------------------------------
+/// Edges and vertices: border, non-manifold and inconsistent edges, pinched vertices (with
+/// examples).
+void record_edges_and_vertices(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& topo,
+                               std::size_t max_examples) {
+  auto position = [&](std::uint32_t vertex) { return soup.points[topo.merge.first_point[vertex]]; };
   c.edges = topo.edges.size();
   auto location = [&](const detail::EdgeUse& use) {
     const auto& corners = topo.corners[use.triangle];
@@ -193,76 +139,130 @@ MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
   for (std::uint32_t v = 0; v < topo.vertex_count; ++v)
     if (topo.fans[v] > 1 && c.non_manifold_vertices++ < max_examples)
       c.non_manifold_vertex_examples.push_back(position(v));
+}
 
+/// The halfedge mesh CGAL builds from the repaired soup (empty without polygons). The soup
+/// is already a polygon mesh when nothing below is wrong; otherwise it is oriented first,
+/// which also duplicates points at non-manifold vertices and edges (polygons keep their
+/// order, so mesh face i is still polygon i).
+detail::SurfaceMesh build_mesh(RepairedSoup& repaired, const MeshCheck& c) {
+  detail::SurfaceMesh mesh;
+  if (repaired.polygons.empty()) return mesh;
+  if (c.non_manifold_edges > 0 || c.non_manifold_vertices > 0 || c.inconsistent_edges > 0)
+    PMP::orient_polygon_soup(repaired.points, repaired.polygons);
+  PMP::polygon_soup_to_polygon_mesh(repaired.points, repaired.polygons, mesh);
+  if (mesh.number_of_faces() != repaired.polygons.size())
+    throw Error("internal error: CGAL built " + std::to_string(mesh.number_of_faces()) +
+                " faces from " + std::to_string(repaired.polygons.size()) + " polygons");
+  return mesh;
+}
+
+/// Self-intersecting pairs of the CGAL mesh, as (i < j) input triangle indices.
+void record_self_intersections(MeshCheck& c, const RepairedSoup& repaired,
+                               const detail::SurfaceMesh& mesh, std::size_t max_examples) {
+  std::vector<std::array<std::uint32_t, 2>> pairs;
+  if (!repaired.polygons.empty()) {
+    using Face = detail::SurfaceMesh::Face_index;
+    std::vector<std::pair<Face, Face>> faces;
+    PMP::self_intersections<CGAL::Parallel_if_available_tag>(mesh.faces(), mesh,
+                                                             std::back_inserter(faces));
+    pairs.reserve(faces.size());
+    for (const auto& [f, g] : faces) {
+      if (f == g) continue;  // CGAL's mark for a degenerate face, counted above
+      std::uint32_t i = repaired.input_triangle[f.idx()], j = repaired.input_triangle[g.idx()];
+      pairs.push_back({std::min(i, j), std::max(i, j)});
+    }
+    std::sort(pairs.begin(), pairs.end());  // the parallel search reports in any order
+  }
+  c.self_intersecting_pairs = pairs.size();
+  pairs.resize(std::min(pairs.size(), max_examples));
+  c.self_intersection_examples = std::move(pairs);
+}
+
+/// Vertices of the non-repeated-corner triangles.
+std::int64_t surface_vertices(const SoupTopology& topo) {
+  std::int64_t v = 0;
+  std::vector<bool> seen(topo.vertex_count, false);
+  for (std::size_t t = 0; t < topo.corners.size(); ++t) {
+    if (topo.flags[t] & SoupTopology::kRepeatedCorner) continue;
+    for (std::uint32_t x : topo.corners[t])
+      if (!seen[x]) {
+        seen[x] = true;
+        ++v;
+      }
+  }
+  return v;
+}
+
+/// Volume, orientation and genus; only for a closed, oriented 2-manifold with a surface.
+void record_closed_shape(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& topo,
+                         const detail::SurfaceMesh& mesh, const FaceFacts& faces) {
+  if (!(c.closed() && c.manifold() && c.consistently_oriented() && faces.surface_triangles > 0))
+    return;
+  const Vec3 centre = 0.5 * (c.bbox.min + c.bbox.max);
+  c.volume = signed_volume(soup, topo, centre);
+  // does_bound_a_volume() checks that nested shells alternate in orientation, but it also
+  // accepts a mesh whose outermost shells are all inside out (it then bounds the unbounded
+  // complement): the sign of the volume tells those apart. It is undefined for
+  // self-intersecting meshes and relies on non-degenerate faces; there, and when
+  // self-intersections were not searched for, the sign of the volume alone decides.
+  const bool bounds = c.self_intersecting_pairs == std::uint64_t{0} && !faces.any_collinear &&
+                              c.duplicate_triangles == 0
+                          ? PMP::does_bound_a_volume(mesh)
+                          : true;
+  c.outward = bounds && *c.volume > 0;
+  const std::int64_t euler = surface_vertices(topo) - static_cast<std::int64_t>(c.edges) +
+                             static_cast<std::int64_t>(faces.surface_triangles);
+  c.genus = (2 * static_cast<std::int64_t>(topo.surface_components) - euler) / 2;
+}
+
+}  // namespace
+
+bool MeshCheck::valid() const {
+  return triangles > 0 && closed() && manifold() && consistently_oriented() && outward == true &&
+         degenerate_triangles == 0 && duplicate_triangles == 0 &&
+         self_intersecting_pairs.value_or(0) == 0;
+}
+
+std::vector<std::string> MeshCheck::problems() const {
+  namespace sentence = detail::sentence;
+  std::vector<std::string> p;
+  if (triangles == 0) p.push_back(sentence::no_triangles());
+  // Holes are counted once non-manifold edges are split, which can add border edges.
+  if (!closed()) p.push_back(sentence::border_edges(border_edges, holes));
+  if (non_manifold_edges > 0) p.push_back(sentence::non_manifold_edges(non_manifold_edges));
+  if (non_manifold_vertices > 0)
+    p.push_back(sentence::non_manifold_vertices(non_manifold_vertices));
+  if (!consistently_oriented()) p.push_back(sentence::inconsistent_edges(inconsistent_edges));
+  if (outward == false) p.push_back(sentence::shells_not_outward(volume));
+  if (degenerate_triangles > 0) p.push_back(sentence::degenerate_triangles(degenerate_triangles));
+  if (duplicate_triangles > 0) p.push_back(sentence::duplicate_triangles(duplicate_triangles));
+  if (self_intersecting_pairs.value_or(0) > 0)
+    p.push_back(sentence::self_intersections(*self_intersecting_pairs));
+  return p;
+}
+
+MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
+  detail::require_32bit_mesh(soup, "check");
+  MeshCheck c;
+  const SoupTopology topo = detail::analyze_soup(soup);
+  record_input(c, soup, topo);
+  const FaceFacts faces = record_faces(c, soup, topo, options.max_examples);
+  record_edges_and_vertices(c, soup, topo, options.max_examples);
   c.components = topo.vertex_components;
   c.edge_components = topo.edge_components;
 
-  // --- CGAL: holes, self-intersections, bounded volume ------------------------------------
+  // CGAL, on the soup it would repair: holes, self-intersections, bounded volume.
   RepairedSoup repaired = repaired_soup(soup, topo);
-  detail::SurfaceMesh mesh;
+  const detail::SurfaceMesh mesh = build_mesh(repaired, c);
   if (!repaired.polygons.empty()) {
-    // The soup is already a polygon mesh when nothing below is wrong; otherwise orient it,
-    // which also duplicates points at non-manifold vertices and edges (polygons keep their
-    // order, so mesh face i is still polygon i).
-    if (c.non_manifold_edges > 0 || c.non_manifold_vertices > 0 || c.inconsistent_edges > 0)
-      PMP::orient_polygon_soup(repaired.points, repaired.polygons);
-    PMP::polygon_soup_to_polygon_mesh(repaired.points, repaired.polygons, mesh);
-    if (mesh.number_of_faces() != repaired.polygons.size())
-      throw Error("internal error: CGAL built " + std::to_string(mesh.number_of_faces()) +
-                  " faces from " + std::to_string(repaired.polygons.size()) + " polygons");
     std::vector<detail::SurfaceMesh::Halfedge_index> cycles;
     PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
     c.holes = cycles.size();
   }
-
-  if (options.self_intersections) {
-    std::vector<std::array<std::uint32_t, 2>> pairs;
-    if (!repaired.polygons.empty()) {
-      using Face = detail::SurfaceMesh::Face_index;
-      std::vector<std::pair<Face, Face>> faces;
-      PMP::self_intersections<CGAL::Parallel_if_available_tag>(mesh.faces(), mesh,
-                                                               std::back_inserter(faces));
-      pairs.reserve(faces.size());
-      for (const auto& [f, g] : faces) {
-        if (f == g) continue;  // CGAL's mark for a degenerate face, counted above
-        std::uint32_t i = repaired.input_triangle[f.idx()], j = repaired.input_triangle[g.idx()];
-        pairs.push_back({std::min(i, j), std::max(i, j)});
-      }
-      std::sort(pairs.begin(), pairs.end());  // the parallel search reports in any order
-    }
-    c.self_intersecting_pairs = pairs.size();
-    pairs.resize(std::min(pairs.size(), max_examples));
-    c.self_intersection_examples = std::move(pairs);
-  }
-
-  // --- volume, orientation, genus of closed oriented 2-manifolds ---------------------------
-  if (c.closed() && c.manifold() && c.consistently_oriented() && surface_triangles > 0) {
-    const Vec3 centre = 0.5 * (c.bbox.min + c.bbox.max);
-    c.volume = signed_volume(soup, topo, centre);
-    // does_bound_a_volume() checks that nested shells alternate in orientation, but it also
-    // accepts a mesh whose outermost shells are all inside out (it then bounds the unbounded
-    // complement): the sign of the volume tells those apart. It is undefined for
-    // self-intersecting meshes and relies on non-degenerate faces; there, and when
-    // self-intersections were not searched for, the sign of the volume alone decides.
-    const bool bounds = c.self_intersecting_pairs == std::uint64_t{0} && !any_collinear &&
-                                c.duplicate_triangles == 0
-                            ? PMP::does_bound_a_volume(mesh)
-                            : true;
-    c.outward = bounds && *c.volume > 0;
-    std::int64_t v = 0;
-    std::vector<bool> seen(topo.vertex_count, false);
-    for (std::size_t t = 0; t < topo.corners.size(); ++t) {
-      if (topo.flags[t] & SoupTopology::kRepeatedCorner) continue;
-      for (std::uint32_t x : topo.corners[t])
-        if (!seen[x]) {
-          seen[x] = true;
-          ++v;
-        }
-    }
-    const std::int64_t euler =
-        v - static_cast<std::int64_t>(c.edges) + static_cast<std::int64_t>(surface_triangles);
-    c.genus = (2 * static_cast<std::int64_t>(topo.surface_components) - euler) / 2;
-  }
+  if (options.self_intersections)
+    record_self_intersections(c, repaired, mesh, options.max_examples);
+  record_closed_shape(c, soup, topo, mesh, faces);
   return c;
 }
 

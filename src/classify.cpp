@@ -15,6 +15,7 @@
 #include "detail/mesh_index_impl.hpp"
 #include "detail/parallel.hpp"
 #include "detail/row_crossing.hpp"
+#include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -252,15 +253,14 @@ void classify_row(const Grid& grid, const RowLine& line, std::vector<RowCrossing
 }  // namespace
 
 Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const ClassifyOptions& options) {
-  const MeshIndex::Impl& impl = index.impl();
+  const auto& impl = detail::MeshIndexAccess::impl(index);
   Occupancy result;
   result.inside.grid = grid;
   result.inside.values.assign(grid.node_count(), 0);
-  const std::size_t nx = static_cast<std::size_t>(std::max(grid.dims[0], 0));
-  const std::size_t rows = nx == 0 ? 0
-                                   : static_cast<std::size_t>(std::max(grid.dims[1], 0)) *
-                                         static_cast<std::size_t>(std::max(grid.dims[2], 0));
-  result.rays = rows;
+  if (grid.dims[0] < 0 || grid.dims[1] < 0 || grid.dims[2] < 0)
+    throw InputError("classify_grid: the grid has a negative dimension");
+  const std::size_t rows = grid.dims[0] == 0 ? 0 : grid.row_count();
+  result.rows = rows;
   if (rows == 0) return result;
 
   std::vector<RowResult> per_row(rows);
@@ -286,7 +286,7 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
   for (const RowResult& r : per_row) {
     length += r.length;
     result.crossings += r.crossings;
-    result.odd_rays += r.odd ? 1 : 0;
+    result.odd_rows += r.odd ? 1 : 0;
     if (options.rule == InsideRule::Winding) {
       result.overlap_rows += r.overlap ? 1 : 0;
       result.unbalanced_rows += r.unbalanced ? 1 : 0;

@@ -5,13 +5,13 @@
 #include <cmath>
 #include <limits>
 
-#include "detail/lattice_rows.hpp"
 #include "detail/parallel.hpp"
+#include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
 
-void validate(const ComposeOptions& o) {
+void require_valid(const ComposeOptions& o) {
   if (!(o.skin >= 0) || !std::isfinite(o.skin))
     throw InputError("the skin thickness must be a non-negative number of millimetres");
 }
@@ -28,13 +28,14 @@ enum Known : std::uint8_t { kOutside = 0, kInside = 1, kDistance = 2 };
 // model_row(row, out, known) writes φ_model (where known) and the kind of every node of a row;
 // the lattice is then evaluated where it can matter and combined.
 template <class ModelRow>
-Field compose_rows(const Grid& grid, const LatticeDesign& design, const ComposeOptions& o,
+Field compose_rows(const Grid& grid, const FieldSource& source, const ComposeOptions& o,
                    const ModelRow& model_row) {
-  validate(o);
-  const detail::LatticeRows lattice(resolve_design(design, Box3{}), grid, o.depth);
-  // Any positive value serves outside the band: no cell there has a corner with φ < 0.
-  const float outside = static_cast<float>(
-      1 + o.skin + 2 * std::fmax(design.cell.x, std::fmax(design.cell.y, design.cell.z)));
+  require_valid(o);
+  if (!source) throw InputError("compose_field: the lattice's field source is empty");
+  const RowFunction lattice = source.on_grid(grid);
+  // Any positive value serves outside the band: no cell there has a corner with φ < 0. One
+  // like a distance keeps the measures' gradients there plausible.
+  const float outside = static_cast<float>(1 + o.skin + source.bound);
   const float skin = static_cast<float>(o.skin);
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t rows = grid.row_count();
@@ -46,8 +47,7 @@ Field compose_rows(const Grid& grid, const LatticeDesign& design, const ComposeO
     for (std::size_t row = begin; row < end; ++row) {
       float* out = field.values.data() + row * nx;
       model_row(row, out, known.data());
-      lattice.row(static_cast<int>(row % grid.dims[1]), static_cast<int>(row / grid.dims[1]),
-                  lat.data(), known.data());
+      lattice(row, 1, lat.data(), known.data());
       for (std::size_t i = 0; i < nx; ++i) {
         float v;
         if (known[i] == kOutside) {
@@ -74,7 +74,7 @@ Field compose_rows(const Grid& grid, const LatticeDesign& design, const ComposeO
 }  // namespace
 
 Field compose_field(const Mask& inside, const Band& band, const std::vector<float>& band_distance,
-                    const LatticeDesign& lattice, const ComposeOptions& options) {
+                    const FieldSource& lattice, const ComposeOptions& options) {
   const Grid& g = inside.grid;
   if (inside.values.size() != g.node_count() || !(band.grid == g) ||
       band.nodes.size() != band_distance.size())
@@ -92,7 +92,7 @@ Field compose_field(const Mask& inside, const Band& band, const std::vector<floa
   });
 }
 
-Field compose_field(const Field& model_distance, const LatticeDesign& lattice,
+Field compose_field(const Field& model_distance, const FieldSource& lattice,
                     const ComposeOptions& options) {
   const Grid& g = model_distance.grid;
   if (model_distance.values.size() != g.node_count())

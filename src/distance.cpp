@@ -18,8 +18,10 @@
 #include <string>
 #include <utility>
 
+#include "detail/index_limits.hpp"
 #include "detail/mesh_index_impl.hpp"
 #include "detail/parallel.hpp"
+#include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -27,8 +29,6 @@ namespace {
 
 using detail::TreeNode;
 using detail::TrianglePrimitive;
-
-constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
 
 /// Squared distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5),
 /// in double. Degenerate (collinear) triangles fall into the edge/vertex regions.
@@ -91,12 +91,12 @@ class Nearest {
   Nearest(const detail::TriangleArray& triangles, double slack)
       : triangles_(triangles), slack_(slack) {}
 
-  /// Starts a query at p, bounded by triangle `hint` when it is not kNoTriangle.
+  /// Starts a query at p, bounded by triangle `hint` when it is not detail::kNoIndex.
   void start(const Vec3& p, std::uint32_t hint) {
     best_ = std::numeric_limits<double>::infinity();
     bound_ = best_;
-    best_id_ = kNoTriangle;
-    if (hint != kNoTriangle) consider(p, hint);
+    best_id_ = detail::kNoIndex;
+    if (hint != detail::kNoIndex) consider(p, hint);
   }
 
   bool go_further() const { return true; }
@@ -129,7 +129,7 @@ class Nearest {
   const detail::TriangleArray& triangles_;
   double slack_;
   double best_ = 0, bound_ = 0;
-  std::uint32_t best_id_ = kNoTriangle;
+  std::uint32_t best_id_ = detail::kNoIndex;
 };
 
 /// Nodes per chunk: the unit of parallel work and of hint reuse (fixed, so that the visiting
@@ -140,7 +140,7 @@ constexpr std::size_t kChunk = 512;
 template <class NodeOf>
 void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const NodeOf& node_of,
              float* out, const DistanceOptions& options) {
-  const MeshIndex::Impl& impl = index.impl();
+  const auto& impl = detail::MeshIndexAccess::impl(index);
   const Grid& grid = inside.grid;
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
@@ -160,10 +160,10 @@ void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const No
     // the same grid column (i) of this chunk, usually one row (one voxel in y) away. Band
     // nodes come in short runs across each wall, so "the previous node" alone is often on
     // the other wall.
-    std::vector<std::uint32_t> column(nx, kNoTriangle);
+    std::vector<std::uint32_t> column(nx, detail::kNoIndex);
     for (std::size_t c = cb; c < ce; ++c) {
-      std::fill(column.begin(), column.end(), kNoTriangle);
-      std::uint32_t hint = kNoTriangle;
+      std::fill(column.begin(), column.end(), detail::kNoIndex);
+      std::uint32_t hint = detail::kNoIndex;
       std::uint64_t previous = ~std::uint64_t{0};
       const std::size_t end = std::min(n, (c + 1) * kChunk);
       for (std::size_t q = c * kChunk; q < end; ++q) {
@@ -172,8 +172,9 @@ void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const No
         const auto j = static_cast<int>((node / nx) % ny);
         const auto k = static_cast<int>(node / (nx * ny));
         const Vec3 p = grid.node(i, j, k);
-        if (node != previous + 1 || hint == kNoTriangle) hint = column[static_cast<std::size_t>(i)];
-        nearest.start(p, options.reuse_hints ? hint : kNoTriangle);
+        if (node != previous + 1 || hint == detail::kNoIndex)
+          hint = column[static_cast<std::size_t>(i)];
+        nearest.start(p, options.reuse_hints ? hint : detail::kNoIndex);
         for (const auto& tree : impl.trees) tree->traversal_with_priority(p, nearest);
         hint = nearest.best_id();
         column[static_cast<std::size_t>(i)] = hint;

@@ -12,15 +12,16 @@
 #include <string>
 #include <utility>
 
-#include "detail/names.hpp"
+#include "detail/float_coordinates.hpp"
+#include "detail/index_limits.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
+#include "tpmsfill/components.hpp"
 #include "tpmsfill/compose.hpp"
 #include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/marching_cubes.hpp"
 #include "tpmsfill/measure.hpp"
-#include "tpmsfill/recipe.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/validate.hpp"
 
@@ -40,7 +41,7 @@ double estimate_bytes(const Box3& bounds, std::uint64_t triangles, const FillOpt
   const double nodes = static_cast<double>(grid_node_count(bounds, o.grid));
   const Vec3 size = bounds.size();
   const double a = o.grid.voxel_size;
-  const double cell = std::fmin(o.lattice.cell.x, std::fmin(o.lattice.cell.y, o.lattice.cell.z));
+  const double cell = std::fmin(o.design.cell.x, std::fmin(o.design.cell.y, o.design.cell.z));
   // Lattice area ≈ 3.1/T per unit volume (gyroid; the others are close), the clipped
   // boundary at most the box's surface; marching cubes makes about 2.6 triangles per a².
   const double area = 3.1 / cell * size.x * size.y * size.z +
@@ -62,8 +63,7 @@ void require_budget(const Box3& bounds, std::uint64_t triangles, const FillOptio
   const double budget =
       static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
   const double need = estimate_bytes(bounds, triangles, o);
-  *estimate =
-      need >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(need);
+  *estimate = estimate_fill_memory(bounds, triangles, o);
   if (need <= budget) return;
   // The estimate falls as the voxel grows: bisect for the smallest voxel size that fits.
   FillOptions trial = o;
@@ -115,7 +115,7 @@ class StageClock {
 std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Field& phi,
                               const Regions& regions) {
   const Grid& g = phi.grid;
-  const std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  const std::uint32_t none = detail::kNoIndex;
   std::vector<std::uint32_t> part(comps.info.size(), none);
   for (std::size_t c = 0; c < comps.info.size(); ++c) {
     const Triangle& t = mesh.triangles[comps.info[c].first_triangle];
@@ -147,20 +147,176 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
   return keep;
 }
 
-}  // namespace
+// The job's state between stages: what later stages need of earlier ones.
+struct Job {
+  const TriangleSoup& model;
+  const FillOptions& options;
+  FillResult& result;
+  FillReport& report;
+  StageClock stage;
+  LatticeDesign design;  // resolved
+  Grid grid;
+  Occupancy occupancy;
+  std::optional<MeshIndex> tree;
+  std::optional<Field> depth;
+  Field phi;
+  TriangleSoup mesh;
 
-namespace {
-constexpr detail::Named<std::optional<InsideRule>> kInsideNames[] = {
-    {std::nullopt, "auto"}, {InsideRule::Winding, "winding"}, {InsideRule::Parity, "parity"}};
-}  // namespace
+  Job(const TriangleSoup& m, const FillOptions& o, FillResult& r)
+      : model(m), options(o), result(r), report(r.report), stage(r.report) {}
+};
 
-std::string_view inside_name(std::optional<InsideRule> rule) {
-  return detail::name_of(kInsideNames, rule);
+// Settings into the report, the design resolved against the model's box.
+void resolve(Job& job) {
+  const FillOptions& o = job.options;
+  FillReport& r = job.report;
+  r.input_triangles = job.model.triangles.size();
+  r.input_bbox = bounding_box(job.model);
+  const LatticeDesign& d = job.design = resolve_design(o.design, r.input_bbox);
+  r.design = d.custom ? std::string("custom field") : tpms_label(d);
+  for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
+  r.cell = d.cell;
+  r.level = d.level;
+  r.thickness = d.thickness;
+  r.full_field = o.full_field;
+  r.skin = o.skin;
+  r.porosity_target = d.porosity;
+  r.sheet = d.style == TpmsStyle::Sheet;
+  if (!d.custom) r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
+  job.result.resolved = o;
+  job.result.resolved.design = d;
+
+  job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
+  require_budget(r.input_bbox, job.model.triangles.size(), o, &r.estimated_memory_bytes);
+  r.grid = job.grid;
+  r.samples = job.grid.node_count();
 }
 
-std::optional<InsideRule> inside_from_name(std::string_view name) {
-  return detail::from_name(kInsideNames, name, "inside rule");
+// Inside/outside. Auto first tries the input as it is: along rows where it is closed and
+// outward, the signed crossings are the winding number exactly; it cleans and caps only when
+// some row says otherwise.
+void classify(Job& job) {
+  const FillOptions& o = job.options;
+  FillReport& r = job.report;
+  const InsideRule rule = o.inside.value_or(InsideRule::Winding);
+  r.inside_rule = inside_name(rule);
+  auto run = [&] {
+    job.occupancy = job.stage("classify", [&] {
+      return classify_grid(*job.tree, job.grid, {.rule = rule, .progress = o.progress});
+    });
+  };
+  if (rule == InsideRule::Parity || !o.inside) {
+    job.stage("spatial", [&] { job.tree.emplace(build_index(job.model)); });
+    run();
+  }
+  if (rule == InsideRule::Winding && (o.inside || job.occupancy.unbalanced_rows > 0)) {
+    job.tree.reset();
+    CleanResult cleaned =
+        job.stage("clean", [&] { return clean_soup(job.model, {.progress = o.progress}); });
+    r.clean = cleaned.report;
+    if (cleaned.soup.triangles.empty())
+      throw InputError("the mesh encloses no volume: no triangle has three distinct corners");
+    job.stage("spatial",
+              [&] { job.tree.emplace(build_index(cleaned.soup, {.hole_caps = &cleaned.caps})); });
+    run();
+  }
+  const Occupancy& occ = job.occupancy;
+  r.rows = occ.rows;
+  r.crossings = occ.crossings;
+  r.odd_rows = occ.odd_rows;
+  r.overlap_rows = occ.overlap_rows;
+  r.parity_disagreements = occ.parity_disagreements;
+  r.cap_evaluations = occ.cap_evaluations;
+  r.model_volume = occ.volume;
+  if (rule == InsideRule::Parity && occ.odd_rows)
+    r.warnings.push_back(std::to_string(occ.odd_rows) +
+                         " grid rows crossed the surface an odd number of times: the input is "
+                         "not closed, so inside and outside may be wrong near its holes "
+                         "(--inside winding handles holes)");
+  if (std::find(occ.inside.values.begin(), occ.inside.values.end(), 1) == occ.inside.values.end())
+    throw InputError(
+        "the mesh encloses no volume: no grid node is inside it (an open sheet, or a shell "
+        "thinner than the voxel size)");
 }
+
+// φ = max(φ_model, φ_L): the model's distance on the band (or everywhere with --full-field),
+// the design's field where the model does not decide.
+void compose(Job& job) {
+  const FillOptions& o = job.options;
+  FillReport& r = job.report;
+  const Mask& inside = job.occupancy.inside;
+  // Depth ramps grade by the distance below the surface: the occupancy's distance transform.
+  for (const Grading& g : job.design.grading)
+    if (g.ramp.shape == RampShape::Depth && !job.depth)
+      job.depth = job.stage("depth", [&] { return distance_transform(inside); });
+  const FieldSource lattice = design_source(job.design, job.depth ? &*job.depth : nullptr);
+  const ComposeOptions compose_options{
+      .skin = o.skin, .skin_windows = o.skin_windows, .progress = o.progress};
+  const DistanceOptions distance_options{.progress = o.progress};
+  if (!o.full_field) {
+    const BandOptions band_options{
+        std::max(o.band.width, skin_band_width(o.skin, job.grid.spacing))};
+    const Band band = job.stage("band", [&] { return band_voxels(inside, band_options); });
+    r.band_nodes = band.nodes.size();
+    r.distance_queries = band.nodes.size();
+    const std::vector<float> d = job.stage(
+        "distance", [&] { return band_distances(*job.tree, inside, band, distance_options); });
+    job.phi = job.stage("compose",
+                        [&] { return compose_field(inside, band, d, lattice, compose_options); });
+  } else {
+    const Field d = job.stage(
+        "distance", [&] { return signed_distance_field(*job.tree, inside, distance_options); });
+    r.distance_queries = r.samples;
+    job.phi = job.stage("compose", [&] { return compose_field(d, lattice, compose_options); });
+  }
+  job.tree.reset();  // the tree is no longer needed: give its memory back
+}
+
+// Cavities are counted (a closed skin seals them in); islands, the pieces that are not the
+// main body of their part of the model, are removed unless kept.
+void remove_islands(Job& job) {
+  const FillOptions& o = job.options;
+  FillReport& r = job.report;
+  const Components comps = mesh_components(job.mesh);
+  for (const auto& c : comps.info)
+    if (c.volume < 0) ++r.cavities, r.cavities_volume -= c.volume;
+  if (r.cavities && o.skin > 0 && !o.skin_windows)
+    r.warnings.push_back("the closed skin seals " + std::to_string(r.cavities) +
+                         " void(s) in, where unfused powder or resin cannot drain "
+                         "(--skin-windows opens the skin at the pores)");
+  if (o.keep_islands || comps.info.size() < 2) return;
+  const std::vector<bool> keep =
+      main_bodies(job.mesh, comps, job.phi, label_regions(job.occupancy.inside));
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    if (!keep[c]) {
+      ++r.islands_removed;
+      r.islands_volume += std::fabs(comps.info[c].volume);
+    }
+  if (r.islands_removed) job.mesh = keep_components(job.mesh, comps, keep);
+}
+
+// Nothing is returned that failed validation.
+void validate(Job& job) {
+  const FillOptions& o = job.options;
+  FillReport& r = job.report;
+  if (job.mesh.triangles.empty())
+    throw InputError(
+        "the lattice is empty: no part of the model is thicker than the lattice's "
+        "struts at this voxel size (try a smaller --voxel or a larger --cell)");
+  if (o.float_coordinates) detail::round_to_float(job.mesh);
+  r.validation = job.stage("validate", [&] {
+    return validate_mesh(job.mesh, {.self_intersections = o.check_self_intersections,
+                                    .cell_grid = job.grid,
+                                    .progress = o.progress});
+  });
+  if (!r.validation.valid()) {
+    std::string why;
+    for (const std::string& p : r.validation.problems()) why += (why.empty() ? "" : "; ") + p;
+    throw ValidationError("the lattice failed validation, nothing was written: " + why);
+  }
+}
+
+}  // namespace
 
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
@@ -175,158 +331,25 @@ std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
 }
 
 FillResult fill(const TriangleSoup& model, const FillOptions& options) {
-  validate(options.lattice);
-  validate(ComposeOptions{.skin = options.skin});  // fail before any work
+  require_valid(options.design);
+  require_valid(ComposeOptions{.skin = options.skin});  // fail before any work
   FillResult result;
-  FillReport& r = result.report;
-  StageClock stage(r);
-  r.input_triangles = model.triangles.size();
-  r.input_bbox = bounding_box(model);
-  const LatticeDesign design = resolve_design(options.lattice, r.input_bbox);
-  r.lattice = design.custom ? std::string("custom field") : lattice_label(design);
-  for (const Blend& b : design.blends) r.lattice += " + " + lattice_label(b.lattice);
-  r.cell = design.cell;
-  r.level = design.level;
-  r.thickness = design.thickness;
-  r.full_field = options.full_field;
-  r.skin = options.skin;
-  r.porosity_target = design.porosity;
-  r.sheet = design.style == LatticeStyle::Sheet;
-  {
-    FillOptions resolved = options;
-    resolved.lattice = design;
-    r.recipe = recipe_json(resolved);
-  }
-  if (!design.custom) r.unclipped_porosity = 1.0 - lattice_solid_fraction(design);
-
-  const Grid grid = make_grid(r.input_bbox, options.grid);  // validates the options first
-  require_budget(r.input_bbox, model.triangles.size(), options, &r.estimated_memory_bytes);
-  r.grid = grid;
-  r.samples = grid.node_count();
-
-  const InsideRule rule = options.inside.value_or(InsideRule::Winding);
-  r.inside_rule = inside_name(rule);
-  std::optional<MeshIndex> tree;
-  Occupancy occupancy;
-  auto classify = [&] {
-    occupancy = stage("classify", [&] {
-      return classify_grid(*tree, grid, {.rule = rule, .progress = options.progress});
-    });
-  };
-  // Auto first tries the input as it is: along rows where it is closed and outward, the
-  // signed crossings are the winding number exactly.
-  if (rule == InsideRule::Parity || !options.inside) {
-    stage("spatial", [&] { tree.emplace(build_index(model)); });
-    classify();
-  }
-  if (rule == InsideRule::Winding && (options.inside || occupancy.unbalanced_rows > 0)) {
-    tree.reset();
-    CleanResult cleaned =
-        stage("clean", [&] { return clean_soup(model, {.progress = options.progress}); });
-    r.clean = cleaned.report;
-    if (cleaned.soup.triangles.empty())
-      throw InputError("the mesh encloses no volume: no triangle has three distinct corners");
-    stage("spatial",
-          [&] { tree.emplace(build_index(cleaned.soup, {.hole_caps = &cleaned.caps})); });
-    classify();
-  }
-  const MeshIndex& index = *tree;
-  r.rays = occupancy.rays;
-  r.crossings = occupancy.crossings;
-  r.odd_rays = occupancy.odd_rays;
-  r.overlap_rows = occupancy.overlap_rows;
-  r.parity_disagreements = occupancy.parity_disagreements;
-  r.cap_evaluations = occupancy.cap_evaluations;
-  r.model_volume = occupancy.volume;
-  if (rule == InsideRule::Parity && occupancy.odd_rays)
-    r.warnings.push_back(std::to_string(occupancy.odd_rays) +
-                         " grid rows crossed the surface an odd number of times: the input is "
-                         "not closed, so inside and outside may be wrong near its holes "
-                         "(--inside winding handles holes)");
-  if (std::find(occupancy.inside.values.begin(), occupancy.inside.values.end(), 1) ==
-      occupancy.inside.values.end())
-    throw InputError(
-        "the mesh encloses no volume: no grid node is inside it (an open sheet, or a shell "
-        "thinner than the voxel size)");
-
-  const DistanceOptions distance_options{.progress = options.progress};
-  // Depth ramps grade by the distance below the surface: the occupancy's distance transform.
-  std::optional<Field> depth;
-  for (const Grading& g : design.grading)
-    if (g.ramp.shape == RampShape::Depth && !depth)
-      depth = stage("depth", [&] { return distance_transform(occupancy.inside); });
-  const ComposeOptions compose_options{.skin = options.skin,
-                                       .skin_windows = options.skin_windows,
-                                       .depth = depth ? &*depth : nullptr,
-                                       .progress = options.progress};
-  Field phi;
-  if (!options.full_field) {
-    const BandOptions band_options{
-        std::max(options.band.width, skin_band_width(options.skin, grid.spacing))};
-    const Band band = stage("band", [&] { return band_voxels(occupancy.inside, band_options); });
-    r.band_nodes = band.nodes.size();
-    r.distance_queries = band.nodes.size();
-    const std::vector<float> d = stage("distance", [&] {
-      return band_distances(index, occupancy.inside, band, distance_options);
-    });
-    phi = stage("compose",
-                [&] { return compose_field(occupancy.inside, band, d, design, compose_options); });
-  } else {
-    const Field d = stage("distance", [&] {
-      return signed_distance_field(index, occupancy.inside, distance_options);
-    });
-    r.distance_queries = r.samples;
-    phi = stage("compose", [&] { return compose_field(d, design, compose_options); });
-  }
-  tree.reset();  // the tree is no longer needed: give its memory back
-
-  TriangleSoup mesh =
-      stage("marching cubes", [&] { return marching_cubes(phi, {.progress = options.progress}); });
-
-  stage("islands", [&] {
-    const Components comps = mesh_components(mesh);
-    for (const auto& c : comps.info)
-      if (c.volume < 0) ++r.cavities, r.cavities_volume -= c.volume;
-    if (r.cavities && options.skin > 0 && !options.skin_windows)
-      r.warnings.push_back("the closed skin seals " + std::to_string(r.cavities) +
-                           " void(s) in, where unfused powder or resin cannot drain "
-                           "(--skin-windows opens the skin at the pores)");
-    if (!options.keep_islands && comps.info.size() >= 2) {
-      const std::vector<bool> keep = main_bodies(mesh, comps, phi, label_regions(occupancy.inside));
-      for (std::size_t c = 0; c < keep.size(); ++c)
-        if (!keep[c]) {
-          ++r.islands_removed;
-          r.islands_volume += std::fabs(comps.info[c].volume);
-        }
-      if (r.islands_removed) mesh = keep_components(mesh, comps, keep);
-    }
-  });
+  Job job(model, options, result);
+  resolve(job);
+  classify(job);
+  compose(job);
+  job.mesh = job.stage("marching cubes",
+                       [&] { return marching_cubes(job.phi, {.progress = options.progress}); });
+  job.stage("islands", [&] { remove_islands(job); });
   if (options.measure)
-    r.measures = stage("measure", [&] {
-      return measure_lattice(phi, occupancy.inside, {.progress = options.progress});
+    result.report.measures = job.stage("measure", [&] {
+      return measure_lattice(job.phi, job.occupancy.inside, {.progress = options.progress});
     });
-  phi = Field{};
-  occupancy = Occupancy{};
-  depth.reset();
-
-  if (mesh.triangles.empty())
-    throw InputError(
-        "the lattice is empty: no part of the model is thicker than the lattice's "
-        "struts at this voxel size (try a smaller --voxel or a larger --cell)");
-  if (options.float_coordinates)
-    for (Vec3& p : mesh.points)
-      p = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
-  r.validation = stage("validate", [&] {
-    return validate_mesh(mesh, {.self_intersections = options.check_self_intersections,
-                                .cell_grid = grid,
-                                .progress = options.progress});
-  });
-  if (!r.validation.valid()) {
-    std::string why;
-    for (const std::string& p : r.validation.problems()) why += (why.empty() ? "" : "; ") + p;
-    throw ValidationError("the lattice failed validation, nothing was written: " + why);
-  }
-  result.mesh = std::move(mesh);
+  job.phi = Field{};
+  job.occupancy = Occupancy{};
+  job.depth.reset();
+  validate(job);
+  result.mesh = std::move(job.mesh);
   return result;
 }
 

@@ -10,14 +10,15 @@
 #include <limits>
 #include <string>
 
+#include "detail/index_limits.hpp"
 #include "detail/mc_tables.hpp"
 #include "detail/parallel.hpp"
+#include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 // Edge parameters are clamped to [kDelta, 1 - kDelta] so a vertex never sits on a grid node
 // and two vertices on edges sharing a node never coincide.
 constexpr double kDelta = 1e-4;
@@ -31,22 +32,27 @@ struct LayerCounts {
   std::size_t edge_vertices = 0, centroids = 0, triangles = 0;
 };
 
+// kSlab: `values` holds a slab of node layers, from node `first_node` on; otherwise the whole
+// field (a compile-time choice, so the whole-field path indexes as directly as it always did).
+template <bool kSlab>
 struct Extractor {
   const Grid& grid;
-  const float* v;
+  const float* values;
   float iso;
   int nx, ny, nz;
   std::size_t sx, sy, sz;  // index strides
   const detail::McTables& tables;
+  std::size_t first_node = 0;
 
-  bool inside(std::size_t n) const { return v[n] < iso; }  // == iso counts as outside
+  float v(std::size_t n) const { return values[kSlab ? n - first_node : n]; }  // n: grid node
+  bool inside(std::size_t n) const { return v(n) < iso; }  // == iso counts as outside
 
   // Calls f(i, config) for the cells (i, j, k), i = 0 .. nx - 2, where bit c of config is set
   // when corner c is inside. The x = 1 face of a cell is the x = 0 face of the next, so each
   // node is read once per row.
   template <class F>
   void for_cells_in_row(int j, int k, const F& f) const {
-    const float* r = v + grid.index(0, j, k);
+    const float* r = values + (grid.index(0, j, k) - (kSlab ? first_node : 0));
     auto column = [&](int i) {
       return static_cast<unsigned>(r[i] < iso) | static_cast<unsigned>(r[i + sy] < iso) << 2 |
              static_cast<unsigned>(r[i + sz] < iso) << 4 |
@@ -78,7 +84,7 @@ struct Extractor {
       const int f = __builtin_ctz(amb);
       const auto& q = tables.face_corners[f];
       double d[4];
-      for (int i = 0; i < 4; ++i) d[i] = static_cast<float>(v[corner_index(base, q[i])] - iso);
+      for (int i = 0; i < 4; ++i) d[i] = static_cast<float>(v(corner_index(base, q[i])) - iso);
       const bool first_diagonal_inside = (config >> q[0] & 1) != 0;
       const double in = first_diagonal_inside ? d[0] * d[2] : d[1] * d[3];
       const double out = first_diagonal_inside ? d[1] * d[3] : d[0] * d[2];
@@ -93,7 +99,7 @@ struct Extractor {
     const int at[3] = {i, j, k};
     const std::size_t n = grid.index(i, j, k);
     const std::size_t stride = axis == 0 ? sx : (axis == 1 ? sy : sz);
-    const double v0 = v[n], v1 = v[n + stride];
+    const double v0 = v(n), v1 = v(n + stride);
     const double t = std::clamp((static_cast<double>(iso) - v0) / (v1 - v0), kDelta, 1 - kDelta);
     double p[3];
     for (int a = 0; a < 3; ++a) p[a] = grid.coordinate(a, at[a]);
@@ -135,16 +141,16 @@ struct Extractor {
   // each node); writes their points when `points` is given (the layer's owner does).
   void number(int k, std::uint32_t first, LayerIds& ids, Vec3* points) const {
     const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
-    for (auto& e : ids.edge) e.assign(layer, kNone);
+    for (auto& e : ids.edge) e.assign(layer, detail::kNoIndex);
     std::uint32_t id = first;
     for (int j = 0; j < ny; ++j) {
       const std::size_t row = grid.index(0, j, k), m0 = sy * static_cast<std::size_t>(j);
       const bool has_y = j + 1 < ny, has_z = k + 1 < nz;
       for (int i = 0; i < nx; ++i) {
-        const bool in = v[row + i] < iso;
-        const bool cross[3] = {i + 1 < nx && (v[row + i + 1] < iso) != in,
-                               has_y && (v[row + i + sy] < iso) != in,
-                               has_z && (v[row + i + sz] < iso) != in};
+        const bool in = v(row + i) < iso;
+        const bool cross[3] = {i + 1 < nx && (v(row + i + 1) < iso) != in,
+                               has_y && (v(row + i + sy) < iso) != in,
+                               has_z && (v(row + i + sz) < iso) != in};
         for (int a = 0; a < 3; ++a)
           if (cross[a]) {
             if (points) points[id] = edge_point(i, j, k, a);
@@ -194,29 +200,23 @@ struct Extractor {
   }
 };
 
-}  // namespace
-
-TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
-  const Grid& grid = field.grid;
-  if (grid.dims[0] < 2 || grid.dims[1] < 2 || grid.dims[2] < 2)
-    throw InputError("marching_cubes: the grid needs at least 2 nodes along each axis");
-  if (field.values.size() != grid.node_count())
-    throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
-                     " values for " + std::to_string(grid.node_count()) + " grid nodes");
-
-  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  const std::size_t sy = static_cast<std::size_t>(nx), sz = sy * static_cast<std::size_t>(ny);
-  const Extractor ex{grid, field.values.data(), options.iso, nx, ny, nz, 1, sy,
-                     sz,   detail::mc_tables()};
-  const std::size_t layers = static_cast<std::size_t>(nz);
+// Both passes over the node layers. with_layers(b, e, f) calls f(extractor) with an extractor
+// that reads node layers b .. e + 1 (those that exist): all that counting the layers [b, e)
+// and numbering them and the next one need (a node's +z edge reaches the layer above).
+template <class WithLayers>
+TriangleSoup extract(const Grid& grid, const McOptions& options, std::size_t count_grain,
+                     const WithLayers& with_layers) {
+  const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
   detail::ProgressCounter progress(options.progress, "marching cubes", 2 * layers);
 
   std::vector<LayerCounts> counts(layers);
-  detail::parallel_for(layers, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k < e; ++k) {
-      counts[k] = ex.count(static_cast<int>(k));
-      progress.add(1);
-    }
+  detail::parallel_for(layers, count_grain, [&](std::size_t b, std::size_t e) {
+    with_layers(b, e, [&](const auto& ex) {
+      for (std::size_t k = b; k < e; ++k) {
+        counts[k] = ex.count(static_cast<int>(k));
+        progress.add(1);
+      }
+    });
   });
 
   // Layer k's vertices: its edge vertices, then the centroid vertices of cell layer k.
@@ -225,7 +225,7 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
     first_vertex[k + 1] = first_vertex[k] + counts[k].edge_vertices + counts[k].centroids;
     first_triangle[k + 1] = first_triangle[k] + counts[k].triangles;
   }
-  if (first_vertex[layers] >= kNone)
+  if (!detail::fits_32bit_ids(first_vertex[layers]))
     throw InputError("marching_cubes: more than 2^32 - 1 vertices; use a coarser grid");
 
   TriangleSoup soup;
@@ -233,26 +233,67 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
   soup.triangles.resize(first_triangle[layers]);
   // Ranges of several layers, so that each task numbers the layer above its range only once.
   detail::parallel_for(layers, 8, [&](std::size_t b, std::size_t e) {
-    LayerIds lower, upper;
-    for (std::size_t k = b; k < e; ++k) {
-      const int kk = static_cast<int>(k);
-      if (k == b)
-        ex.number(kk, static_cast<std::uint32_t>(first_vertex[k]), lower, soup.points.data());
-      else
-        std::swap(lower, upper);
-      if (k + 1 < layers) {
-        // The next layer's points are written by whichever task owns it.
-        ex.number(kk + 1, static_cast<std::uint32_t>(first_vertex[k + 1]), upper,
-                  k + 1 < e ? soup.points.data() : nullptr);
-        ex.fill(kk, lower, upper,
-                static_cast<std::uint32_t>(first_vertex[k] + counts[k].edge_vertices),
-                soup.points.data(), soup.triangles.data() + first_triangle[k]);
+    with_layers(b, e, [&](const auto& ex) {
+      LayerIds lower, upper;
+      for (std::size_t k = b; k < e; ++k) {
+        const int kk = static_cast<int>(k);
+        if (k == b)
+          ex.number(kk, static_cast<std::uint32_t>(first_vertex[k]), lower, soup.points.data());
+        else
+          std::swap(lower, upper);
+        if (k + 1 < layers) {
+          // The next layer's points are written by whichever task owns it.
+          ex.number(kk + 1, static_cast<std::uint32_t>(first_vertex[k + 1]), upper,
+                    k + 1 < e ? soup.points.data() : nullptr);
+          ex.fill(kk, lower, upper,
+                  static_cast<std::uint32_t>(first_vertex[k] + counts[k].edge_vertices),
+                  soup.points.data(), soup.triangles.data() + first_triangle[k]);
+        }
+        progress.add(1);
       }
-      progress.add(1);
-    }
+    });
   });
   progress.finish();
   return soup;
+}
+
+void require_cells(const Grid& grid) {
+  if (grid.dims[0] < 2 || grid.dims[1] < 2 || grid.dims[2] < 2)
+    throw InputError("marching_cubes: the grid needs at least 2 nodes along each axis");
+}
+
+}  // namespace
+
+TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
+  const Grid& grid = field.grid;
+  require_cells(grid);
+  if (field.values.size() != grid.node_count())
+    throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
+                     " values for " + std::to_string(grid.node_count()) + " grid nodes");
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  const std::size_t sy = static_cast<std::size_t>(nx), sz = sy * static_cast<std::size_t>(ny);
+  const Extractor<false> ex{grid, field.values.data(), options.iso, nx, ny, nz, 1, sy,
+                            sz,   detail::mc_tables()};
+  return extract(grid, options, 1, [&](std::size_t, std::size_t, const auto& work) { work(ex); });
+}
+
+TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const McOptions& options) {
+  require_cells(grid);
+  if (!source) throw InputError("marching_cubes: the field source is empty");
+  const RowFunction rows = source.on_grid(grid);
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  const std::size_t sy = static_cast<std::size_t>(nx), sz = sy * static_cast<std::size_t>(ny);
+  const std::size_t layers = static_cast<std::size_t>(nz);
+  // Each task evaluates the node layers it reads, two more than it owns.
+  return extract(grid, options, 8, [&](std::size_t b, std::size_t e, const auto& work) {
+    const std::size_t end = std::min(e + 2, layers);
+    std::vector<float> slab((end - b) * sz);
+    rows(b * static_cast<std::size_t>(ny), (end - b) * static_cast<std::size_t>(ny), slab.data(),
+         nullptr);
+    const Extractor<true> ex{grid, slab.data(), options.iso,         nx,    ny, nz, 1,
+                             sy,   sz,          detail::mc_tables(), b * sz};
+    work(ex);
+  });
 }
 
 }  // namespace tpmsfill

@@ -9,6 +9,7 @@
 
 #include "detail/distance_transform.hpp"
 #include "detail/parallel.hpp"
+#include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/voxel.hpp"
 
@@ -26,7 +27,7 @@ constexpr double kRidgeBias = 0.5;
 // Ridge nodes are local maxima of the distance up to this many voxels (see ridge_diameters).
 constexpr double kRidgeTolerance = 0.05;
 
-void validate(const Field& phi, const Mask& inside, const MeasureOptions& options) {
+void require_valid(const Field& phi, const Mask& inside, const MeasureOptions& options) {
   if (inside.values.size() != inside.grid.node_count())
     throw InputError("inside mask size does not match its grid");
   if (!(phi.grid == inside.grid) || phi.values.size() != inside.values.size())
@@ -283,7 +284,7 @@ SizeDistribution summarize(std::vector<double> d, int bins, double voxel) {
 
 LatticeMeasures measure_lattice(const Field& phi, const Mask& inside,
                                 const MeasureOptions& options) {
-  validate(phi, inside, options);
+  require_valid(phi, inside, options);
   const Grid& g = inside.grid;
   const std::size_t n = g.node_count();
   detail::ProgressCounter progress(options.progress, "measure", 5);

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/formats.hpp"
+#include "detail/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -121,9 +121,10 @@ class Reader {
   std::vector<std::string> used_;
 };
 
-void read_lattice(Reader& r, TpmsOptions& o) {
-  r.name("type", o.type, lattice_from_name);
-  r.name("style", o.style, lattice_style_from_name);
+// A recipe's "lattice" object: one TPMS.
+void read_tpms(Reader& r, TpmsOptions& o) {
+  r.name("type", o.type, tpms_type_from_name);
+  r.name("style", o.style, tpms_style_from_name);
   r.vec3("cell", o.cell, true);
   r.number("level", o.level);
   r.number("thickness", o.thickness);
@@ -144,7 +145,7 @@ void read_lattice(Reader& r, TpmsOptions& o) {
   }
   r.finish();
   try {
-    validate(o);
+    require_valid(o);
   } catch (const InputError& e) {
     r.fail("", e.what());
   }
@@ -178,13 +179,13 @@ json vec(Vec3 v) {
   return json::array({v.x, v.y, v.z});
 }
 
-// `full`: every key, for blends (keys a blend leaves out would be the base lattice's).
-json lattice_json(const TpmsOptions& o, bool full) {
+// `full`: every key, for blends (keys a blend leaves out would be the base TPMS's).
+json tpms_json(const TpmsOptions& o, bool full) {
   json j;
-  j["type"] = lattice_name(o.type);
-  j["style"] = lattice_style_name(o.style);
+  j["type"] = tpms_type_name(o.type);
+  j["style"] = tpms_style_name(o.style);
   j["cell"] = o.cell.x == o.cell.y && o.cell.y == o.cell.z ? json(o.cell.x) : vec(o.cell);
-  if (o.style == LatticeStyle::Network)
+  if (o.style == TpmsStyle::Network)
     j["level"] = o.level;
   else
     j["thickness"] = o.thickness;
@@ -192,6 +193,20 @@ json lattice_json(const TpmsOptions& o, bool full) {
   j["origin"] = vec(o.origin);
   if (full || !o.rotation.is_identity()) j["rotation_matrix"] = o.rotation.m;
   return j;
+}
+
+// Malformed JSON: a ParseError at the line of the byte nlohmann stopped at, as for mesh files.
+// (A number too large for a double is an out_of_range error, which has no position: blame
+// the end.)
+[[noreturn]] void fail_json(std::string_view text, const std::string& source,
+                            const json::exception& e) {
+  const auto* parse = dynamic_cast<const json::parse_error*>(&e);
+  const std::size_t byte = std::min(parse ? parse->byte : text.size(), text.size());
+  std::uint64_t line = 1;
+  for (std::size_t i = 0; i + 1 < byte; ++i) line += text[i] == '\n';
+  std::string why = e.what();
+  if (auto p = why.find("; "); p != std::string::npos) why = why.substr(p + 2);
+  detail::fail_at_line(source, line, "not valid JSON: " + why);
 }
 
 }  // namespace
@@ -202,15 +217,7 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   try {
     root = json::parse(text.begin(), text.end());
   } catch (const json::exception& e) {
-    // nlohmann counts bytes; say the line, as for mesh files. (A number too large for a
-    // double is an out_of_range error, which has no position: blame the end.)
-    const auto* parse = dynamic_cast<const json::parse_error*>(&e);
-    const std::size_t byte = std::min(parse ? parse->byte : text.size(), text.size());
-    std::uint64_t line = 1;
-    for (std::size_t i = 0; i + 1 < byte; ++i) line += text[i] == '\n';
-    std::string why = e.what();
-    if (auto p = why.find("; "); p != std::string::npos) why = why.substr(p + 2);
-    io::fail_at_line(source, line, "not valid JSON: " + why);
+    fail_json(text, source, e);
   }
   FillOptions o = defaults;
   Reader r(root, "", source);
@@ -230,28 +237,28 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
     r.fail("custom", "a custom field is code: it cannot come from a recipe");
   if (const json* v = r.get("lattice")) {
     Reader l = r.object("lattice", *v);
-    read_lattice(l, o.lattice);
+    read_tpms(l, o.design);
   }
-  const TpmsOptions base = o.lattice;
-  if (r.get("grading")) o.lattice.grading.clear();
+  const TpmsOptions base = o.design;
+  if (r.get("grading")) o.design.grading.clear();
   for_each_in_array(r, "grading", [&](Reader& item) {
     Grading g;
     item.name("what", g.what, graded_from_name);
     if (!item.get("what")) item.fail("what", "missing (porosity, level, thickness or cell)");
     g.ramp = read_ramp(item);
-    o.lattice.grading.push_back(g);
+    o.design.grading.push_back(g);
   });
-  if (r.get("blends")) o.lattice.blends.clear();
+  if (r.get("blends")) o.design.blends.clear();
   for_each_in_array(r, "blends", [&](Reader& item) {
     Blend b;
-    b.lattice = base;
+    b.tpms = base;
     if (const json* v = item.get("lattice")) {
       // A level or thickness of its own replaces an inherited porosity.
       if (v->is_object() && (v->contains("level") || v->contains("thickness")) &&
           !v->contains("porosity"))
-        b.lattice.porosity.reset();
+        b.tpms.porosity.reset();
       Reader l = item.object("lattice", *v);
-      read_lattice(l, b.lattice);
+      read_tpms(l, b.tpms);
     }
     if (const json* v = item.get("region")) {
       Reader g = item.object("region", *v);
@@ -266,11 +273,11 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
     item.number("width", b.width);
     item.name("transition", b.transition, transition_from_name);
     item.number("peak", b.peak);
-    o.lattice.blends.push_back(b);
+    o.design.blends.push_back(b);
   });
   r.finish();
   try {
-    validate(o.lattice);
+    require_valid(o.design);
   } catch (const InputError& e) {
     throw InputError(source + ": " + e.what());
   }
@@ -298,10 +305,10 @@ std::string recipe_json(const FillOptions& o) {
   j["keep_islands"] = o.keep_islands;
   j["measure"] = o.measure;
   j["self_intersections"] = o.check_self_intersections;
-  if (o.lattice.custom) j["custom"] = true;
-  j["lattice"] = lattice_json(o.lattice, false);
+  if (o.design.custom) j["custom"] = true;
+  j["lattice"] = tpms_json(o.design, false);
   json grading = json::array();
-  for (const Grading& g : o.lattice.grading) {
+  for (const Grading& g : o.design.grading) {
     json e;
     e["what"] = graded_name(g.what);
     e["ramp"] = ramp_name(g.ramp.shape);
@@ -315,9 +322,9 @@ std::string recipe_json(const FillOptions& o) {
   }
   j["grading"] = grading;
   json blends = json::array();
-  for (const Blend& b : o.lattice.blends) {
+  for (const Blend& b : o.design.blends) {
     json e;
-    e["lattice"] = lattice_json(b.lattice, true);
+    e["lattice"] = tpms_json(b.tpms, true);
     e["region"] = {{"shape", region_name(b.region.shape)},
                    {"point", vec(b.region.point)},
                    {"axis", vec(b.region.axis)},

@@ -41,7 +41,11 @@
 
 #include "detail/alpha_wrap.hpp"
 #include "detail/cgal_types.hpp"
+#include "detail/float_coordinates.hpp"
+#include "detail/index_limits.hpp"
+#include "detail/mesh_measures.hpp"
 #include "detail/soup_indices.hpp"
+#include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -59,41 +63,37 @@ using Vertex = SurfaceMesh::Vertex_index;
 /// the exhaustive one is cubic in the edge count (400 edges: about 6·10^7 candidates).
 constexpr std::size_t kMaxCubicHole = 400;
 
-/// Progress through one stage at a time; report() returning false cancels.
-class Stages {
- public:
-  explicit Stages(Progress* progress) : progress_(progress) {}
-  void begin(const char* stage) {
-    if (progress_) progress_->begin(stage);
-  }
-  void report(double fraction) {
-    if (progress_ && !progress_->report(fraction)) throw Cancelled("cancelled");
-  }
+/// A vertex's position as plain data.
+Vec3 position(const SurfaceMesh& mesh, Vertex v) {
+  const Point3& p = mesh.point(v);
+  return {p.x(), p.y(), p.z()};
+}
 
- private:
-  Progress* progress_;
-};
+/// A face's first three vertices (every face here is a triangle), in the face's order.
+std::array<Vertex, 3> face_vertices(const SurfaceMesh& mesh, Face f) {
+  std::array<Vertex, 3> c{};
+  int k = 0;
+  for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+    if (k == 3) break;
+    c[k++] = v;
+  }
+  return c;
+}
 
 /// The mesh as a soup: vertices that some face uses, in index order; faces in index order.
 TriangleSoup to_soup(const SurfaceMesh& mesh) {
   TriangleSoup soup;
-  std::vector<std::uint32_t> index(mesh.num_vertices(), 0xffffffffu);
+  std::vector<std::uint32_t> index(mesh.num_vertices(), detail::kNoIndex);
   soup.triangles.reserve(mesh.number_of_faces());
   for (Face f : mesh.faces()) {
-    Triangle t{};
-    int k = 0;
-    for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
-      if (k == 3) break;
-      t[k++] = v.idx();
-    }
-    soup.triangles.push_back(t);
+    const std::array<Vertex, 3> c = face_vertices(mesh, f);
+    soup.triangles.push_back({c[0].idx(), c[1].idx(), c[2].idx()});
   }
   for (Vertex v : mesh.vertices()) {
     // Only referenced vertices are kept (component removal leaves isolated ones).
     if (mesh.is_isolated(v)) continue;
     index[v.idx()] = static_cast<std::uint32_t>(soup.points.size());
-    const Point3& p = mesh.point(v);
-    soup.points.push_back({p.x(), p.y(), p.z()});
+    soup.points.push_back(position(mesh, v));
   }
   for (Triangle& t : soup.triangles)
     for (std::uint32_t& v : t) v = index[v];
@@ -117,10 +117,8 @@ std::uint64_t count_self_intersections(const SurfaceMesh& mesh) {
 /// A face's corners as a cyclic sequence with the smallest vertex first, so that a reversed
 /// face compares unequal and a merely rotated one equal.
 std::array<std::uint32_t, 3> cyclic_corners(const SurfaceMesh& mesh, Face f) {
-  std::array<std::uint32_t, 3> c{};
-  int k = 0;
-  for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
-    if (k < 3) c[k++] = v.idx();
+  const std::array<Vertex, 3> v = face_vertices(mesh, f);
+  std::array<std::uint32_t, 3> c{v[0].idx(), v[1].idx(), v[2].idx()};
   std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
   return c;
 }
@@ -212,7 +210,7 @@ bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, bool& faired) {
 
 /// Fills every border cycle (step 4). A hole whose filling fails inside CGAL is left open:
 /// the mesh is restored and the holes are filled again without it.
-HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Stages& stages) {
+HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Progress* progress) {
   std::vector<Halfedge> cycles;
   PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
   HoleCounts counts;
@@ -225,7 +223,8 @@ HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Stages& stages) {
     std::size_t i = 0;
     try {
       for (; i < cycles.size(); ++i) {
-        stages.report(static_cast<double>(i) / static_cast<double>(cycles.size()));
+        detail::report_or_cancel(progress,
+                                 static_cast<double>(i) / static_cast<double>(cycles.size()));
         if (skip[i] || !mesh.is_border(cycles[i])) continue;
         bool faired = false;
         if (fill_hole(mesh, cycles[i], fair, faired)) ++counts.filled;
@@ -237,7 +236,7 @@ HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Stages& stages) {
       mesh = original;
     }
   }
-  stages.report(1.0);
+  detail::report_or_cancel(progress, 1.0);
   return counts;
 }
 
@@ -292,11 +291,11 @@ void canonical_order(TriangleSoup& soup) {
                    [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
   TriangleSoup out;
   out.triangles.reserve(soup.triangles.size());
-  std::vector<std::uint32_t> index(soup.points.size(), 0xffffffffu);
+  std::vector<std::uint32_t> index(soup.points.size(), detail::kNoIndex);
   for (std::uint32_t t : order) {
     Triangle tri = soup.triangles[t];
     for (std::uint32_t& v : tri) {
-      if (index[v] == 0xffffffffu) {
+      if (index[v] == detail::kNoIndex) {
         index[v] = static_cast<std::uint32_t>(out.points.size());
         out.points.push_back(soup.points[v]);
       }
@@ -305,11 +304,6 @@ void canonical_order(TriangleSoup& soup) {
     out.triangles.push_back(tri);
   }
   soup = std::move(out);
-}
-
-void round_to_float(TriangleSoup& soup) {
-  for (Vec3& p : soup.points)
-    p = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
 }
 
 void check_options(const RepairOptions& o) {
@@ -341,9 +335,7 @@ SurfaceMesh mesh_from_soup(const TriangleSoup& input) {
   // repair_polygon_soup() on triangles (std::array) keeps repeated-corner ones: its steps one
   // by one, dropping those after the merge.
   PMP::merge_duplicate_points_in_polygon_soup(points, polygons);
-  std::erase_if(polygons, [](const std::array<std::size_t, 3>& t) {
-    return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-  });
+  std::erase_if(polygons, detail::repeated_corner<std::size_t>);
   PMP::merge_duplicate_polygons_in_polygon_soup(points, polygons);
   PMP::remove_isolated_points_in_polygon_soup(points, polygons);
   if (polygons.empty())
@@ -356,18 +348,31 @@ SurfaceMesh mesh_from_soup(const TriangleSoup& input) {
   return mesh;
 }
 
-/// Step 3: removes components below the threshold; returns how many.
-std::uint64_t remove_small_components(SurfaceMesh& mesh, double fraction, RepairReport& report) {
+/// What steps 1-6 made and did. When a step fails inside CGAL where no per-step guard
+/// catches it, `failure` says so and the other fields hold what the steps before it did.
+struct Steps {
+  SurfaceMesh mesh;                      ///< after step 6
+  SurfaceMesh filled;                    ///< after step 4: what the wrap wraps
+  Counts counts;                         ///< for the log
+  std::uint64_t components = 0;          ///< RepairReport::components
+  double small_component_threshold = 0;  ///< RepairReport::small_component_threshold
+  std::uint64_t holes_faired = 0;        ///< RepairReport::holes_faired
+  std::optional<std::string> failure;
+};
+
+/// Step 3: removes components below the threshold; returns how many. Records the component
+/// count and the threshold in `steps`.
+std::uint64_t remove_small_components(SurfaceMesh& mesh, double fraction, Steps& steps) {
   auto fccmap = mesh.add_property_map<Face, std::size_t>("f:repair_cc", 0).first;
   const std::size_t n = PMP::connected_components(mesh, fccmap);
   std::vector<double> area(n, 0.0);
   for (Face f : mesh.faces()) area[fccmap[f]] += PMP::face_area(f, mesh);
   const double largest = n ? *std::max_element(area.begin(), area.end()) : 0.0;
-  report.components = n;
-  report.small_component_threshold = fraction * largest;
+  steps.components = n;
+  steps.small_component_threshold = fraction * largest;
   std::vector<std::size_t> remove;
   for (std::size_t c = 0; c < n; ++c)
-    if (area[c] < report.small_component_threshold) remove.push_back(c);
+    if (area[c] < steps.small_component_threshold) remove.push_back(c);
   if (!remove.empty()) {
     PMP::remove_connected_components(mesh, remove, fccmap);
     PMP::remove_isolated_vertices(mesh);
@@ -392,14 +397,9 @@ std::vector<double> shell_volumes(SurfaceMesh& mesh, Vec3 origin) {
   const std::size_t n = PMP::connected_components(mesh, fccmap);
   std::vector<double> six_v(n, 0.0);
   for (Face f : mesh.faces()) {
-    std::array<Vec3, 3> p{};
-    int k = 0;
-    for (Vertex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
-      if (k == 3) break;
-      const Point3& q = mesh.point(v);
-      p[k++] = Vec3{q.x(), q.y(), q.z()} - origin;
-    }
-    six_v[fccmap[f]] += dot(p[0], cross(p[1], p[2]));
+    const std::array<Vertex, 3> c = face_vertices(mesh, f);
+    six_v[fccmap[f]] += detail::six_volume(origin, position(mesh, c[0]), position(mesh, c[1]),
+                                           position(mesh, c[2]));
   }
   mesh.remove_property_map(fccmap);
   for (double& v : six_v) v /= 6.0;
@@ -421,12 +421,11 @@ bool plausible_volume(const std::vector<double>& before, double after) {
 }
 
 /// Step 5: autorefinement (keeps the outer hull), else local remeshing, each on a copy.
-void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Stages& stages) {
+void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Progress* progress) {
   counts.si_action = "not resolved";
   const bool closed = CGAL::is_closed(mesh);
   Box3 box;
-  for (Vertex v : mesh.vertices())
-    box.extend({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+  for (Vertex v : mesh.vertices()) box.extend(position(mesh, v));
   const Vec3 origin = 0.5 * (box.min + box.max);
   const std::vector<double> before = closed ? shell_volumes(mesh, origin) : std::vector<double>{};
   auto volume_ok = [&](SurfaceMesh& candidate) {
@@ -447,7 +446,7 @@ void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Stages& stage
   } catch (const CGAL::Failure_exception&) {
     // CGAL 5.5's experimental autorefinement fails on some inputs: try the local way.
   }
-  stages.report(0.5);
+  detail::report_or_cancel(progress, 0.5);
   try {
     SurfaceMesh local = mesh;
     if (PMP::experimental::remove_self_intersections(local) && acceptable(local, closed) &&
@@ -460,59 +459,82 @@ void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Stages& stage
   }
 }
 
-/// Steps 1-6. `filled` receives the mesh after step 4 (what the wrap wraps).
-SurfaceMesh repair_steps(const TriangleSoup& input, const RepairOptions& options,
-                         RepairReport& report, Counts& counts, SurfaceMesh& filled,
-                         Stages& stages) {
-  stages.begin("repair soup");
-  SurfaceMesh mesh = mesh_from_soup(input);
-  stages.report(0.5);
+/// CGAL's failure as one of RepairReport::unresolved's sentences.
+std::string step_failure(const CGAL::Failure_exception& e) {
+  return "a repair step failed inside CGAL (" + one_line(e.what()) + ")";
+}
+
+/// Steps 1-4: the soup as a mesh, stitched, without specks, holes filled. Writes into `s`
+/// as it goes.
+void repair_surface(const TriangleSoup& input, const RepairOptions& options, Steps& s) {
+  Progress* progress = options.progress;
+  detail::begin_stage(progress, "repair soup");
+  s.mesh = mesh_from_soup(input);
+  detail::report_or_cancel(progress, 0.5);
 
   // --- 2. stitch, split pinched vertices, remove collinear faces ---------------------------
-  counts.stitched = PMP::stitch_borders(mesh);
-  counts.pinched = PMP::duplicate_non_manifold_vertices(mesh);
-  counts.degenerate_left = remove_degenerate(mesh);
-  stages.report(1.0);
+  s.counts.stitched = PMP::stitch_borders(s.mesh);
+  s.counts.pinched = PMP::duplicate_non_manifold_vertices(s.mesh);
+  s.counts.degenerate_left = remove_degenerate(s.mesh);
+  detail::report_or_cancel(progress, 1.0);
 
   // --- 3. small components ---------------------------------------------------------------
-  stages.begin("components");
-  counts.specks = remove_small_components(mesh, options.min_component_fraction, report);
-  stages.report(1.0);
+  detail::begin_stage(progress, "components");
+  s.counts.specks = remove_small_components(s.mesh, options.min_component_fraction, s);
+  detail::report_or_cancel(progress, 1.0);
 
   // --- 4. holes -------------------------------------------------------------------------
   if (options.fill_holes) {
-    stages.begin("fill holes");
-    counts.holes = fill_holes(mesh, options.fair_holes, stages);
-    mesh.collect_garbage();
+    detail::begin_stage(progress, "fill holes");
+    s.counts.holes = fill_holes(s.mesh, options.fair_holes, progress);
+    s.mesh.collect_garbage();
     // A patch may pinch a vertex where a hole's border touches itself, or have a collinear
     // triangle where the border has three collinear corners.
-    counts.pinched += PMP::duplicate_non_manifold_vertices(mesh);
-    remove_degenerate(mesh);
+    s.counts.pinched += PMP::duplicate_non_manifold_vertices(s.mesh);
+    remove_degenerate(s.mesh);
   } else {
     std::vector<Halfedge> cycles;
-    PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
-    counts.holes.found = cycles.size();
+    PMP::extract_boundary_cycles(s.mesh, std::back_inserter(cycles));
+    s.counts.holes.found = cycles.size();
   }
-  report.holes_faired = counts.holes.faired;
-  filled = mesh;
+  s.holes_faired = s.counts.holes.faired;
+  s.filled = s.mesh;
+}
 
-  // --- 5. self-intersections --------------------------------------------------------------
-  stages.begin("self-intersections");
+/// Steps 5-6 on s.mesh: self-intersections resolved, shells oriented.
+void resolve_and_orient(const RepairOptions& options, Steps& s) {
+  SurfaceMesh& mesh = s.mesh;
+  detail::begin_stage(options.progress, "self-intersections");
   // Autorefinement keeps the outside of each shell, as its orientation says: orient first.
-  if (!mesh.is_empty() && CGAL::is_closed(mesh)) counts.inward_shells = orient_shells(mesh, false);
-  counts.si_found = count_self_intersections(mesh);
-  if (counts.si_found > 0 && options.self_intersections)
-    resolve_self_intersections(mesh, counts, stages);
-  stages.report(1.0);
+  if (!mesh.is_empty() && CGAL::is_closed(mesh))
+    s.counts.inward_shells = orient_shells(mesh, false);
+  s.counts.si_found = count_self_intersections(mesh);
+  if (s.counts.si_found > 0 && options.self_intersections)
+    resolve_self_intersections(mesh, s.counts, options.progress);
+  detail::report_or_cancel(options.progress, 1.0);
 
   // --- 6. orientation -------------------------------------------------------------------
   if (!mesh.is_empty() && CGAL::is_closed(mesh) && count_self_intersections(mesh) == 0)
-    counts.inward_shells += orient_shells(mesh, true);
-  return mesh;
+    s.counts.inward_shells += orient_shells(mesh, true);
 }
 
-void write_log(const MeshCheck& before, const Counts& c, const RepairOptions& options,
-               std::vector<RepairAction>& a) {
+/// Steps 1-6.
+Steps repair_steps(const TriangleSoup& input, const RepairOptions& options) {
+  Steps s;
+  try {
+    repair_surface(input, options, s);
+    resolve_and_orient(options, s);
+  } catch (const CGAL::Failure_exception& e) {
+    // A step the per-step guards do not cover failed: what is left to try is the wrap.
+    s.failure = step_failure(e);
+  }
+  return s;
+}
+
+/// The log: one action per defect class, in RepairReport::actions' order.
+std::vector<RepairAction> write_log(const MeshCheck& before, const Counts& c,
+                                    const RepairOptions& options) {
+  std::vector<RepairAction> a;
   a.push_back(action("duplicate points", before.duplicate_points,
                      "merged (bit-identical positions)", before.duplicate_points));
   a.push_back(action("degenerate triangles", before.degenerate_triangles,
@@ -536,6 +558,61 @@ void write_log(const MeshCheck& before, const Counts& c, const RepairOptions& op
                      c.holes.filled));
   a.push_back(action("self-intersecting triangle pairs", c.si_found, c.si_action, c.si_fixed));
   a.push_back(action("shells oriented inward", c.inward_shells, "reversed", c.inward_shells));
+  return a;
+}
+
+/// Rounds the result to float. Rounding can break a valid repair (two faces a few ulps apart
+/// now touch, a sliver turns degenerate): then the rounded mesh is repaired again, at most
+/// twice, as long as that does not change the solid.
+void round_result(RepairResult& result, const RepairOptions& options) {
+  RepairReport& report = result.report;
+  const bool valid_in_double = report.after.valid();
+  detail::round_to_float(result.mesh);
+  report.after = check_mesh(result.mesh);
+  const std::optional<double> volume = report.after.volume;
+  while (valid_in_double && !report.after.valid() && report.float_repasses < 2) {
+    ++report.float_repasses;
+    const Steps again = repair_steps(result.mesh, options);
+    if (again.failure) break;
+    try {
+      TriangleSoup next = to_soup(again.mesh);
+      canonical_order(next);
+      detail::round_to_float(next);
+      const MeshCheck check = check_mesh(next);
+      // A repair of rounding errors must not change the solid.
+      if (volume &&
+          !(check.volume && std::fabs(*check.volume - *volume) <= 0.01 * std::fabs(*volume)))
+        break;
+      result.mesh = std::move(next);
+      report.after = check;
+    } catch (const CGAL::Failure_exception&) {
+      break;
+    }
+  }
+}
+
+/// Step 7: the result replaced by the alpha wrap of `wrap_input`, if CGAL can make one.
+void wrap_result(RepairResult& result, const TriangleSoup& wrap_input,
+                 const RepairOptions& options) {
+  RepairReport& report = result.report;
+  const double diagonal = norm(bounding_box(wrap_input).size());
+  if (!wrap_input.triangles.empty() && diagonal > 0) {
+    report.alpha = options.alpha > 0 ? options.alpha : diagonal / 100.0;
+    report.offset = options.offset > 0 ? options.offset : report.alpha / 30.0;
+    try {
+      TriangleSoup wrapped = detail::alpha_wrap(wrap_input, report.alpha, report.offset);
+      canonical_order(wrapped);
+      if (options.float_coordinates) detail::round_to_float(wrapped);
+      result.mesh = std::move(wrapped);
+      report.wrapped = true;
+      detail::report_or_cancel(options.progress, 0.9);
+      report.after = check_mesh(result.mesh);
+    } catch (const CGAL::Failure_exception& e) {
+      report.unresolved.push_back("the alpha wrap failed inside CGAL (" + one_line(e.what()) + ")");
+      report.alpha = report.offset = 0;
+    }
+  }
+  detail::report_or_cancel(options.progress, 1.0);
 }
 
 }  // namespace
@@ -544,86 +621,42 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
   check_options(options);
   detail::require_indices_in_range(input);
   if (input.triangles.empty()) throw InputError("the mesh has no triangles");
-  Stages stages(options.progress);
   RepairResult result;
   RepairReport& report = result.report;
   report.min_component_fraction = options.min_component_fraction;
 
-  stages.begin("check input");
+  detail::begin_stage(options.progress, "check input");
   report.before = check_mesh(input);
-  stages.report(1.0);
+  detail::report_or_cancel(options.progress, 1.0);
 
-  Counts counts;
-  SurfaceMesh filled;
-  std::optional<std::string> failure;
-  try {
-    const SurfaceMesh mesh = repair_steps(input, options, report, counts, filled, stages);
-    result.mesh = to_soup(mesh);
-    canonical_order(result.mesh);
-  } catch (const CGAL::Failure_exception& e) {
-    // A step the per-step guards do not cover failed: what is left to try is the wrap.
-    failure = "a repair step failed inside CGAL (" + one_line(e.what()) + ")";
-    result.mesh = input;
-  }
-  write_log(report.before, counts, options, report.actions);
-
-  // --- 7. check; wrap if still not valid -----------------------------------------------------
-  stages.begin("check result");
-  report.after = check_mesh(result.mesh);
-  if (options.float_coordinates && !failure) {
-    // Rounding to float can break a valid repair (two faces a few ulps apart now touch, a
-    // sliver turns degenerate): repair the rounded mesh again, at most twice, before wrapping.
-    const bool valid_in_double = report.after.valid();
-    round_to_float(result.mesh);
-    report.after = check_mesh(result.mesh);
-    const std::optional<double> volume = report.after.volume;
-    while (valid_in_double && !report.after.valid() && report.float_repasses < 2) {
-      ++report.float_repasses;
-      RepairReport scratch;
-      Counts again;
-      SurfaceMesh unused;
-      try {
-        TriangleSoup next =
-            to_soup(repair_steps(result.mesh, options, scratch, again, unused, stages));
-        canonical_order(next);
-        round_to_float(next);
-        const MeshCheck check = check_mesh(next);
-        // A repair of rounding errors must not change the solid.
-        if (volume &&
-            !(check.volume && std::fabs(*check.volume - *volume) <= 0.01 * std::fabs(*volume)))
-          break;
-        result.mesh = std::move(next);
-        report.after = check;
-      } catch (const CGAL::Failure_exception&) {
-        break;
-      }
+  Steps steps = repair_steps(input, options);
+  report.components = steps.components;
+  report.small_component_threshold = steps.small_component_threshold;
+  report.holes_faired = steps.holes_faired;
+  std::optional<std::string> failure = std::move(steps.failure);
+  if (!failure) {
+    try {
+      const SurfaceMesh mesh = std::move(steps.mesh);
+      result.mesh = to_soup(mesh);
+      canonical_order(result.mesh);
+    } catch (const CGAL::Failure_exception& e) {
+      failure = step_failure(e);
     }
   }
-  stages.report(1.0);
+  if (failure) result.mesh = input;
+  report.actions = write_log(report.before, steps.counts, options);
+
+  // --- 7. check; wrap if still not valid -----------------------------------------------------
+  detail::begin_stage(options.progress, "check result");
+  report.after = check_mesh(result.mesh);
+  if (options.float_coordinates && !failure) round_result(result, options);
+  detail::report_or_cancel(options.progress, 1.0);
   if (report.after.valid() || !options.wrap) return result;
 
   report.unresolved = report.after.problems();
   if (failure) report.unresolved.insert(report.unresolved.begin(), *failure);
-  stages.begin("alpha wrap");
-  const TriangleSoup wrap_input = failure ? input : to_soup(filled);
-  const double diagonal = norm(bounding_box(wrap_input).size());
-  if (!wrap_input.triangles.empty() && diagonal > 0) {
-    report.alpha = options.alpha > 0 ? options.alpha : diagonal / 100.0;
-    report.offset = options.offset > 0 ? options.offset : report.alpha / 30.0;
-    try {
-      TriangleSoup wrapped = detail::alpha_wrap(wrap_input, report.alpha, report.offset);
-      canonical_order(wrapped);
-      if (options.float_coordinates) round_to_float(wrapped);
-      result.mesh = std::move(wrapped);
-      report.wrapped = true;
-      stages.report(0.9);
-      report.after = check_mesh(result.mesh);
-    } catch (const CGAL::Failure_exception& e) {
-      report.unresolved.push_back("the alpha wrap failed inside CGAL (" + one_line(e.what()) + ")");
-      report.alpha = report.offset = 0;
-    }
-  }
-  stages.report(1.0);
+  detail::begin_stage(options.progress, "alpha wrap");
+  wrap_result(result, failure ? input : to_soup(steps.filled), options);
   return result;
 }
 

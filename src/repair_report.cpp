@@ -5,7 +5,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "detail/problem_text.hpp"
 #include "tpmsfill/repair.hpp"
 
 namespace tpmsfill {

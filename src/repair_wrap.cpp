@@ -9,6 +9,8 @@
 
 #include "detail/alpha_wrap.hpp"
 #include "detail/cgal_types.hpp"
+#include "detail/index_limits.hpp"
+#include "detail/soup_indices.hpp"
 
 namespace tpmsfill::detail {
 
@@ -19,14 +21,14 @@ TriangleSoup alpha_wrap(const TriangleSoup& soup, double alpha, double offset) {
   std::vector<std::array<std::size_t, 3>> faces;
   faces.reserve(soup.triangles.size());
   for (const Triangle& t : soup.triangles)
-    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) faces.push_back({t[0], t[1], t[2]});
+    if (!repeated_corner(t)) faces.push_back({t[0], t[1], t[2]});
 
   SurfaceMesh wrap;
   if (!faces.empty()) CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap);
 
   TriangleSoup out;
   out.points.reserve(wrap.number_of_vertices());
-  std::vector<std::uint32_t> index(wrap.num_vertices(), 0xffffffffu);
+  std::vector<std::uint32_t> index(wrap.num_vertices(), kNoIndex);
   for (SurfaceMesh::Vertex_index v : wrap.vertices()) {
     index[v.idx()] = static_cast<std::uint32_t>(out.points.size());
     const Point3& p = wrap.point(v);

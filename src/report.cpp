@@ -79,7 +79,7 @@ std::string to_json(const FillReport& r) {
                      ? json(nullptr)
                      : json{{"min", point(r.input_bbox.min)}, {"max", point(r.input_bbox.max)}}}}},
       {"lattice",
-       {{"type", r.lattice},
+       {{"type", r.design},
         {"cell", point(r.cell)},
         {"level", r.level},
         {"thickness", r.thickness},
@@ -93,9 +93,9 @@ std::string to_json(const FillReport& r) {
       {"band_nodes", r.band_nodes},
       {"distance_queries", r.distance_queries},
       {"full_field", r.full_field},
-      {"rays", r.rays},
+      {"rays", r.rows},
       {"crossings", r.crossings},
-      {"odd_rays", r.odd_rays},
+      {"odd_rays", r.odd_rows},
       {"inside",
        {{"rule", r.inside_rule},
         {"cleaned", r.cleaned()},
@@ -162,7 +162,7 @@ std::string to_json(const FillReport& r) {
 std::string to_text(const FillReport& r) {
   const ValidationReport& v = r.validation;
   std::string s;
-  s += "lattice      " + r.lattice + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z);
+  s += "lattice      " + r.design + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z);
   if (r.porosity_target)
     s += format(r.sheet ? ", thickness %.4g mm for porosity %.4g %%"
                         : ", level %.4g mm for porosity %.4g %%",

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "detail/index_limits.hpp"
 #include "detail/mesh_index_impl.hpp"
 #include "detail/parallel.hpp"
 #include "detail/soup_indices.hpp"
@@ -92,10 +93,10 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
   const TriangleSoup& caps = options.hole_caps ? *options.hole_caps : kNoCaps;
   detail::require_indices_in_range(soup, "cannot build the search tree: ");
   detail::require_indices_in_range(caps, "cannot build the search tree: hole caps: ");
-  if (soup.triangles.size() + caps.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+  if (!detail::fits_32bit_ids(soup.triangles.size() + caps.triangles.size()))
     throw InputError("cannot build the search tree: more than 4294967295 triangles");
 
-  auto impl = std::make_unique<MeshIndex::Impl>();
+  auto impl = std::make_unique<detail::MeshIndexAccess::Impl>();
   auto& triangles = impl->triangles;
   triangles.reserve(soup.triangles.size() + caps.triangles.size());
   auto add = [&](const TriangleSoup& from) {
@@ -168,7 +169,7 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
     impl->trees.push_back(std::move(low));
     impl->trees.push_back(std::move(high));
   }
-  return MeshIndex(std::move(impl));
+  return detail::MeshIndexAccess::make(std::move(impl));
 }
 
 }  // namespace tpmsfill

@@ -1,6 +1,5 @@
-// Stage "tpms": names, validation, porosity by bisection over a sampled cell. The field itself
-// is evaluated by the lattice design's row evaluator (detail/lattice_rows.hpp), of which a
-// plain TPMS is the simplest case.
+// Stage "tpms": names, validation, one TPMS as a field source, porosity by bisection over a
+// sampled cell. The design (design.cpp) evaluates its layers with the same TpmsLayer.
 #include "tpmsfill/tpms.hpp"
 
 #include <tbb/parallel_sort.h>
@@ -16,48 +15,47 @@
 #include "detail/parallel.hpp"
 #include "detail/tpms_kernel.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/lattice.hpp"
 
 namespace tpmsfill {
 
 namespace {
 
 // Each type's first entry is its name; the later ones are aliases from_name accepts.
-constexpr detail::Named<Lattice> kLatticeNames[] = {{Lattice::Primitive, "primitive"},
-                                                    {Lattice::Gyroid, "gyroid"},
-                                                    {Lattice::Diamond, "diamond"},
-                                                    {Lattice::Iwp, "iwp"},
-                                                    {Lattice::Neovius, "neovius"},
-                                                    {Lattice::Frd, "frd"},
-                                                    {Lattice::Lidinoid, "lidinoid"},
-                                                    {Lattice::SplitP, "splitp"},
-                                                    {Lattice::Primitive, "schwarz-p"},
-                                                    {Lattice::Diamond, "schwarz-d"},
-                                                    {Lattice::Iwp, "i-wp"},
-                                                    {Lattice::SplitP, "split-p"}};
-constexpr detail::Named<LatticeStyle> kStyleNames[] = {{LatticeStyle::Network, "network"},
-                                                       {LatticeStyle::Sheet, "sheet"}};
+constexpr detail::Named<TpmsType> kTypeNames[] = {{TpmsType::Primitive, "primitive"},
+                                                  {TpmsType::Gyroid, "gyroid"},
+                                                  {TpmsType::Diamond, "diamond"},
+                                                  {TpmsType::Iwp, "iwp"},
+                                                  {TpmsType::Neovius, "neovius"},
+                                                  {TpmsType::Frd, "frd"},
+                                                  {TpmsType::Lidinoid, "lidinoid"},
+                                                  {TpmsType::SplitP, "splitp"},
+                                                  {TpmsType::Primitive, "schwarz-p"},
+                                                  {TpmsType::Diamond, "schwarz-d"},
+                                                  {TpmsType::Iwp, "i-wp"},
+                                                  {TpmsType::SplitP, "split-p"}};
+constexpr detail::Named<TpmsStyle> kStyleNames[] = {{TpmsStyle::Network, "network"},
+                                                    {TpmsStyle::Sheet, "sheet"}};
 
 }  // namespace
 
-std::string_view lattice_name(Lattice type) {
-  return detail::name_of(kLatticeNames, type);
+std::string_view tpms_type_name(TpmsType type) {
+  return detail::name_of(kTypeNames, type);
 }
 
-Lattice lattice_from_name(std::string_view name) {
-  return detail::from_name(kLatticeNames, name, "lattice");
+TpmsType tpms_type_from_name(std::string_view name) {
+  return detail::from_name(kTypeNames, name, "lattice");
 }
 
-std::string_view lattice_style_name(LatticeStyle style) {
+std::string_view tpms_style_name(TpmsStyle style) {
   return detail::name_of(kStyleNames, style);
 }
 
-LatticeStyle lattice_style_from_name(std::string_view name) {
+TpmsStyle tpms_style_from_name(std::string_view name) {
   return detail::from_name(kStyleNames, name, "lattice style");
 }
 
-std::string lattice_label(const TpmsOptions& o) {
-  return std::string(lattice_name(o.type)) + " " + std::string(lattice_style_name(o.style));
+std::string tpms_label(const TpmsOptions& o) {
+  return std::string(tpms_type_name(o.type)) + " " + std::string(tpms_style_name(o.style));
 }
 
 Mat3 rotation_from_euler(Vec3 degrees) {
@@ -71,12 +69,12 @@ Mat3 rotation_from_euler(Vec3 degrees) {
   return rz * ry * rx;
 }
 
-void validate(const TpmsOptions& o) {
+void require_valid(const TpmsOptions& o) {
   for (int axis = 0; axis < 3; ++axis)
     if (!(o.cell[axis] > 0) || !std::isfinite(o.cell[axis]))
       throw InputError("the cell size must be a positive number of millimetres");
   if (!std::isfinite(o.level)) throw InputError("the level must be a finite number of millimetres");
-  if (o.style == LatticeStyle::Sheet && (!(o.thickness > 0) || !std::isfinite(o.thickness)))
+  if (o.style == TpmsStyle::Sheet && (!(o.thickness > 0) || !std::isfinite(o.thickness)))
     throw InputError("the sheet thickness must be a positive number of millimetres");
   if (!std::isfinite(o.origin.x) || !std::isfinite(o.origin.y) || !std::isfinite(o.origin.z))
     throw InputError("the lattice origin must be finite");
@@ -93,49 +91,92 @@ void validate(const TpmsOptions& o) {
     throw InputError("the porosity must be between 0 and 1 (e.g. 0.7 for 70 % void)");
 }
 
-float tpms_value(Vec3 p, const TpmsOptions& options) {
-  return lattice_value(p, LatticeDesign{options});
-}
+namespace {
 
-FieldRange tpms_range(const TpmsOptions& options) {
-  const double c = std::fmax(options.cell.x, std::fmax(options.cell.y, options.cell.z));
-  if (options.style == LatticeStyle::Network)
-    return {static_cast<float>(-c + options.level), static_cast<float>(c + options.level)};
-  return {static_cast<float>(-0.5 * options.thickness),
-          static_cast<float>(c - 0.5 * options.thickness)};
-}
+// One TPMS on one grid: per-axis trigonometry tabled when it is not rotated.
+struct TpmsRows {
+  detail::TpmsLayer layer;
+  Grid grid;
+  double value;                           // level (network) or thickness (sheet), mm
+  std::vector<detail::AxisTrig> trig[3];  // not rotated: per node index along each axis
 
-Field tpms_field(const Grid& grid, const TpmsOptions& options, Progress* progress) {
-  return lattice_field(grid, LatticeDesign{options}, nullptr, progress);
+  TpmsRows(const TpmsOptions& o, const Grid& g)
+      : layer(o), grid(g), value(o.style == TpmsStyle::Network ? o.level : o.thickness) {
+    if (layer.rotated) return;
+    for (int axis = 0; axis < 3; ++axis)
+      for (int n = 0; n < grid.dims[axis]; ++n)
+        trig[axis].push_back(layer.trig(axis, grid.coordinate(axis, n)));
+  }
+
+  double at(int i, int j, int k) const {
+    const detail::TpmsLayer& L = layer;
+    detail::FGrad fg;
+    Vec3 g, q;
+    if (!L.rotated) {
+      fg = detail::tpms_f(L.o.type, trig[0][i], trig[1][j], trig[2][k]);
+      g = {L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
+      if (L.refine) q = grid.node(i, j, k) - L.o.origin;
+    } else {
+      q = L.to_lattice * (grid.node(i, j, k) - L.o.origin);
+      fg = detail::tpms_f(L.o.type, detail::axis_trig(L.k[0] * q.x),
+                          detail::axis_trig(L.k[1] * q.y), detail::axis_trig(L.k[2] * q.z));
+      g = L.o.rotation * Vec3{L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
+    }
+    return L.phi(L.distance(fg, g, q), value);
+  }
+
+  void rows(std::size_t first_row, std::size_t row_count, float* values,
+            const std::uint8_t* need) const {
+    const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
+    const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
+    for (std::size_t r = 0; r < row_count; ++r) {
+      const int j = static_cast<int>((first_row + r) % ny),
+                k = static_cast<int>((first_row + r) / ny);
+      for (std::size_t i = 0; i < nx; ++i)
+        if (!need || need[r * nx + i])
+          values[r * nx + i] = static_cast<float>(at(static_cast<int>(i), j, k));
+    }
+  }
+};
+
+}  // namespace
+
+FieldSource tpms_source(const TpmsOptions& options) {
+  const TpmsOptions o = resolve_porosity(options);
+  require_valid(o);
+  const double bound = 2 * detail::TpmsLayer(o).clamp;
+  return {.on_grid = [o](const Grid& grid) -> RowFunction {
+            auto rows = std::make_shared<const TpmsRows>(o, grid);
+            return [rows](std::size_t first, std::size_t count, float* values,
+                          const std::uint8_t* need) { rows->rows(first, count, values, need); };
+          },
+          .bound = bound};
 }
 
 namespace {
 
 // f̃ at samples³ cell-centred points of one unit cell (rotation and origin do not matter).
 std::vector<float> cell_values(const TpmsOptions& options, int samples) {
-  validate(options);
+  require_valid(options);
   if (samples < 2) throw InputError("sample_cell: at least 2 samples per axis");
   std::vector<detail::AxisTrig> t[3];
   for (int axis = 0; axis < 3; ++axis)
     for (int i = 0; i < samples; ++i)
       t[axis].push_back(detail::axis_trig(2 * M_PI * (i + 0.5) / samples));
-  const double k[3] = {2 * M_PI / options.cell.x, 2 * M_PI / options.cell.y,
-                       2 * M_PI / options.cell.z};
-  const double clamp = std::fmax(options.cell.x, std::fmax(options.cell.y, options.cell.z));
-  const bool refine = detail::refines(options);
+  const detail::TpmsLayer L(options);
   const std::size_t n = static_cast<std::size_t>(samples);
   std::vector<float> values(n * n * n);
   detail::parallel_for(n * n, 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t jk = begin; jk < end; ++jk)
       for (std::size_t i = 0; i < n; ++i) {
         const detail::FGrad g = detail::tpms_f(options.type, t[0][i], t[1][jk % n], t[2][jk / n]);
-        double d = detail::tpms_distance(g.f, k[0] * g.gx, k[1] * g.gy, k[2] * g.gz, clamp);
-        if (refine) {  // as LatticeRows does for sheets
+        double d = detail::tpms_distance(g.f, L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz, L.clamp);
+        if (L.refine) {  // sheets, as TpmsLayer::distance refines them
           const double q[3] = {options.cell.x * (i + 0.5) / samples,
                                options.cell.y * ((jk % n) + 0.5) / samples,
                                options.cell.z * ((jk / n) + 0.5) / samples};
-          const double gq[3] = {k[0] * g.gx, k[1] * g.gy, k[2] * g.gz};
-          d = detail::refined_distance(options.type, k, q, g.f, gq);
+          const double gq[3] = {L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz};
+          d = detail::refined_distance(options.type, L.k, q, g.f, gq);
         }
         values[jk * n + i] = static_cast<float>(d);
       }
@@ -143,9 +184,7 @@ std::vector<float> cell_values(const TpmsOptions& options, int samples) {
   return values;
 }
 
-}  // namespace
-
-static CellSamples sample_cell_uncached(const TpmsOptions& options, int samples) {
+CellSamples sample_cell_uncached(const TpmsOptions& options, int samples) {
   CellSamples cell{cell_values(options, samples), {}};
   cell.absolute.resize(cell.values.size());
   std::transform(cell.values.begin(), cell.values.end(), cell.absolute.begin(),
@@ -155,16 +194,18 @@ static CellSamples sample_cell_uncached(const TpmsOptions& options, int samples)
   return cell;
 }
 
+}  // namespace
+
 namespace detail {
 
 std::shared_ptr<const CellSamples> shared_cell_samples(const TpmsOptions& options, int samples) {
-  validate(options);
+  require_valid(options);
   // Solving a porosity needs the sorted cell (tens of ms); point evaluations and repeated
   // resolution ask for the same few cells again, so the last ones are kept, and shared
   // rather than copied (7 MB each at 96³).
   struct Entry {
-    Lattice type;
-    LatticeStyle style;
+    TpmsType type;
+    TpmsStyle style;
     Vec3 cell;
     int samples;
     std::shared_ptr<const CellSamples> value;
@@ -191,33 +232,33 @@ CellSamples sample_cell(const TpmsOptions& options, int samples) {
   return *detail::shared_cell_samples(options, samples);
 }
 
-double level_for_porosity(const CellSamples& cell, LatticeStyle style, double porosity) {
+double level_for_porosity(const CellSamples& cell, TpmsStyle style, double porosity) {
   if (!(porosity > 0 && porosity < 1))
     throw InputError("the porosity must be between 0 and 1 (e.g. 0.7 for 70 % void)");
   // The solid fraction is the share of samples below a threshold: the threshold that leaves
   // (1 − porosity)·n samples below it lies between two neighbours of the sorted samples.
-  const std::vector<float>& s = style == LatticeStyle::Network ? cell.values : cell.absolute;
+  const std::vector<float>& s = style == TpmsStyle::Network ? cell.values : cell.absolute;
   const double n = static_cast<double>(s.size());
   const std::size_t below = static_cast<std::size_t>(
       std::clamp(std::llround((1 - porosity) * n), 1LL, static_cast<long long>(s.size()) - 1));
   const double threshold = 0.5 * (static_cast<double>(s[below - 1]) + s[below]);
-  return style == LatticeStyle::Network ? -threshold : 2 * threshold;
+  return style == TpmsStyle::Network ? -threshold : 2 * threshold;
 }
 
 TpmsOptions resolve_porosity(const TpmsOptions& options) {
   if (!options.porosity) return options;
-  validate(options);
+  require_valid(options);
   TpmsOptions r = options;
   const double v =
       level_for_porosity(*detail::shared_cell_samples(options), options.style, *options.porosity);
-  (options.style == LatticeStyle::Network ? r.level : r.thickness) = v;
+  (options.style == TpmsStyle::Network ? r.level : r.thickness) = v;
   return r;
 }
 
-double lattice_solid_fraction(const TpmsOptions& options, int samples) {
+double tpms_solid_fraction(const TpmsOptions& options, int samples) {
   const TpmsOptions o = resolve_porosity(options);
   const std::vector<float> values = cell_values(o, samples);
-  const bool network = o.style == LatticeStyle::Network;
+  const bool network = o.style == TpmsStyle::Network;
   const float threshold = static_cast<float>(network ? -o.level : 0.5 * o.thickness);
   const std::size_t solid =
       static_cast<std::size_t>(std::count_if(values.begin(), values.end(), [&](float v) {

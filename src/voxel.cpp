@@ -6,9 +6,10 @@
 #include <limits>
 #include <numeric>
 
+#include "detail/disjoint_sets.hpp"
 #include "detail/distance_transform.hpp"
+#include "detail/index_limits.hpp"
 #include "detail/parallel.hpp"
-#include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -109,13 +110,6 @@ Mask dilate_complement(const Mask& mask, int voxels) {
 
 }  // namespace
 
-Mask boundary_voxels(const Mask& mask) {
-  require_consistent(mask);
-  Mask out = dilate_complement(mask, 1);
-  for (std::size_t i = 0; i < out.values.size(); ++i) out.values[i] &= mask.values[i];
-  return out;
-}
-
 Band band_voxels(const Mask& inside, const BandOptions& options) {
   require_consistent(inside);
   if (options.width < 1) throw InputError("the band width must be at least 1 voxel");
@@ -154,9 +148,9 @@ std::uint32_t Regions::region_at(int i, int j, int k) const {
   const auto first = runs.begin() + static_cast<std::ptrdiff_t>(row_start[row]);
   const auto last = runs.begin() + static_cast<std::ptrdiff_t>(row_start[row + 1]);
   auto it = std::upper_bound(first, last, i, [](int x, const Run& r) { return x < r.begin; });
-  if (it == first) return std::numeric_limits<std::uint32_t>::max();
+  if (it == first) return detail::kNoIndex;
   --it;
-  return i < it->end ? it->region : std::numeric_limits<std::uint32_t>::max();
+  return i < it->end ? it->region : detail::kNoIndex;
 }
 
 Regions label_regions(const Mask& mask, Connectivity connectivity) {
@@ -178,8 +172,7 @@ Regions label_regions(const Mask& mask, Connectivity connectivity) {
   });
   for (std::size_t row = 0; row < rows; ++row)
     r.row_start[row + 1] = r.row_start[row] + counts[row];
-  if (r.row_start.back() >= std::numeric_limits<std::uint32_t>::max())
-    throw InputError("too many runs to label");
+  if (!detail::fits_32bit_ids(r.row_start.back())) throw InputError("too many runs to label");
   r.runs.resize(r.row_start.back());
   detail::parallel_for(rows, 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t row = b; row < e; ++row) {
@@ -221,10 +214,10 @@ Regions label_regions(const Mask& mask, Connectivity connectivity) {
       }
     }
   // Roots are the earliest run of each region; number regions in root order.
-  std::vector<std::uint32_t> number(r.runs.size(), std::numeric_limits<std::uint32_t>::max());
+  std::vector<std::uint32_t> number(r.runs.size(), detail::kNoIndex);
   for (std::size_t a = 0; a < r.runs.size(); ++a) {
     const std::uint32_t root = sets.find(static_cast<std::uint32_t>(a));
-    if (number[root] == std::numeric_limits<std::uint32_t>::max()) number[root] = r.count++;
+    if (number[root] == detail::kNoIndex) number[root] = r.count++;
     r.runs[a].region = number[root];
   }
   return r;

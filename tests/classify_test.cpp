@@ -50,8 +50,8 @@ TEST(Classify, SphereNodesInsideIffInsideThePolyhedron) {
   });
   EXPECT_GT(inside, 10000u);
   EXPECT_GT(checked, occ.inside.values.size() * 95 / 100);
-  EXPECT_EQ(occ.rays, static_cast<std::uint64_t>(grid.dims[1]) * grid.dims[2]);
-  EXPECT_EQ(occ.odd_rays, 0u);
+  EXPECT_EQ(occ.rows, static_cast<std::uint64_t>(grid.dims[1]) * grid.dims[2]);
+  EXPECT_EQ(occ.odd_rows, 0u);
   EXPECT_EQ(occ.crossings % 2, 0u);
   // Rows through the ball cross twice; the rest not at all.
   EXPECT_NEAR(occ.volume, test::signed_volume(sphere), 0.005 * test::signed_volume(sphere));
@@ -73,7 +73,7 @@ TEST(Classify, CubeOnGridPlanesIsExact) {
       const bool expected = p.x > 0 && p.x < 1 && p.y >= 0 && p.y < 1 && p.z >= 0 && p.z < 1;
       EXPECT_EQ(v, expected ? 1 : 0) << p.x << " " << p.y << " " << p.z;
     });
-    EXPECT_EQ(occ.odd_rays, 0u);
+    EXPECT_EQ(occ.odd_rows, 0u);
     EXPECT_EQ(occ.crossings, 2u * 4 * 4);
     EXPECT_EQ(occ.volume, 1.0);
   }
@@ -114,7 +114,7 @@ TEST(Classify, TorusHoleIsOutside) {
       EXPECT_EQ(v, 0) << p.x << " " << p.y << " " << p.z;
     }
   });
-  EXPECT_EQ(occ.odd_rays, 0u);
+  EXPECT_EQ(occ.odd_rows, 0u);
   EXPECT_NEAR(occ.volume, test::signed_volume(torus), 0.01 * test::signed_volume(torus));
 }
 
@@ -125,9 +125,9 @@ TEST(Classify, BoxWithAHoleHasOddRays) {
   grid.spacing = 0.1;
   grid.dims = {22, 22, 22};
   const Occupancy occ = classify(open, grid);
-  EXPECT_GT(occ.odd_rays, 0u);
+  EXPECT_GT(occ.odd_rows, 0u);
   // Each odd row has one crossing (the -x face) and keeps nothing of it.
-  EXPECT_EQ(occ.crossings, occ.odd_rays);
+  EXPECT_EQ(occ.crossings, occ.odd_rows);
   EXPECT_EQ(occ.volume, 0.0);
 }
 

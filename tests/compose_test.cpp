@@ -1,9 +1,11 @@
 // Stage "compose": the band field (eq. 10) against the full field, and no sample on zero.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <tpmsfill/compose.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/tpms.hpp>
 #include <tpmsfill/voxel.hpp>
 
 using namespace tpmsfill;
@@ -43,8 +45,8 @@ Ball make_ball(double radius, double spacing) {
 
 TEST(Compose, BandFieldHasTheSignsOfTheFullField) {
   const Ball b = make_ball(5.0, 0.2);
-  for (Lattice type : {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond}) {
-    const LatticeDesign lattice{{.type = type, .cell = {2, 2, 2}}};
+  for (TpmsType type : {TpmsType::Gyroid, TpmsType::Primitive, TpmsType::Diamond}) {
+    const FieldSource lattice = tpms_source({.type = type, .cell = {2, 2, 2}});
     const Field band = compose_field(b.inside, b.band, b.band_distance, lattice);
     const Field full = compose_field(b.distance, lattice);
     std::size_t solid = 0;
@@ -55,7 +57,7 @@ TEST(Compose, BandFieldHasTheSignsOfTheFullField) {
     }
     // About half the ball's nodes are lattice.
     const double ball_nodes = 4.0 / 3.0 * M_PI * 125 / (0.2 * 0.2 * 0.2);
-    EXPECT_NEAR(solid / ball_nodes, 0.5, 0.05) << lattice_name(type);
+    EXPECT_NEAR(solid / ball_nodes, 0.5, 0.05) << tpms_type_name(type);
   }
 }
 
@@ -67,7 +69,7 @@ TEST(Compose, SkinIsSolidWithinItsThicknessOfTheSurface) {
   const Band wide = band_voxels(b.inside, {skin_band_width(skin, 0.2)});
   std::vector<float> d;
   for (std::uint64_t id : wide.nodes) d.push_back(b.distance.values[id]);
-  const LatticeDesign empty{{.level = 10}};
+  const FieldSource empty = tpms_source({.level = 10});
   const Field phi = compose_field(b.inside, wide, d, empty, {.skin = skin});
   const Field full = compose_field(b.distance, empty, {.skin = skin});
   for (std::size_t n = 0; n < phi.values.size(); ++n) {
@@ -94,12 +96,36 @@ TEST(Compose, NoSampleEqualsZero) {
         zeros += std::fabs(z) == 1.0;
       }
   ASSERT_GT(zeros, 0);
-  const Field phi = compose_field(slab, LatticeDesign{{.level = -5}});  // the model decides
+  const Field phi = compose_field(slab, tpms_source({.level = -5}));  // the model decides
   for (float v : phi.values) ASSERT_NE(v, 0.0f);
 }
 
 TEST(Compose, RejectsMismatchedInputs) {
   const Ball b = make_ball(2.0, 0.5);
   std::vector<float> short_distances(b.band_distance.begin(), b.band_distance.end() - 1);
-  EXPECT_THROW(compose_field(b.inside, b.band, short_distances, {}), InputError);
+  EXPECT_THROW(compose_field(b.inside, b.band, short_distances, tpms_source({})), InputError);
+  EXPECT_THROW(compose_field(b.inside, b.band, b.band_distance, FieldSource{}), InputError);
+}
+
+TEST(Compose, AnySourceIsClippedTheSameWay) {
+  // A caller's field through the seam: the half-space z < 0.3 clipped to a ball of radius 2
+  // is the ball's cap below z = 0.3; the lattice is evaluated only where the model does not
+  // decide (inside the ball), which the source counts.
+  const Ball b = make_ball(2.0, 0.1);
+  std::atomic<std::size_t> calls{0};
+  const FieldSource half = function_source([&](Vec3 p) {
+    ++calls;
+    return static_cast<float>(p.z - 0.3);
+  });
+  const Field phi = compose_field(b.inside, b.band, b.band_distance, half);
+  std::size_t inside = 0, band_outside = 0;
+  for (std::size_t n = 0; n < phi.values.size(); ++n) {
+    const Vec3 p = b.grid.node(static_cast<int>(n % b.grid.dims[0]),
+                               static_cast<int>(n / b.grid.dims[0] % b.grid.dims[1]),
+                               static_cast<int>(n / b.grid.dims[0] / b.grid.dims[1]));
+    ASSERT_EQ(phi.values[n] < 0, norm(p) < 2.0 && p.z < 0.3 && b.inside.values[n]) << n;
+    inside += b.inside.values[n];
+  }
+  for (std::uint64_t id : b.band.nodes) band_outside += !b.inside.values[id];
+  EXPECT_EQ(calls.load(), inside + band_outside);
 }

@@ -18,11 +18,11 @@ using namespace tpmsfill;
 
 namespace {
 
-FillOptions options(double voxel, Lattice type = Lattice::Gyroid) {
+FillOptions options(double voxel, TpmsType type = TpmsType::Gyroid) {
   FillOptions o;
   o.grid.voxel_size = voxel;
-  o.lattice.type = type;
-  o.lattice.cell = {2, 2, 2};
+  o.design.type = type;
+  o.design.cell = {2, 2, 2};
   return o;
 }
 
@@ -51,13 +51,13 @@ TEST(FillE2E, GyroidInACubeIsHalfSolid) {
 
 TEST(FillE2E, SphereLatticeVolumeMatchesPorosity) {
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 10.0, 5);
-  for (Lattice type : {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond}) {
+  for (TpmsType type : {TpmsType::Gyroid, TpmsType::Primitive, TpmsType::Diamond}) {
     const FillResult r = fill(sphere, options(0.2, type));
     const double polyhedron = test::signed_volume(sphere);
     EXPECT_NEAR(r.report.model_volume, polyhedron, 0.002 * polyhedron);
     const double expected = (1.0 - r.report.unclipped_porosity) * 4.0 / 3.0 * M_PI * 1000.0;
-    EXPECT_NEAR(r.report.lattice_volume(), expected, 0.02 * expected) << lattice_name(type);
-    EXPECT_NEAR(r.report.porosity(), r.report.unclipped_porosity, 0.02) << lattice_name(type);
+    EXPECT_NEAR(r.report.lattice_volume(), expected, 0.02 * expected) << tpms_type_name(type);
+    EXPECT_NEAR(r.report.porosity(), r.report.unclipped_porosity, 0.02) << tpms_type_name(type);
     // The outer boundary lies within one voxel of the input surface.
     double reach = 0;
     for (const Vec3& p : r.mesh.points) {
@@ -72,8 +72,8 @@ TEST(FillE2E, SphereLatticeVolumeMatchesPorosity) {
 TEST(FillE2E, SheetLatticeIsValidAndAsThickAsAsked) {
   const TriangleSoup cube = test::make_box({0, 0, 0}, {10, 10, 10});
   FillOptions o = options(0.1);
-  o.lattice.style = LatticeStyle::Sheet;
-  o.lattice.thickness = 0.4;
+  o.design.style = TpmsStyle::Sheet;
+  o.design.thickness = 0.4;
   const FillResult r = fill(cube, o);
   // A thin sheet's solid fraction is about area·t: 3.09·0.4/2 ≈ 0.62 of the cube, less the
   // curvature terms; the unclipped sample says what to expect.
@@ -158,7 +158,7 @@ TEST(FillE2E, OverTheMemoryBudgetIsRefusedWithAVoxelSizeThatFits) {
 TEST(FillE2E, BadOptionsThrowInputError) {
   const TriangleSoup cube = test::make_box({0, 0, 0}, {5, 5, 5});
   FillOptions o = options(0.1);
-  o.lattice.cell = {0, 1, 1};
+  o.design.cell = {0, 1, 1};
   EXPECT_THROW(fill(cube, o), InputError);
   o = options(-1);
   EXPECT_THROW(fill(cube, o), InputError);
@@ -177,6 +177,6 @@ TEST(FillE2E, DebianFemurIsFilledAndPrintable) {
   const FillResult r = fill(soup, options(0.2));
   EXPECT_NEAR(r.report.model_volume, test::signed_volume(soup), 0.01 * r.report.model_volume);
   EXPECT_NEAR(r.report.porosity(), r.report.unclipped_porosity, 0.02);
-  EXPECT_EQ(r.report.odd_rays, 0u);
+  EXPECT_EQ(r.report.odd_rows, 0u);
   expect_printable(r.mesh);
 }

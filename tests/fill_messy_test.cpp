@@ -23,7 +23,7 @@ FillOptions options_for(const TriangleSoup& soup, double cells_across, double vo
   const double longest = std::max({size.x, size.y, size.z});
   FillOptions o;
   const double cell = longest / cells_across;
-  o.lattice.cell = {cell, cell, cell};
+  o.design.cell = {cell, cell, cell};
   o.grid.voxel_size = cell / voxels_per_cell;
   return o;
 }
@@ -55,7 +55,7 @@ TEST(FillMessy, SphereWithHolesFlipsAndUnweldedPointsIsFilledLikeTheSphere) {
   // Parity on the same input reports its holes and loses the rows through them.
   o.inside = InsideRule::Parity;
   const FillResult parity = fill(broken, o);
-  EXPECT_GT(parity.report.odd_rays, 0u);
+  EXPECT_GT(parity.report.odd_rows, 0u);
   EXPECT_FALSE(parity.report.warnings.empty());
 }
 

@@ -14,6 +14,7 @@
 #include <random>
 #include <set>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/field.hpp>
 #include <tpmsfill/marching_cubes.hpp>
 
 #include "../src/detail/mc_tables.hpp"
@@ -498,6 +499,31 @@ TEST(MarchingCubes, SameOutputForAnyThreadCount) {
   ASSERT_FALSE(one.triangles.empty());
   EXPECT_TRUE(one.points == two.points && one.triangles == two.triangles);
   EXPECT_TRUE(one.points == four.points && one.triangles == four.triangles);
+}
+
+TEST(MarchingCubes, FromASourceIsTheSampledFieldsMesh) {
+  // Straight from the field seam, by slabs of layers: bit for bit the mesh of the sampled
+  // field, for any thread count and for grids of 2 to 70 layers (slabs cut anywhere).
+  const FieldSource gyroid = function_source([](Vec3 p) {
+    const bool border = p.x < 0.1 || p.y < 0.1 || p.z < 0.1 || p.x > 17.6 || p.y > 14.6;
+    if (border) return 1.0f;  // outside on the grid's faces but the top one, which is cut
+    return static_cast<float>(std::sin(p.x) * std::cos(p.y) + std::sin(p.y) * std::cos(p.z) +
+                              std::sin(p.z) * std::cos(p.x) + 0.1);
+  });
+  for (int layers : {2, 3, 9, 17, 70}) {
+    const Grid grid{{0, 0, 0}, 0.3, {60, 50, layers}};
+    const TriangleSoup sampled = marching_cubes(sample_field(gyroid, grid));
+    for (int threads : {1, 4}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const TriangleSoup direct = marching_cubes(gyroid, grid);
+      EXPECT_TRUE(direct.points == sampled.points) << layers << " layers, " << threads;
+      EXPECT_TRUE(direct.triangles == sampled.triangles) << layers << " layers, " << threads;
+    }
+    if (layers > 3) {
+      EXPECT_GT(sampled.triangles.size(), 1000u);
+    }
+  }
+  EXPECT_THROW(marching_cubes(FieldSource{}, Grid{{0, 0, 0}, 1.0, {3, 3, 3}}), InputError);
 }
 
 TEST(MarchingCubes, RejectsBadInput) {

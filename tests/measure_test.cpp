@@ -288,7 +288,7 @@ TEST(Measure, DISABLED_TimingOnA185CubedGrid) {
   g.origin = {-0.2, -0.2, -0.2};
   g.dims = {185, 185, 185};
   TpmsOptions lattice;  // gyroid network, 2 mm cells
-  const Field phi = tpms_field(g, lattice);
+  const Field phi = sample_field(tpms_source(lattice), g);
   Mask inside{g, std::vector<std::uint8_t>(g.node_count())};
   for (int k = 0; k < 185; ++k)  // a ball: a clipped lattice like a real model's
     for (int j = 0; j < 185; ++j)

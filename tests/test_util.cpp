@@ -15,6 +15,14 @@
 
 namespace tpmsfill::test {
 
+float tpms_value(Vec3 p, const TpmsOptions& options) {
+  return field_value(tpms_source(options), p);
+}
+
+float design_value(Vec3 p, const LatticeDesign& design) {
+  return field_value(design_source(design), p);
+}
+
 TriangleSoup make_box(Vec3 min, Vec3 max) {
   TriangleSoup box;
   for (int i = 0; i < 8; ++i)

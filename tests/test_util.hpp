@@ -5,10 +5,19 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <tpmsfill/design.hpp>
 #include <tpmsfill/types.hpp>
 #include <vector>
 
 namespace tpmsfill::test {
+
+/// Every TPMS type, in the order of the table in docs/method.md (for loops).
+inline constexpr TpmsType kAllTpmsTypes[] = {
+    TpmsType::Primitive, TpmsType::Gyroid, TpmsType::Diamond,  TpmsType::Iwp,
+    TpmsType::Neovius,   TpmsType::Frd,    TpmsType::Lidinoid, TpmsType::SplitP};
+/// φ at one point of a TPMS or a design: field_value() of its source.
+float tpms_value(Vec3 p, const TpmsOptions& options);
+float design_value(Vec3 p, const LatticeDesign& design);
 
 /// Axis-aligned box, 8 points, 12 triangles, outward.
 TriangleSoup make_box(Vec3 min, Vec3 max);

@@ -6,40 +6,42 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/tpms.hpp>
 
+#include "test_util.hpp"
+
 using namespace tpmsfill;
 
 namespace {
 
-// The formulas of DESIGN.md, written out independently of the separable kernel.
-double raw_f(Lattice type, Vec3 p, Vec3 cell) {
+// The formulas of docs/method.md, written out independently of the separable kernel.
+double raw_f(TpmsType type, Vec3 p, Vec3 cell) {
   const double X = 2 * M_PI * p.x / cell.x, Y = 2 * M_PI * p.y / cell.y,
                Z = 2 * M_PI * p.z / cell.z;
   switch (type) {
-    case Lattice::Gyroid:
+    case TpmsType::Gyroid:
       return std::cos(X) * std::sin(Y) + std::cos(Y) * std::sin(Z) + std::cos(Z) * std::sin(X);
-    case Lattice::Primitive:
+    case TpmsType::Primitive:
       return std::cos(X) + std::cos(Y) + std::cos(Z);
-    case Lattice::Diamond:
+    case TpmsType::Diamond:
       return std::cos(X) * std::cos(Y) * std::cos(Z) - std::sin(X) * std::sin(Y) * std::sin(Z);
-    case Lattice::Iwp:
+    case TpmsType::Iwp:
       return 2 * (std::cos(X) * std::cos(Y) + std::cos(Y) * std::cos(Z) +
                   std::cos(Z) * std::cos(X)) -
              (std::cos(2 * X) + std::cos(2 * Y) + std::cos(2 * Z));
-    case Lattice::Neovius:
+    case TpmsType::Neovius:
       return 3 * (std::cos(X) + std::cos(Y) + std::cos(Z)) +
              4 * std::cos(X) * std::cos(Y) * std::cos(Z);
-    case Lattice::Frd:
+    case TpmsType::Frd:
       return 4 * std::cos(X) * std::cos(Y) * std::cos(Z) -
              (std::cos(2 * X) * std::cos(2 * Y) + std::cos(2 * Y) * std::cos(2 * Z) +
               std::cos(2 * Z) * std::cos(2 * X));
-    case Lattice::Lidinoid:
+    case TpmsType::Lidinoid:
       return 0.5 * (std::sin(2 * X) * std::cos(Y) * std::sin(Z) +
                     std::sin(2 * Y) * std::cos(Z) * std::sin(X) +
                     std::sin(2 * Z) * std::cos(X) * std::sin(Y)) -
              0.5 * (std::cos(2 * X) * std::cos(2 * Y) + std::cos(2 * Y) * std::cos(2 * Z) +
                     std::cos(2 * Z) * std::cos(2 * X)) +
              0.15;
-    case Lattice::SplitP:
+    case TpmsType::SplitP:
       return 1.1 * (std::sin(2 * X) * std::sin(Z) * std::cos(Y) +
                     std::sin(2 * Y) * std::sin(X) * std::cos(Z) +
                     std::sin(2 * Z) * std::sin(Y) * std::cos(X)) -
@@ -50,7 +52,7 @@ double raw_f(Lattice type, Vec3 p, Vec3 cell) {
   return 0;
 }
 
-Vec3 numeric_gradient(Lattice type, Vec3 p, Vec3 cell) {
+Vec3 numeric_gradient(TpmsType type, Vec3 p, Vec3 cell) {
   const double h = 1e-6;
   return {
       (raw_f(type, {p.x + h, p.y, p.z}, cell) - raw_f(type, {p.x - h, p.y, p.z}, cell)) / (2 * h),
@@ -58,24 +60,24 @@ Vec3 numeric_gradient(Lattice type, Vec3 p, Vec3 cell) {
       (raw_f(type, {p.x, p.y, p.z + h}, cell) - raw_f(type, {p.x, p.y, p.z - h}, cell)) / (2 * h)};
 }
 
-const Lattice (&kTypes)[8] = kAllLattices;
+const TpmsType (&kTypes)[8] = test::kAllTpmsTypes;
 // The three whose level 0 splits space into congruent halves.
-const Lattice kBalanced[] = {Lattice::Gyroid, Lattice::Primitive, Lattice::Diamond};
+const TpmsType kBalanced[] = {TpmsType::Gyroid, TpmsType::Primitive, TpmsType::Diamond};
 
 }  // namespace
 
 TEST(Tpms, NetworkValueIsFOverItsGradientNorm) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-5, 5);
-  for (Lattice type : kTypes) {
+  for (TpmsType type : kTypes) {
     const TpmsOptions o{.type = type, .cell = {2, 2.5, 3}};
     for (int n = 0; n < 500; ++n) {
       const Vec3 p{u(rng), u(rng), u(rng)};
       const double f = raw_f(type, p, o.cell), g = norm(numeric_gradient(type, p, o.cell));
       const double expected =
           std::fabs(f) >= 3 * g ? std::copysign(3.0, f) : f / g;  // clamp: max T
-      EXPECT_NEAR(tpms_value(p, o), expected, 1e-4 * (1 + std::fabs(expected)))
-          << lattice_name(type);
+      EXPECT_NEAR(test::tpms_value(p, o), expected, 1e-4 * (1 + std::fabs(expected)))
+          << tpms_type_name(type);
     }
   }
 }
@@ -84,7 +86,7 @@ TEST(Tpms, NormalisedFieldIsADistanceNearTheSurface) {
   // Walk from a point on the surface along the normal: the value grows like the distance.
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0, 2);
-  for (Lattice type : kTypes) {
+  for (TpmsType type : kTypes) {
     const TpmsOptions o{.type = type, .cell = {2, 2, 2}};
     int checked = 0;
     for (int n = 0; n < 200 && checked < 40; ++n) {
@@ -98,8 +100,8 @@ TEST(Tpms, NormalisedFieldIsADistanceNearTheSurface) {
       if (std::fabs(raw_f(type, p, o.cell)) > 1e-9 || norm(g) < 1.0) continue;
       const Vec3 normal = (1.0 / norm(g)) * g;
       for (double h : {0.005, 0.01, 0.02}) {
-        EXPECT_NEAR(tpms_value(p + h * normal, o), h, 0.15 * h) << lattice_name(type);
-        EXPECT_NEAR(tpms_value(p - h * normal, o), -h, 0.15 * h) << lattice_name(type);
+        EXPECT_NEAR(test::tpms_value(p + h * normal, o), h, 0.15 * h) << tpms_type_name(type);
+        EXPECT_NEAR(test::tpms_value(p - h * normal, o), -h, 0.15 * h) << tpms_type_name(type);
       }
       ++checked;
     }
@@ -109,43 +111,44 @@ TEST(Tpms, NormalisedFieldIsADistanceNearTheSurface) {
 
 TEST(Tpms, LevelAndSheetShiftTheField) {
   const Vec3 p{0.3, 0.7, 1.1};
-  const float base = tpms_value(p, {});
-  EXPECT_FLOAT_EQ(tpms_value(p, {.level = 0.25}), base + 0.25f);
+  const float base = test::tpms_value(p, {});
+  EXPECT_FLOAT_EQ(test::tpms_value(p, {.level = 0.25}), base + 0.25f);
   // Sheets refine the distance by one Newton step: close to, not equal to, |f̃| − t/2.
-  EXPECT_NEAR(tpms_value(p, {.style = LatticeStyle::Sheet, .thickness = 0.4}),
+  EXPECT_NEAR(test::tpms_value(p, {.style = TpmsStyle::Sheet, .thickness = 0.4}),
               std::fabs(base) - 0.2f, 0.02 * std::fabs(base));
-  const FieldRange r = tpms_range({.cell = {1, 4, 2}, .level = 0.5});
-  EXPECT_FLOAT_EQ(r.low, -3.5f);
-  EXPECT_FLOAT_EQ(r.high, 4.5f);
 }
 
-TEST(Tpms, FieldEqualsPointValues) {
-  Grid g;
-  g.origin = {-1.3, 0.2, 5.0};
-  g.spacing = 0.17;
-  g.dims = {13, 9, 7};
-  for (Lattice type : kTypes) {
-    const TpmsOptions o{.type = type, .cell = {1.5, 2, 2.5}, .level = 0.1};
-    const Field f = tpms_field(g, o);
-    ASSERT_EQ(f.values.size(), g.node_count());
-    for (int k = 0; k < g.dims[2]; ++k)
-      for (int j = 0; j < g.dims[1]; ++j)
-        for (int i = 0; i < g.dims[0]; ++i)
-          ASSERT_EQ(f.values[g.index(i, j, k)], tpms_value(g.node(i, j, k), o));
+TEST(Tpms, SourceBoundHoldsEverywhere) {
+  // f̃ is clamped to ± the largest cell size, so twice that bounds a network with a level
+  // within a cell and a sheet of any thickness up to two cells.
+  for (const TpmsOptions& o :
+       {TpmsOptions{.cell = {1, 4, 2}, .level = 0.5},
+        TpmsOptions{.style = TpmsStyle::Sheet, .cell = {1, 4, 2}, .thickness = 1.5}}) {
+    const FieldSource source = tpms_source(o);
+    EXPECT_DOUBLE_EQ(source.bound, 8.0);
+    Grid g;
+    g.origin = {-2.1, -3.3, 0.4};
+    g.spacing = 0.23;
+    g.dims = {40, 41, 42};
+    const Field f = sample_field(source, g);
+    float largest = 0;
+    for (float v : f.values) largest = std::max(largest, std::fabs(v));
+    EXPECT_LE(largest, source.bound);
+    EXPECT_GT(largest, 0.25 * source.bound);  // the clamp is reached where |∇f| vanishes
   }
 }
 
 TEST(Tpms, BalancedNetworksAreHalfSolid) {
   // Gyroid and diamond are odd under a symmetry, Schwarz P under a half-cell shift: C = 0
   // splits space into two congruent labyrinths.
-  for (Lattice type : kBalanced)
-    EXPECT_NEAR(lattice_solid_fraction({.type = type}), 0.5, 0.005) << lattice_name(type);
+  for (TpmsType type : kBalanced)
+    EXPECT_NEAR(tpms_solid_fraction({.type = type}), 0.5, 0.005) << tpms_type_name(type);
 }
 
 TEST(Tpms, SolidFractionFallsAsTheLevelRises) {
   double last = 1.0;
   for (double level : {-0.4, -0.2, 0.0, 0.2, 0.4}) {
-    const double fraction = lattice_solid_fraction({.level = level});
+    const double fraction = tpms_solid_fraction({.level = level});
     EXPECT_LT(fraction, last);
     last = fraction;
   }
@@ -155,17 +158,17 @@ TEST(Tpms, ThinSheetVolumeIsAreaTimesThickness) {
   // Gyroid area per unit cell is about 3.0915·T² (Schoen), so a thin sheet fills
   // 3.0915·t/T of space.
   for (double t : {0.05, 0.1}) {
-    const double fraction = lattice_solid_fraction(
-        {.style = LatticeStyle::Sheet, .cell = {2, 2, 2}, .thickness = t}, 160);
+    const double fraction =
+        tpms_solid_fraction({.style = TpmsStyle::Sheet, .cell = {2, 2, 2}, .thickness = t}, 160);
     EXPECT_NEAR(fraction, 3.0915 * t / 2, 0.03 * 3.0915 * t / 2);
   }
 }
 
 TEST(Tpms, NamesAndValidation) {
-  for (Lattice type : kTypes) EXPECT_EQ(lattice_from_name(lattice_name(type)), type);
-  EXPECT_EQ(lattice_from_name("schwarz-p"), Lattice::Primitive);
-  EXPECT_THROW(lattice_from_name("kelvin"), InputError);
-  EXPECT_THROW(validate(TpmsOptions{.cell = {0, 1, 1}}), InputError);
-  EXPECT_THROW(validate(TpmsOptions{.style = LatticeStyle::Sheet, .thickness = -1}), InputError);
-  EXPECT_THROW(validate(TpmsOptions{.level = std::nan("")}), InputError);
+  for (TpmsType type : kTypes) EXPECT_EQ(tpms_type_from_name(tpms_type_name(type)), type);
+  EXPECT_EQ(tpms_type_from_name("schwarz-p"), TpmsType::Primitive);
+  EXPECT_THROW(tpms_type_from_name("kelvin"), InputError);
+  EXPECT_THROW(require_valid(TpmsOptions{.cell = {0, 1, 1}}), InputError);
+  EXPECT_THROW(require_valid(TpmsOptions{.style = TpmsStyle::Sheet, .thickness = -1}), InputError);
+  EXPECT_THROW(require_valid(TpmsOptions{.level = std::nan("")}), InputError);
 }

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <numbers>
 #include <tpmsfill/check.hpp>
+#include <tpmsfill/components.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/validate.hpp>
 #include <unordered_map>

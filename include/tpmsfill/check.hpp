@@ -117,7 +117,9 @@ struct MeshCheck {
 /// Establishes the facts above.
 /// @param[in] soup     any triangle soup (indices must be in range, which readers guarantee)
 /// @param[in] options  which expensive facts to compute, how many examples to keep
-/// @throws InputError  an index is out of range
+/// @throws InputError  an index is out of range, or the soup has more triangles or points
+///                     than 32-bit corner and vertex numbers allow
+/// @throws Error       internal: CGAL built a different number of faces than it was given
 MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options = {});
 
 /// The JSON object `tpmsfill check --json` prints (2-space indent, keys in this order;

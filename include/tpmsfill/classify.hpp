@@ -24,6 +24,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/spatial.hpp"
@@ -35,6 +37,11 @@ enum class InsideRule {
   Parity,   ///< odd number of crossings
   Winding,  ///< generalized winding number ≥ ½
 };
+
+/// "auto" (unset), "winding", "parity": FillOptions::inside as the CLI and recipes name it.
+std::string_view inside_name(std::optional<InsideRule> rule);
+/// @throws InputError  not one of those names
+std::optional<InsideRule> inside_from_name(std::string_view name);
 
 struct ClassifyOptions {
   InsideRule rule = InsideRule::Winding;
@@ -48,11 +55,11 @@ struct Occupancy {
   /// midpoint rule across rows). Rows whose answer needed the hole caps count their inside
   /// nodes times spacing instead.
   double volume = 0;
-  std::uint64_t rays = 0;       ///< rows cast (dims[1]·dims[2])
+  std::uint64_t rows = 0;       ///< rows cast, one ray each (Grid::row_count())
   std::uint64_t crossings = 0;  ///< ray/triangle crossings counted, caps included
   /// Rows whose crossing count was odd (the mesh is not closed along them). Parity ignores
   /// their last crossing. Non-zero means the triangles in the index have holes.
-  std::uint64_t odd_rays = 0;
+  std::uint64_t odd_rows = 0;
   /// Winding rule: rows with a node where J is not 0 or 1 (shells overlap or are inside out).
   std::uint64_t overlap_rows = 0;
   /// Winding rule: rows whose crossing directions do not add up to 0, or with a node where J

@@ -2,11 +2,12 @@
 /// @brief Stage "compose": the field whose zero level is the clipped lattice,
 /// φ = max(φ_model, φ_L) (paper eq. 5), with φ_model sparse as in eq. 10, and an optional skin.
 ///
-/// Off the band φ_model is only known by its sign: at inside nodes it is below the lattice's
-/// values, so φ = φ_L there; at outside nodes φ is a positive constant and the lattice is not
-/// evaluated at all. No node of the result equals 0: an exact zero (a model face on a grid
-/// plane, the lattice surface through a node) becomes the smallest positive float, so marching
-/// cubes never meets a sample on the iso-value.
+/// φ_L is any field source (field.hpp): a TPMS design (design_source), a caller's own. Off the
+/// band φ_model is only known by its sign: at inside nodes it is below the lattice's values,
+/// so φ = φ_L there; at outside nodes φ is the positive constant 1 + skin + source.bound and
+/// the source is not evaluated at all. No node of the result equals 0: an exact zero (a model face
+/// on a grid plane, the lattice surface through a node) becomes the smallest positive float, so
+/// marching cubes never meets a sample on the iso-value.
 ///
 /// Skin (Aremu et al. 2017): a solid shell of thickness s inside the model's surface, united
 /// with the lattice so that no strut dangles at the boundary:
@@ -18,7 +19,7 @@
 
 #include <vector>
 
-#include "tpmsfill/lattice.hpp"
+#include "tpmsfill/field.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -30,13 +31,11 @@ struct ComposeOptions {
   double skin = 0;
   /// Open the skin at the pores (see above) instead of sealing the void in.
   bool skin_windows = false;
-  /// Depth below the model's surface at every node, mm (for the design's depth ramps).
-  const Field* depth = nullptr;
   Progress* progress = nullptr;
 };
 
 /// @throws InputError  the skin is negative or not finite
-void validate(const ComposeOptions& options);
+void require_valid(const ComposeOptions& options);
 
 /// Band half-width (voxels) whose distances reach a skin of `skin` mm: every node within
 /// skin + one voxel of the surface is within this many 26-steps of the other side.
@@ -46,13 +45,14 @@ int skin_band_width(double skin, double spacing);
 /// @param[in] inside         occupancy (1 = inside)
 /// @param[in] band           nodes with exact distances (band_voxels), on inside.grid
 /// @param[in] band_distance  signed distance at band.nodes, mm (band_distances)
-/// @param[in] lattice        the lattice (positions of its ramps resolved: resolve_design)
-/// @throws InputError  grids or sizes disagree, the skin is negative, or the design is invalid
+/// @param[in] lattice        φ_L, evaluated on inside.grid where the model does not decide
+/// @throws InputError  grids or sizes disagree, the skin is negative, or the source is empty
+/// @throws whatever the source throws
 Field compose_field(const Mask& inside, const Band& band, const std::vector<float>& band_distance,
-                    const LatticeDesign& lattice, const ComposeOptions& options = {});
+                    const FieldSource& lattice, const ComposeOptions& options = {});
 
 /// φ at every node from a full signed distance field (the --full-field reference path).
-Field compose_field(const Field& model_distance, const LatticeDesign& lattice,
+Field compose_field(const Field& model_distance, const FieldSource& lattice,
                     const ComposeOptions& options = {});
 
 }  // namespace tpmsfill

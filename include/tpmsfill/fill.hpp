@@ -1,8 +1,8 @@
 /// @file fill.hpp
 /// @brief The whole pipeline: a TPMS lattice clipped to a closed mesh, validated.
 ///
-///   grid → spatial → classify → voxel band → band distances → compose (with the TPMS) →
-///   marching cubes → islands → validate
+///   grid → spatial → classify → voxel band → band distances → compose (with the design's
+///   field source) → marching cubes → islands → validate
 ///
 /// Each stage is public (its own header) for callers who compose their own pipeline; fill()
 /// is the sequence with the report filled in. Inside is, by default, the generalized winding
@@ -12,14 +12,12 @@
 
 #include <cstdint>
 #include <optional>
-#include <string_view>
 
 #include "tpmsfill/classify.hpp"
+#include "tpmsfill/design.hpp"
 #include "tpmsfill/grid.hpp"
-#include "tpmsfill/lattice.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
-#include "tpmsfill/tpms.hpp"
 #include "tpmsfill/types.hpp"
 #include "tpmsfill/voxel.hpp"
 
@@ -28,9 +26,9 @@ namespace tpmsfill {
 struct FillOptions {
   GridOptions grid;  ///< voxel size (mm) and padding
   /// Type, network/sheet, cell size, level, thickness or porosity, rotation, origin; grading,
-  /// blends or a custom field (lattice.hpp). Porosities are solved and ramps without positions
-  /// span the model (resolve_design), and the report echoes what was resolved.
-  LatticeDesign lattice;
+  /// blends or a custom field source (design.hpp). Porosities are solved and ramps without
+  /// positions span the model (resolve_design); FillResult::resolved holds what was resolved.
+  LatticeDesign design;
   /// A solid shell this thick (mm) inside the model's surface, united with the lattice (0:
   /// none). The band is widened so that its distances reach that deep.
   double skin = 0;
@@ -54,8 +52,8 @@ struct FillOptions {
   /// Search the output for self-intersections before accepting it (exact predicates).
   bool check_self_intersections = true;
   /// Measure pore and wall sizes and the void's connectivity into the report (measure.hpp).
-  /// Off by default: it costs about as much as the rest of the pipeline on small jobs (two
-  /// distance transforms of the grid and one labelling; 0.32–0.38 s on the 6.4 M-node femur).
+  /// Off by default: two distance transforms of the grid and one labelling cost about as much
+  /// as the rest of the pipeline on small jobs (docs/benchmarks.md).
   bool measure = false;
   /// Round the output's coordinates to float before validating, so that formats storing
   /// floats (binary STL, PLY) hold exactly the mesh that was validated.
@@ -68,12 +66,11 @@ struct FillOptions {
 struct FillResult {
   TriangleSoup mesh;  ///< closed, 2-manifold, outward, no self-intersections (validated)
   FillReport report;
+  /// The options as the job ran them: the design resolved (porosities solved into levels or
+  /// thicknesses, ramp positions fixed from the model's box). recipe_json(resolved) is the
+  /// recipe that reproduces the job exactly (recipe.hpp); the CLI puts it into the report.
+  FillOptions resolved;
 };
-
-/// "auto" (unset), "winding", "parity": FillOptions::inside as the CLI and recipes name it.
-std::string_view inside_name(std::optional<InsideRule> rule);
-/// @throws InputError  not one of those names
-std::optional<InsideRule> inside_from_name(std::string_view name);
 
 /// Fills `model` with the lattice.
 /// @param[in] model  any triangle soup, mm (holes, flips, overlaps and duplicates allowed)

@@ -23,6 +23,7 @@
 /// Nodes exactly at the iso-value are treated as outside (above).
 #pragma once
 
+#include "tpmsfill/field.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -41,5 +42,17 @@ struct McOptions {
 ///                     is below 2, or the mesh would need 2^32 or more points
 /// @throws Cancelled   when options.progress says so
 TriangleSoup marching_cubes(const Field& field, const McOptions& options = {});
+
+/// The same mesh (bit for bit) as marching_cubes(sample_field(source, grid)), straight from a
+/// field source (field.hpp): each task evaluates the slab of node layers it reads, so the
+/// field is never held whole. Memory beyond the output: about ten node layers of floats per
+/// worker thread; slabs overlap by two layers and both passes evaluate, so each node is
+/// evaluated about 2.5 times.
+/// @throws InputError  a grid dimension is below 2, the source is empty, or the mesh would
+///                     need 2^32 or more points
+/// @throws Cancelled   when options.progress says so
+/// @throws whatever the source throws
+TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid,
+                            const McOptions& options = {});
 
 }  // namespace tpmsfill

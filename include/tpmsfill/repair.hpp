@@ -112,9 +112,11 @@ struct RepairResult {
 /// @return the repaired mesh (shared points, no unreferenced ones) and what was done. When
 ///         report.valid() is false (the wrap was off or failed) the mesh is the best repair
 ///         reached, not a valid one.
-/// @throws InputError  the soup has no triangles or an index out of range; an option is out
-///                     of range (negative alpha or offset, fraction outside [0, 1))
+/// @throws InputError  the soup has no triangles, none with three distinct corners, or an
+///                     index out of range; an option is out of range (negative alpha or
+///                     offset, fraction outside [0, 1))
 /// @throws Cancelled   options.progress cancelled the job
+/// @throws Error       internal: CGAL's oriented soup is not a polygon mesh
 RepairResult repair_mesh(const TriangleSoup& soup, const RepairOptions& options = {});
 
 /// The JSON object `tpmsfill repair --json` prints (2-space indent, keys in this order):

@@ -26,22 +26,25 @@ struct FillReport {
   // --- input and settings ---------------------------------------------------------------
   std::uint64_t input_triangles = 0;
   Box3 input_bbox;
-  std::string lattice;                    ///< "gyroid network", "diamond sheet", ...
+  std::string design;                     ///< "gyroid network", "diamond sheet", ...
   Vec3 cell;                              ///< mm
   double level = 0;                       ///< mm (network)
   double thickness = 0;                   ///< mm (sheet)
   double skin = 0;                        ///< mm (0: none)
   std::optional<double> porosity_target;  ///< what --porosity asked (level/thickness solved)
   bool sheet = false;                     ///< the base lattice is a sheet
-  std::string recipe;                     ///< the resolved recipe (recipe.hpp), JSON
+  /// The recipe that reproduces the job, JSON (recipe_json(FillResult::resolved), recipe.hpp),
+  /// for the caller to set: fill() does not write recipes. Empty: null in to_json.
+  std::string recipe;
   // --- grid and field -------------------------------------------------------------------
   Grid grid;
   std::uint64_t samples = 0;           ///< grid nodes
   std::uint64_t band_nodes = 0;        ///< nodes with an exact distance
   std::uint64_t distance_queries = 0;  ///< closest-point queries made
   bool full_field = false;             ///< distances at every node (--full-field)
-  std::uint64_t rays = 0, crossings = 0;
-  std::uint64_t odd_rays = 0;  ///< rows with an odd crossing count (input not closed)
+  std::uint64_t rows = 0;              ///< grid rows classified, one ray each
+  std::uint64_t crossings = 0;         ///< ray/triangle crossings counted
+  std::uint64_t odd_rows = 0;          ///< rows with an odd crossing count (input not closed)
   // --- inside/outside (classify.hpp) -----------------------------------------------------
   std::string inside_rule;         ///< "parity" or "winding"
   CleanReport clean;               ///< what the clean stage found and did (winding rule only)

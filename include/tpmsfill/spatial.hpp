@@ -14,6 +14,10 @@
 
 namespace tpmsfill {
 
+namespace detail {
+struct MeshIndexAccess;  // src/detail/mesh_index_impl.hpp: how classify and distance see inside
+}
+
 struct IndexOptions {
   /// Triangles that close the soup's holes (CleanResult::caps), or null. They join the
   /// tree, so rays cross them and distances reach them (the model's contour runs across a
@@ -24,12 +28,9 @@ struct IndexOptions {
   // triangles are kept: rays and distances treat them exactly.
 };
 
-/// An AABB tree over a triangle soup's triangles (Epick). Move-only.
+/// An AABB tree over a triangle soup's triangles (Epick). Move-only; made by build_index().
 class MeshIndex {
  public:
-  struct Impl;  ///< defined in src/detail/mesh_index_impl.hpp
-
-  explicit MeshIndex(std::unique_ptr<Impl> impl);
   MeshIndex(MeshIndex&&) noexcept;
   MeshIndex& operator=(MeshIndex&&) noexcept;
   ~MeshIndex();
@@ -38,9 +39,10 @@ class MeshIndex {
   std::size_t cap_count() const;       ///< of those, hole caps
   Box3 bounds() const;                 ///< of the triangles in the tree
 
-  const Impl& impl() const { return *impl_; }
-
  private:
+  struct Impl;
+  friend struct detail::MeshIndexAccess;
+  explicit MeshIndex(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

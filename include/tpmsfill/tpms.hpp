@@ -1,10 +1,10 @@
 /// @file tpms.hpp
-/// @brief Stage "tpms": one lattice's implicit field φ_TPMS in millimetres (paper eq. 1–4), and
-/// the level or thickness that gives a porosity.
+/// @brief Stage "tpms": one triply periodic minimal surface as a signed field φ_TPMS in
+/// millimetres (paper eq. 1–4), and the level or thickness that gives a porosity.
 ///
 /// In lattice coordinates q = Rᵀ(p − origin) (R the lattice's rotation), with X = 2π q_x/Tx,
 /// Y = 2π q_y/Ty, Z = 2π q_z/Tz (T = cell size per axis), each type has a periodic function f
-/// (table in docs/method.md and DESIGN.md). f is not a distance, so tpmsfill uses
+/// (the table in docs/method.md). f is not a distance, so tpmsfill uses
 /// f̃ = f/|∇f|, a first-order distance in mm, clamped to ±max(T) where |∇f| vanishes away from
 /// the surface. Then:
 ///   network:  φ_TPMS = f̃ + level          (solid where φ < 0; level in mm, 0 = the surface)
@@ -12,7 +12,8 @@
 /// Without rotation the evaluation is separable: the per-axis sines and cosines are computed
 /// once per grid line, so a sample costs a few multiply-adds, a square root and a division.
 ///
-/// Graded, blended and user-supplied lattices build on this stage: lattice.hpp.
+/// tpms_source() is the field a TPMS plugs into the field seam (field.hpp) with; graded and
+/// blended designs build on this stage (design.hpp).
 #pragma once
 
 #include <optional>
@@ -20,25 +21,21 @@
 #include <string_view>
 #include <vector>
 
-#include "tpmsfill/progress.hpp"
+#include "tpmsfill/field.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
 
-/// Triply periodic minimal surface types (DESIGN.md's table).
-enum class Lattice { Gyroid, Primitive, Diamond, Iwp, Neovius, Frd, Lidinoid, SplitP };
-
-/// Every type, in the order of the design table (for loops and listings).
-inline constexpr Lattice kAllLattices[] = {Lattice::Primitive, Lattice::Gyroid,  Lattice::Diamond,
-                                           Lattice::Iwp,       Lattice::Neovius, Lattice::Frd,
-                                           Lattice::Lidinoid,  Lattice::SplitP};
+/// The surface types of the table in docs/method.md.
+enum class TpmsType { Gyroid, Primitive, Diamond, Iwp, Neovius, Frd, Lidinoid, SplitP };
 
 /// Network: the solid is one side of the level set. Sheet: a shell around the surface.
-enum class LatticeStyle { Network, Sheet };
+enum class TpmsStyle { Network, Sheet };
 
+/// One TPMS: its type, style and cell, and where and how it sits in space.
 struct TpmsOptions {
-  Lattice type = Lattice::Gyroid;
-  LatticeStyle style = LatticeStyle::Network;
+  TpmsType type = TpmsType::Gyroid;
+  TpmsStyle style = TpmsStyle::Network;
   Vec3 cell = {2, 2, 2};    ///< cell size T per axis, mm (> 0)
   double level = 0;         ///< network: offset of the solid's boundary, mm (+ = thinner)
   double thickness = 0.3;   ///< sheet: wall thickness, mm (> 0)
@@ -51,17 +48,17 @@ struct TpmsOptions {
 };
 
 /// "primitive", "gyroid", "diamond", "iwp", "neovius", "frd", "lidinoid", "splitp".
-std::string_view lattice_name(Lattice type);
-/// Inverse of lattice_name (also accepts "schwarz-p" for primitive, "schwarz-d" for diamond,
+std::string_view tpms_type_name(TpmsType type);
+/// Inverse of tpms_type_name (also accepts "schwarz-p" for primitive, "schwarz-d" for diamond,
 /// "i-wp", "split-p").
 /// @throws InputError  unknown name (the message lists the known ones)
-Lattice lattice_from_name(std::string_view name);
+TpmsType tpms_type_from_name(std::string_view name);
 /// "network", "sheet".
-std::string_view lattice_style_name(LatticeStyle style);
+std::string_view tpms_style_name(TpmsStyle style);
 /// @throws InputError  neither "network" nor "sheet"
-LatticeStyle lattice_style_from_name(std::string_view name);
+TpmsStyle tpms_style_from_name(std::string_view name);
 /// "gyroid network", "iwp sheet", ...
-std::string lattice_label(const TpmsOptions& options);
+std::string tpms_label(const TpmsOptions& options);
 
 /// Rotation about x by rx, then about the (fixed) y by ry, then about z by rz, in degrees:
 /// R = Rz · Ry · Rx.
@@ -70,19 +67,13 @@ Mat3 rotation_from_euler(Vec3 degrees);
 /// @throws InputError  a cell size or the thickness is not positive and finite, the level or
 ///                     origin is not finite, the rotation is not a rotation (orthonormal with
 ///                     determinant +1, to 1e-6), or the porosity is not in (0, 1)
-void validate(const TpmsOptions& options);
+void require_valid(const TpmsOptions& options);
 
-/// φ_TPMS at one point, mm.
-float tpms_value(Vec3 p, const TpmsOptions& options);
-
-/// Bounds of φ_TPMS over all space (from the clamp), mm: every value lies in [low, high].
-struct FieldRange {
-  float low = 0, high = 0;
-};
-FieldRange tpms_range(const TpmsOptions& options);
-
-/// φ_TPMS at every node of `grid` (same values as tpms_value at Grid::node()).
-Field tpms_field(const Grid& grid, const TpmsOptions& options, Progress* progress = nullptr);
+/// φ_TPMS as a field source (field.hpp), with a porosity solved first (resolve_porosity).
+/// Without rotation its per-axis trigonometry is tabled once per grid line. Its bound is
+/// twice the largest cell size (f̃ is clamped to ± the largest cell size).
+/// @throws InputError  invalid options (require_valid)
+FieldSource tpms_source(const TpmsOptions& options);
 
 /// Samples of f̃ (mm) over one unit cell at samples³ cell-centred points, sorted ascending.
 /// The solid fraction of a network with level ℓ is the share of samples below −ℓ, and of a
@@ -92,19 +83,20 @@ struct CellSamples {
   std::vector<float> values;    ///< f̃, sorted
   std::vector<float> absolute;  ///< |f̃|, sorted
 };
+/// @throws InputError  invalid options, or samples < 2
 CellSamples sample_cell(const TpmsOptions& options, int samples = 96);
 
 /// The level (network) or thickness (sheet), mm, whose solid fraction over the sampled cell is
 /// 1 − porosity.
 /// @throws InputError  porosity not in (0, 1)
-double level_for_porosity(const CellSamples& cell, LatticeStyle style, double porosity);
+double level_for_porosity(const CellSamples& cell, TpmsStyle style, double porosity);
 
 /// `options` with `level` (network) or `thickness` (sheet) solved for options.porosity; the
 /// porosity stays set, as a record of what was asked. Unchanged without a porosity.
 TpmsOptions resolve_porosity(const TpmsOptions& options);
 
-/// Solid volume fraction of the unclipped lattice (1 − porosity), by sampling one unit cell
-/// at samples³ cell-centred points.
-double lattice_solid_fraction(const TpmsOptions& options, int samples = 96);
+/// Solid volume fraction of the unclipped TPMS (1 − porosity), by sampling one unit cell at
+/// samples³ cell-centred points.
+double tpms_solid_fraction(const TpmsOptions& options, int samples = 96);
 
 }  // namespace tpmsfill

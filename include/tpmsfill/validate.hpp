@@ -1,12 +1,13 @@
 /// @file validate.hpp
 /// @brief Stage "validate": is an indexed triangle mesh (typically marching-cubes output) a
 /// closed, consistently and outwardly oriented 2-manifold without degenerate faces or
-/// self-intersections, and which connected components does it have?
+/// self-intersections?
 ///
 /// Unlike check_mesh() (which accepts any soup and merges bit-identical points first), this
 /// judges the mesh exactly as indexed, fast enough for multi-million-triangle outputs: the
 /// topology is integer sorting, geometric decisions use CGAL's exact predicates (Epick).
-/// Returns data; fill() turns a failing report into a ValidationError.
+/// Returns data; fill() turns a failing report into a ValidationError. The report counts the
+/// mesh's connected components; to list, measure or drop them see components.hpp.
 #pragma once
 
 #include <array>
@@ -77,29 +78,9 @@ struct ValidationReport {
 };
 
 /// Validates `mesh` as indexed.
-/// @throws InputError  an index is out of range
+/// @throws InputError  an index is out of range, or the mesh has more triangles or points
+///                     than 32-bit corner numbers allow
 /// @throws Cancelled   when options.progress says so
 ValidationReport validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options = {});
-
-/// Connected components (through shared vertices) of a mesh, with their size and extent.
-/// @throws InputError  an index is out of range
-struct Components {
-  std::vector<std::uint32_t> triangle_component;  ///< per triangle, numbered from 0
-  struct Info {
-    std::uint64_t triangles = 0;
-    double volume = 0;  ///< signed, mm^3 (about the mesh's bounding-box centre if open)
-    double area = 0;    ///< mm^2
-    std::uint32_t first_triangle = 0;  ///< lowest triangle index in the component
-  };
-  /// Numbered in order of their first triangle, so numbering is deterministic.
-  std::vector<Info> info;
-};
-Components mesh_components(const TriangleSoup& mesh);
-
-/// The mesh with only the triangles whose component has keep[component] set; unreferenced
-/// points are dropped, the remaining points and triangles keep their relative order.
-/// @throws InputError  an index is out of range, or `components` / `keep` do not fit `mesh`
-TriangleSoup keep_components(const TriangleSoup& mesh, const Components& components,
-                             const std::vector<bool>& keep);
 
 }  // namespace tpmsfill

@@ -18,10 +18,6 @@ namespace tpmsfill {
 /// @throws InputError  voxels < 0, or mask.values does not match mask.grid
 Mask dilate(const Mask& mask, int voxels = 1);
 
-/// bw(·) of the paper: set nodes with fewer than 26 set neighbours, i.e. with an unset
-/// 26-neighbour (nodes on the grid's faces always qualify).
-Mask boundary_voxels(const Mask& mask);
-
 struct BandOptions {
   /// Half-width in voxels. 1 is the paper's band: inside nodes with an outside 26-neighbour
   /// (bw(I)) and outside nodes with an inside 26-neighbour. k > 1 widens both sides to k

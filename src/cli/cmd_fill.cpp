@@ -82,28 +82,28 @@ Ramp ramp_along(const std::string& along) {
 
 // Flags on top of the recipe (or the defaults): what is given on the command line wins.
 void apply_flags(const FillArgs& args, FillOptions& options) {
-  TpmsOptions& lattice = options.lattice;
+  TpmsOptions& tpms = options.design;
   if (args.voxel) options.grid.voxel_size = *args.voxel;
-  if (args.lattice) lattice.type = lattice_from_name(*args.lattice);
-  if (args.sheet) lattice.style = LatticeStyle::Sheet;
+  if (args.lattice) tpms.type = tpms_type_from_name(*args.lattice);
+  if (args.sheet) tpms.style = TpmsStyle::Sheet;
   if (!args.cell.empty()) {
     if (args.cell.size() != 1 && args.cell.size() != 3)
       throw InputError("--cell takes one size or three (x y z), in mm");
-    lattice.cell =
+    tpms.cell =
         args.cell.size() == 1 ? Vec3{args.cell[0], args.cell[0], args.cell[0]} : three(args.cell);
   }
-  const bool sheet = lattice.style == LatticeStyle::Sheet;
+  const bool sheet = tpms.style == TpmsStyle::Sheet;
   if (sheet && args.level)
     throw InputError("--level is for network lattices; use --thickness with --sheet");
   if (!sheet && args.thickness) throw InputError("--thickness needs --sheet");
   if (args.porosity && (args.level || args.thickness))
     throw InputError("--porosity sets the " + std::string(sheet ? "thickness" : "level") +
                      "; give one or the other");
-  if (args.level) lattice.level = *args.level, lattice.porosity.reset();
-  if (args.thickness) lattice.thickness = *args.thickness, lattice.porosity.reset();
-  if (args.porosity) lattice.porosity = *args.porosity;
-  if (!args.rotate.empty()) lattice.rotation = rotation_from_euler(three(args.rotate));
-  if (!args.origin.empty()) lattice.origin = three(args.origin);
+  if (args.level) tpms.level = *args.level, tpms.porosity.reset();
+  if (args.thickness) tpms.thickness = *args.thickness, tpms.porosity.reset();
+  if (args.porosity) tpms.porosity = *args.porosity;
+  if (!args.rotate.empty()) tpms.rotation = rotation_from_euler(three(args.rotate));
+  if (!args.origin.empty()) tpms.origin = three(args.origin);
   if (!args.grade.empty()) {
     Ramp ramp = ramp_along(args.grade_along);
     if (!args.grade_range.empty()) ramp.from = args.grade_range[0], ramp.to = args.grade_range[1];
@@ -117,8 +117,8 @@ void apply_flags(const FillArgs& args, FillOptions& options) {
         throw InputError("--grade " + args.grade[g] + ": '" + args.grade[g + 1] + " " +
                          args.grade[g + 2] + "' are not two numbers");
       }
-      std::erase_if(options.lattice.grading, [&](const Grading& e) { return e.what == what; });
-      options.lattice.grading.push_back({what, r});
+      std::erase_if(options.design.grading, [&](const Grading& e) { return e.what == what; });
+      options.design.grading.push_back({what, r});
     }
   } else if (!args.grade_range.empty() || args.grade_along != "z") {
     throw InputError("--grade-along and --grade-range describe a --grade: give one");
@@ -134,7 +134,7 @@ void apply_flags(const FillArgs& args, FillOptions& options) {
   if (args.measure) options.measure = true;
   if (args.no_self_intersections) options.check_self_intersections = false;
   if (!args.memory.empty()) options.memory_budget = parse_bytes(args.memory);
-  validate(options.lattice);
+  require_valid(options.design);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -171,6 +171,7 @@ int run_fill(const FillArgs& args) {
   t0 = std::chrono::steady_clock::now();
   write_mesh(args.output, result.mesh);
   FillReport& report = result.report;
+  report.recipe = recipe_json(result.resolved);
   report.stages.insert(report.stages.begin(), read);
   report.stages.push_back({"write", seconds_since(t0), peak_memory_mb()});
   if (!args.report.empty()) write_file_atomically(args.report, to_json(report));

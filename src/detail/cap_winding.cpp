@@ -1,12 +1,14 @@
 // The rim hierarchy: per rim, a binary tree over runs of consecutive edges, walked depth-first.
 #include "detail/cap_winding.hpp"
 
-#include "detail/border_loops.hpp"
-#include "detail/soup_topology.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "detail/border_loops.hpp"
+#include "detail/disjoint_sets.hpp"
+#include "detail/index_limits.hpp"
+#include "detail/mesh_measures.hpp"
 
 namespace tpmsfill::detail {
 namespace {
@@ -64,7 +66,7 @@ CapWinding::CapWinding(const TriangleSoup& caps) {
       patch.box.extend(v);
       box_.extend(v);
     }
-    patch.area += 0.5 * norm(cross(b - a, c - a));
+    patch.area += 0.5 * double_area(a, b, c);
   }
   // Rims: the caps' border loops, by point index.
   std::vector<std::vector<Vec3>> rims;

@@ -111,4 +111,15 @@ struct MeshIndex::Impl {
   std::size_t cap_count = 0;
 };
 
+namespace detail {
+
+/// The one door to MeshIndex's inside: build_index makes one, classify and distance read it.
+struct MeshIndexAccess {
+  using Impl = MeshIndex::Impl;
+  static const Impl& impl(const MeshIndex& index) { return *index.impl_; }
+  static MeshIndex make(std::unique_ptr<Impl> impl) { return MeshIndex(std::move(impl)); }
+};
+
+}  // namespace detail
+
 }  // namespace tpmsfill

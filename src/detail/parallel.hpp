@@ -1,5 +1,6 @@
 /// @file parallel.hpp
-/// @brief The one parallel loop tpmsfill uses, and a helper that reports progress from it.
+/// @brief The one parallel loop tpmsfill uses, and a sum that rounds the same way for every
+/// thread count.
 ///
 /// Results must not depend on the thread count: bodies write by index (count → exclusive
 /// scan → fill), never by atomic append, and reductions combine per-chunk results in chunk
@@ -10,12 +11,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstddef>
 #include <vector>
-
-#include "tpmsfill/error.hpp"
-#include "tpmsfill/progress.hpp"
 
 namespace tpmsfill::detail {
 
@@ -51,36 +48,5 @@ double deterministic_sum(std::size_t n, std::size_t chunk, const F& f) {
   for (double p : partial) total += p;
   return total;
 }
-
-/// Counts finished work units from many threads and forwards the fraction to a Progress,
-/// at most about 100 times; throws Cancelled (from the calling thread) once it says stop.
-class ProgressCounter {
- public:
-  ProgressCounter(Progress* progress, const char* stage, std::size_t total)
-      : progress_(progress), total_(std::max<std::size_t>(total, 1)) {
-    if (progress_) progress_->begin(stage);
-  }
-  /// Adds `units` finished units. Cheap when no Progress is attached.
-  void add(std::size_t units) {
-    if (!progress_) return;
-    const std::size_t before = done_.fetch_add(units, std::memory_order_relaxed);
-    const std::size_t step = total_ / 100 + 1;
-    if ((before + units) / step != before / step) {
-      if (!progress_->report(static_cast<double>(std::min(before + units, total_)) /
-                             static_cast<double>(total_)))
-        cancelled_.store(true, std::memory_order_relaxed);
-    }
-    if (cancelled_.load(std::memory_order_relaxed)) throw Cancelled("cancelled");
-  }
-  void finish() {
-    if (progress_ && !progress_->report(1.0)) throw Cancelled("cancelled");
-  }
-
- private:
-  Progress* progress_;
-  std::size_t total_;
-  std::atomic<std::size_t> done_{0};
-  std::atomic<bool> cancelled_{false};
-};
 
 }  // namespace tpmsfill::detail

@@ -9,28 +9,9 @@
 #include <numeric>
 #include <tuple>
 
+#include "detail/soup_indices.hpp"
+
 namespace tpmsfill::detail {
-
-DisjointSets::DisjointSets(std::size_t n) : parent_(n) {
-  std::iota(parent_.begin(), parent_.end(), 0u);
-}
-
-std::uint32_t DisjointSets::find(std::uint32_t i) {
-  while (parent_[i] != i) {
-    parent_[i] = parent_[parent_[i]];
-    i = parent_[i];
-  }
-  return i;
-}
-
-void DisjointSets::unite(std::uint32_t a, std::uint32_t b) {
-  a = find(a);
-  b = find(b);
-  if (a < b)
-    parent_[b] = a;
-  else if (b < a)
-    parent_[a] = b;
-}
 
 namespace {
 
@@ -95,17 +76,16 @@ PointMerge merge_equal_points(const std::vector<Vec3>& points) {
   return merge;
 }
 
-SoupTopology analyze_soup(const TriangleSoup& soup) {
-  SoupTopology topo;
-  topo.merge = merge_equal_points(soup.points);
-  topo.vertex_count = static_cast<std::uint32_t>(topo.merge.first_point.size());
-  const std::size_t nt = soup.triangles.size();
-  const std::uint32_t nv = topo.vertex_count;
+namespace {
 
-  // --- corners, repeated corners, duplicates -------------------------------------------
+// analyze_soup() in four phases, each filling its part of the topology.
+
+/// Corners as vertex ids, referenced vertices, repeated-corner and duplicate triangles.
+void find_corners(const TriangleSoup& soup, SoupTopology& topo) {
+  const std::size_t nt = soup.triangles.size();
   topo.corners.resize(nt);
   topo.flags.assign(nt, 0);
-  topo.vertex_referenced.assign(nv, false);
+  topo.vertex_referenced.assign(topo.vertex_count, false);
   std::vector<TriangleKey> triangle_keys;
   triangle_keys.reserve(nt);
   for (std::size_t t = 0; t < nt; ++t) {
@@ -114,7 +94,7 @@ SoupTopology analyze_soup(const TriangleSoup& soup) {
       c[k] = topo.merge.vertex_of_point[soup.triangles[t][k]];
       topo.vertex_referenced[c[k]] = true;
     }
-    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
+    if (repeated_corner(c)) {
       topo.flags[t] |= SoupTopology::kRepeatedCorner;
       continue;
     }
@@ -126,9 +106,11 @@ SoupTopology analyze_soup(const TriangleSoup& soup) {
   for (std::size_t i = 1; i < triangle_keys.size(); ++i)
     if (triangle_keys[i].sorted == triangle_keys[i - 1].sorted)
       topo.flags[triangle_keys[i].triangle] |= SoupTopology::kDuplicate;
-  triangle_keys = {};
+}
 
-  // --- edge table --------------------------------------------------------------------
+/// The edge table: edges and their uses, sorted.
+void build_edge_table(SoupTopology& topo) {
+  const std::size_t nt = topo.corners.size();
   std::vector<HalfEdgeKey> half_edges;
   half_edges.reserve(3 * nt);
   for (std::size_t t = 0; t < nt; ++t) {
@@ -155,9 +137,11 @@ SoupTopology analyze_soup(const TriangleSoup& soup) {
     ++e.use_count;
     if (!(topo.flags[h.triangle] & SoupTopology::kDuplicate)) ++e.kept_count;
   }
-  half_edges = {};
+}
 
-  // --- fans, edge components, surface components ---------------------------------------
+/// Fans per vertex, edge components and surface components.
+void count_fans_and_components(SoupTopology& topo) {
+  const std::size_t nt = topo.corners.size();
   // Corner slot 3t+k stands for triangle t at its corner k; slots of one fan get united.
   DisjointSets slots(3 * nt);
   DisjointSets kept_sets(nt), surface_sets(nt);
@@ -184,7 +168,7 @@ SoupTopology analyze_soup(const TriangleSoup& soup) {
       kept_sets.unite(kept[0], kept[1]);
     }
   }
-  topo.fans.assign(nv, 0);
+  topo.fans.assign(topo.vertex_count, 0);
   for (std::size_t t = 0; t < nt; ++t) {
     if (topo.flags[t] & SoupTopology::kRepeatedCorner) continue;
     for (std::uint32_t k = 0; k < 3; ++k) {
@@ -196,8 +180,11 @@ SoupTopology analyze_soup(const TriangleSoup& soup) {
     if (!(topo.flags[t] & SoupTopology::kDuplicate) && kept_sets.find(tt) == tt)
       ++topo.edge_components;
   }
+}
 
-  // --- vertex components ---------------------------------------------------------------
+/// Vertex components, numbered in order of their smallest vertex id.
+void label_vertex_components(SoupTopology& topo) {
+  const std::uint32_t nv = topo.vertex_count;
   DisjointSets vertex_sets(nv);
   for (const auto& c : topo.corners) {
     vertex_sets.unite(c[0], c[1]);
@@ -210,7 +197,36 @@ SoupTopology analyze_soup(const TriangleSoup& soup) {
     if (root == v) topo.vertex_component[v] = topo.vertex_components++;
     topo.vertex_component[v] = topo.vertex_component[root];
   }
+}
+
+}  // namespace
+
+SoupTopology analyze_soup(const TriangleSoup& soup) {
+  SoupTopology topo;
+  topo.merge = merge_equal_points(soup.points);
+  topo.vertex_count = static_cast<std::uint32_t>(topo.merge.first_point.size());
+  find_corners(soup, topo);
+  build_edge_table(topo);
+  count_fans_and_components(topo);
+  label_vertex_components(topo);
   return topo;
+}
+
+TriangleComponents triangle_components(const TriangleSoup& mesh) {
+  DisjointSets sets(mesh.points.size());
+  for (const Triangle& t : mesh.triangles) {
+    sets.unite(t[0], t[1]);
+    sets.unite(t[0], t[2]);
+  }
+  std::vector<std::uint32_t> id(mesh.points.size(), kNoIndex);
+  TriangleComponents c;
+  c.of_triangle.resize(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::uint32_t root = sets.find(mesh.triangles[t][0]);
+    if (id[root] == kNoIndex) id[root] = c.count++;
+    c.of_triangle[t] = id[root];
+  }
+  return c;
 }
 
 }  // namespace tpmsfill::detail

@@ -1,7 +1,8 @@
 /// @file soup_topology.hpp
 /// @brief Plain-data topology of a triangle soup: equal points merged, degenerate and duplicate
 /// triangles found, an edge table, vertex fans and connected components. No CGAL, no geometry
-/// beyond comparing coordinates; shared by the "check" and "clean" stages.
+/// beyond comparing coordinates; shared by the "check" and "clean" stages. Components of a
+/// mesh as indexed (no merging), for "validate" and "components", are at the end.
 ///
 /// Vocabulary used below:
 /// - *vertex*: a distinct position. Points are merged when their coordinates are equal (bit
@@ -19,23 +20,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "detail/disjoint_sets.hpp"
+#include "detail/index_limits.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill::detail {
-
-inline constexpr std::uint32_t kNoIndex = 0xffffffffu;
-
-/// Union-find over 0..n-1 with path halving and union by index (the smaller root wins, so
-/// the result never depends on the order of calls for the same set of unions).
-class DisjointSets {
- public:
-  explicit DisjointSets(std::size_t n);
-  std::uint32_t find(std::uint32_t i);
-  void unite(std::uint32_t a, std::uint32_t b);
-
- private:
-  std::vector<std::uint32_t> parent_;
-};
 
 /// Input points grouped by equal coordinates.
 struct PointMerge {
@@ -96,5 +85,15 @@ struct SoupTopology {
 
 /// Builds the topology. Precondition: every index < soup.points.size().
 SoupTopology analyze_soup(const TriangleSoup& soup);
+
+/// Triangles joined through shared point indices, as the "validate" and "components" stages
+/// judge a mesh: exactly as indexed, equal positions not merged.
+struct TriangleComponents {
+  std::vector<std::uint32_t> of_triangle;  ///< per triangle, numbered in order of first triangle
+  std::uint32_t count = 0;
+};
+
+/// Labels the components. Precondition: every index < mesh.points.size().
+TriangleComponents triangle_components(const TriangleSoup& mesh);
 
 }  // namespace tpmsfill::detail

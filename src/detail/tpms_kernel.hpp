@@ -1,8 +1,10 @@
 /// @file tpms_kernel.hpp
 /// @brief The TPMS type table: f and its gradient from per-axis trigonometry (AxisTrig), so that
-/// grid lines share their sines and cosines, and f̃ = f/|∇f| in mm.
+/// grid lines share their sines and cosines; f̃ = f/|∇f| in mm; and TpmsLayer, one TPMS's
+/// constants, which the tpms stage and the design (design.cpp) evaluate with.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -47,29 +49,29 @@ double cyclic(const Axis& x, const Axis& y, const Axis& z, const G& g) {
   return g(x, y, z) + g(y, z, x) + g(z, x, y);
 }
 
-inline double f(Lattice type, const Axis& x, const Axis& y, const Axis& z) {
+inline double f(TpmsType type, const Axis& x, const Axis& y, const Axis& z) {
   switch (type) {
-    case Lattice::Gyroid:  // cos X sin Y + cos Y sin Z + cos Z sin X
+    case TpmsType::Gyroid:  // cos X sin Y + cos Y sin Z + cos Z sin X
       return cyclic(x, y, z, [](const Axis& a, const Axis& b, const Axis&) { return a.c * b.s; });
-    case Lattice::Primitive:  // cos X + cos Y + cos Z
+    case TpmsType::Primitive:  // cos X + cos Y + cos Z
       return x.c + y.c + z.c;
-    case Lattice::Diamond:  // cos X cos Y cos Z − sin X sin Y sin Z
+    case TpmsType::Diamond:  // cos X cos Y cos Z − sin X sin Y sin Z
       return x.c * y.c * z.c - x.s * y.s * z.s;
-    case Lattice::Iwp:  // 2(cXcY + cYcZ + cZcX) − (c2X + c2Y + c2Z)
+    case TpmsType::Iwp:  // 2(cXcY + cYcZ + cZcX) − (c2X + c2Y + c2Z)
       return cyclic(x, y, z,
                     [](const Axis& a, const Axis& b, const Axis&) { return 2 * a.c * b.c - a.c2; });
-    case Lattice::Neovius:  // 3(cX + cY + cZ) + 4 cX cY cZ
+    case TpmsType::Neovius:  // 3(cX + cY + cZ) + 4 cX cY cZ
       return 3 * (x.c + y.c + z.c) + 4 * x.c * y.c * z.c;
-    case Lattice::Frd:  // 4 cX cY cZ − (c2X c2Y + c2Y c2Z + c2Z c2X)
+    case TpmsType::Frd:  // 4 cX cY cZ − (c2X c2Y + c2Y c2Z + c2Z c2X)
       return 4 * x.c * y.c * z.c -
              cyclic(x, y, z, [](const Axis& a, const Axis& b, const Axis&) { return a.c2 * b.c2; });
-    case Lattice::Lidinoid:  // ½Σ s2X cY sZ − ½Σ c2X c2Y + 0.15
+    case TpmsType::Lidinoid:  // ½Σ s2X cY sZ − ½Σ c2X c2Y + 0.15
       return cyclic(x, y, z,
                     [](const Axis& a, const Axis& b, const Axis& c) {
                       return 0.5 * (a.s2 * b.c * c.s - a.c2 * b.c2);
                     }) +
              0.15;
-    case Lattice::SplitP:  // 1.1Σ s2X sZ cY − 0.2Σ c2X c2Y − 0.4Σ c2X
+    case TpmsType::SplitP:  // 1.1Σ s2X sZ cY − 0.2Σ c2X c2Y − 0.4Σ c2X
       return cyclic(x, y, z, [](const Axis& a, const Axis& b, const Axis& c) {
         return 1.1 * a.s2 * c.s * b.c - 0.2 * a.c2 * b.c2 - 0.4 * a.c2;
       });
@@ -78,24 +80,24 @@ inline double f(Lattice type, const Axis& x, const Axis& y, const Axis& z) {
 }
 
 // ∂f/∂X as a function of (x, y, z); ∂f/∂Y = dx(y, z, x), ∂f/∂Z = dx(z, x, y).
-inline double dx(Lattice type, const Axis& x, const Axis& y, const Axis& z) {
+inline double dx(TpmsType type, const Axis& x, const Axis& y, const Axis& z) {
   switch (type) {
-    case Lattice::Gyroid:
+    case TpmsType::Gyroid:
       return -x.s * y.s + z.c * x.c;
-    case Lattice::Primitive:
+    case TpmsType::Primitive:
       return -x.s;
-    case Lattice::Diamond:
+    case TpmsType::Diamond:
       return -x.s * y.c * z.c - x.c * y.s * z.s;
-    case Lattice::Iwp:
+    case TpmsType::Iwp:
       return -2 * x.s * (y.c + z.c) + 2 * x.s2;
-    case Lattice::Neovius:
+    case TpmsType::Neovius:
       return -3 * x.s - 4 * x.s * y.c * z.c;
-    case Lattice::Frd:
+    case TpmsType::Frd:
       return -4 * x.s * y.c * z.c + 2 * x.s2 * (y.c2 + z.c2);
-    case Lattice::Lidinoid:
+    case TpmsType::Lidinoid:
       return 0.5 * (2 * x.c2 * y.c * z.s + y.s2 * z.c * x.c - z.s2 * x.s * y.s) +
              x.s2 * (y.c2 + z.c2);
-    case Lattice::SplitP:
+    case TpmsType::SplitP:
       return 1.1 * (2 * x.c2 * z.s * y.c + y.s2 * x.c * z.c - z.s2 * y.s * x.s) +
              0.4 * x.s2 * (y.c2 + z.c2) + 0.8 * x.s2;
   }
@@ -104,7 +106,7 @@ inline double dx(Lattice type, const Axis& x, const Axis& y, const Axis& z) {
 
 }  // namespace table
 
-inline FGrad tpms_f(Lattice type, AxisTrig tx, AxisTrig ty, AxisTrig tz) {
+inline FGrad tpms_f(TpmsType type, AxisTrig tx, AxisTrig ty, AxisTrig tz) {
   const table::Axis x = table::with_double(tx), y = table::with_double(ty),
                     z = table::with_double(tz);
   return {table::f(type, x, y, z), table::dx(type, x, y, z), table::dx(type, y, z, x),
@@ -122,14 +124,14 @@ inline double tpms_distance(double f, double gx, double gy, double gz, double cl
 /// Sheets refine their distance (refined_distance), so that a thickness in mm is met; networks
 /// keep the first-order one (their level is usually solved from a porosity).
 inline bool refines(const TpmsOptions& o) {
-  return o.style == LatticeStyle::Sheet;
+  return o.style == TpmsStyle::Sheet;
 }
 
 /// A second-order distance in lattice coordinates q (mm): the first-order estimate d₀ = f/|∇f|
 /// plus the first-order distance left at q − (f/|∇f|²)∇f, one Newton step towards the surface.
 /// Near curved level sets f/|∇f| alone is off by O(d²κ): thin sheets came out up to 15 %
 /// thinner than asked. `k` holds 2π/T per axis; f and gq (∇f in mm⁻¹) are at q.
-inline double refined_distance(Lattice type, const double k[3], const double q[3], double f,
+inline double refined_distance(TpmsType type, const double k[3], const double q[3], double f,
                                const double gq[3]) {
   const double g2 = gq[0] * gq[0] + gq[1] * gq[1] + gq[2] * gq[2];
   if (!(g2 > 0)) return 0;
@@ -144,5 +146,47 @@ inline double refined_distance(Lattice type, const double k[3], const double q[3
   // make the progress a Newton step makes close to the surface.
   return std::fabs(correction) <= 0.5 * std::fabs(d0) ? d0 + correction : d0;
 }
+
+/// One TPMS ready to evaluate: its options and the constants every node needs.
+struct TpmsLayer {
+  TpmsOptions o;
+  double k[3];      ///< 2π/T per axis, mm⁻¹
+  double clamp;     ///< |f̃| bound: the largest cell size, mm
+  bool refine;      ///< refines()
+  Mat3 to_lattice;  ///< Rᵀ
+  bool rotated;     ///< R is not the identity (no per-axis tables then)
+
+  explicit TpmsLayer(const TpmsOptions& options)
+      : o(options),
+        k{2 * M_PI / options.cell.x, 2 * M_PI / options.cell.y, 2 * M_PI / options.cell.z},
+        clamp(std::fmax(options.cell.x, std::fmax(options.cell.y, options.cell.z))),
+        refine(refines(options)),
+        to_lattice(options.rotation.transposed()),
+        rotated(!options.rotation.is_identity()) {}
+
+  /// The trigonometry at coordinate x (mm, unrotated) along `axis`: a per-axis table entry.
+  AxisTrig trig(int axis, double x) const { return axis_trig(k[axis] * (x - o.origin[axis])); }
+
+  /// f̃ (mm) from f at a node, its gradient g in mm⁻¹ as the world sees it (rotation and any
+  /// warp applied) and, for sheets, the node's lattice coordinates q (mm): the first-order
+  /// distance, refined for sheets near the surface and scaled as g scales the lattice's own
+  /// gradient.
+  double distance(const FGrad& fg, Vec3 g, Vec3 q) const {
+    double d = tpms_distance(fg.f, g.x, g.y, g.z, clamp);
+    if (refine && std::fabs(d) < clamp) {
+      // In lattice coordinates (rotation is an isometry), then scaled as the warp scales f̃.
+      const double gq[3] = {k[0] * fg.gx, k[1] * fg.gy, k[2] * fg.gz};
+      const double qq[3] = {q.x, q.y, q.z};
+      const double ratio = std::sqrt(gq[0] * gq[0] + gq[1] * gq[1] + gq[2] * gq[2]) / norm(g);
+      d = refined_distance(o.type, k, qq, fg.f, gq) * ratio;
+    }
+    return d;
+  }
+
+  /// φ from f̃ = d and the level (network) or thickness (sheet) v, mm.
+  double phi(double d, double v) const {
+    return o.style == TpmsStyle::Network ? d + v : std::fabs(d) - 0.5 * v;
+  }
+};
 
 }  // namespace tpmsfill::detail

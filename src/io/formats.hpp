@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "detail/index_limits.hpp"
+#include "detail/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
@@ -31,15 +33,7 @@ void add_face(MeshFile& mesh, std::span<const std::uint32_t> polygon);
 /// Is this word an OFF-family keyword (OFF, COFF, NOFF, CNOFF, STOFF, nOFF, 4OFF ...)?
 bool is_off_keyword(std::string_view word);
 
-/// Throws the ParseError of a binary format: the location is a byte offset.
-[[noreturn]] void fail_at_byte(const std::string& source, std::uint64_t offset,
-                               const std::string& reason);
-/// Throws the ParseError of a text format: the location is a 1-based line. (Out of line: GCC 12
-/// inlining ParseError's message composition raises a false -Wrestrict.)
-[[noreturn]] void fail_at_line(const std::string& source, std::uint64_t line,
-                               const std::string& reason);
-
-/// Most points a soup can index with its 32-bit indices.
-inline constexpr std::uint64_t kMaxPoints = std::uint64_t{1} << 32;
+using detail::fail_at_byte;
+using detail::fail_at_line;
 
 }  // namespace tpmsfill::io

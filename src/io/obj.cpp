@@ -35,7 +35,8 @@ void read_obj(std::string_view data, const std::string& source, MeshFile& mesh) 
       p.y = in.number(in.required_token("y coordinate"), "y coordinate");
       p.z = in.number(in.required_token("z coordinate"), "z coordinate");
       // w or a colour may follow; they are not geometry.
-      if (points.size() + 1 >= kMaxPoints) throw InputError(source + " has too many vertices");
+      if (!detail::fits_32bit_ids(points.size() + 1))
+        throw InputError(source + " has too many vertices");
       points.push_back(p);
     } else if (word == "f") {
       face.clear();

@@ -42,7 +42,7 @@ void read_off(std::string_view data, const std::string& source, MeshFile& mesh) 
                  "OFF header declares " + std::to_string(nv) + " vertices and " +
                      std::to_string(nf) + " faces but only " + std::to_string(in.remaining()) +
                      " bytes follow");
-  if (nv >= kMaxPoints) throw InputError(source + " has too many vertices");
+  if (!detail::fits_32bit_ids(nv)) throw InputError(source + " has too many vertices");
 
   auto& points = mesh.soup.points;
   points.reserve(nv);

@@ -310,7 +310,7 @@ void read_ply(std::string_view data, const std::string& source, MeshFile& mesh) 
   check_counts(header, data.size() - header.data_offset, source);
   const Layout layout = find_layout(header, source);
   const std::uint64_t vertex_count = layout.vertex ? header.elements[*layout.vertex].count : 0;
-  if (vertex_count >= kMaxPoints) throw InputError(source + " has too many vertices");
+  if (!detail::fits_32bit_ids(vertex_count)) throw InputError(source + " has too many vertices");
   mesh.soup.points.resize(vertex_count);
 
   // Faces may come before the vertices: keep their indices and triangulate at the end.

@@ -30,14 +30,6 @@ void add_face(MeshFile& mesh, std::span<const std::uint32_t> polygon) {
   detail::triangulate_polygon(mesh.soup.points, polygon, mesh.soup.triangles);
 }
 
-void fail_at_byte(const std::string& source, std::uint64_t offset, const std::string& reason) {
-  throw ParseError(source, std::nullopt, offset, reason);
-}
-
-void fail_at_line(const std::string& source, std::uint64_t line, const std::string& reason) {
-  throw ParseError(source, line, std::nullopt, reason);
-}
-
 }  // namespace io
 
 namespace {

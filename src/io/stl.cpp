@@ -88,7 +88,7 @@ void read_binary(std::string_view data, const std::string& source, MeshFile& mes
                        " bytes) nor any whole number of triangles");
     }
   }
-  if (count * 3 >= kMaxPoints) throw InputError(source + " has too many triangles");
+  if (!detail::fits_32bit_ids(count * 3)) throw InputError(source + " has too many triangles");
   mesh.soup.points.reserve(count * 3);
   mesh.soup.triangles.reserve(count);
   for (std::uint64_t t = 0; t < count; ++t) {
@@ -136,7 +136,8 @@ void read_ascii(std::string_view data, const std::string& source, MeshFile& mesh
       v.y = in.number(in.required_token("y coordinate"), "y coordinate");
       v.z = in.number(in.required_token("z coordinate"), "z coordinate");
       if (!in.at_line_end()) in.fail("unexpected text after the vertex coordinates");
-      if (mesh.soup.points.size() + 1 >= kMaxPoints) throw InputError(source + " is too big");
+      if (!detail::fits_32bit_ids(mesh.soup.points.size() + 1))
+        throw InputError(source + " is too big");
       facet.push_back(static_cast<std::uint32_t>(mesh.soup.points.size()));
       mesh.soup.points.push_back(v);
     } else if (iequals(word, "endfacet")) {

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "detail/index_limits.hpp"
 #include "detail/parallel.hpp"
 #include "detail/soup_indices.hpp"
 #include "tpmsfill/error.hpp"
@@ -230,8 +231,8 @@ void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
     throw InputError("cannot write " + path.string() +
                      ": unknown extension (use .stl, .obj, .ply or .off)");
   detail::require_indices_in_range(soup, "cannot write " + path.string() + ": ");
-  if ((format == MeshFormat::StlBinary && soup.triangles.size() > UINT32_MAX) ||
-      (format == MeshFormat::Ply && soup.points.size() > UINT32_MAX))
+  if ((format == MeshFormat::StlBinary && !detail::fits_32bit_ids(soup.triangles.size())) ||
+      (format == MeshFormat::Ply && !detail::fits_32bit_ids(soup.points.size())))
     throw InputError("cannot write " + path.string() + ": too many elements for the format");
   std::string bytes;
   switch (format) {

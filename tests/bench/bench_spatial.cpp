@@ -69,8 +69,8 @@ int main(int argc, char** argv) {
       "classify_grid: %.3f s, %d x %d x %d nodes, %llu rays (%.2f M rays/s), %llu crossings, "
       "%llu odd rays, volume %.3f mm^3 (exact %.3f); peak RSS %.0f MB\n",
       t_classify, grid.dims[0], grid.dims[1], grid.dims[2],
-      static_cast<unsigned long long>(occ.rays), occ.rays / t_classify / 1e6,
-      static_cast<unsigned long long>(occ.crossings), static_cast<unsigned long long>(occ.odd_rays),
+      static_cast<unsigned long long>(occ.rows), occ.rows / t_classify / 1e6,
+      static_cast<unsigned long long>(occ.crossings), static_cast<unsigned long long>(occ.odd_rows),
       occ.volume, test::signed_volume(soup), peak_memory_mb());
 
   t0 = std::chrono::steady_clock::now();

@@ -1,24 +1,25 @@
-/// @file lattice.hpp
-/// @brief Lattice design: a base TPMS (tpms.hpp) whose porosity, level, thickness and cell
-/// size vary in space, other types blended in over regions, or a field the caller supplies.
+/// @file design.hpp
+/// @brief Stage "design": what the lattice is made of. A base TPMS (tpms.hpp) whose porosity,
+/// level, thickness and cell size vary in space, other TPMS blended in over regions, or a
+/// field source the caller supplies in place of the base.
 ///
-/// The design evaluates to one field φ_L (mm, solid where φ_L < 0) that compose.hpp clips to
-/// the model exactly as it clips a plain TPMS:
+/// A design is one implementation of the field seam (field.hpp): design_source() evaluates it
+/// to one field φ_L (mm, solid where φ_L < 0), which compose.hpp clips to the model as it
+/// clips any source:
 ///  - Grading: a quantity follows a Ramp (linear along a direction, radial from an axis or a
 ///    point, or by depth below the model's surface). Cell-size grading warps the coordinates
 ///    so that the phase is the integral of 1/T along the ramp: cells stretch, none is torn.
 ///  - Blending: φ_L = (1 − μ)·φ_base + μ·φ_k for each Blend in turn, μ rising from 0 to 1
 ///    across a transition band of the given width centred on the region's boundary (a sigmoid,
 ///    or the Beta growth function of Yin et al. 2003 as used by Yang et al. 2023).
-///  - A custom field replaces the base TPMS; blends still apply on top of it.
+///  - A custom source replaces the base TPMS; blends still apply on top of it.
 #pragma once
 
-#include <functional>
 #include <optional>
 #include <string_view>
 #include <vector>
 
-#include "tpmsfill/progress.hpp"
+#include "tpmsfill/field.hpp"
 #include "tpmsfill/tpms.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -79,53 +80,45 @@ enum class Transition {
 };
 
 struct Blend {
-  TpmsOptions lattice = {};  ///< what grows in the region (its own type, style, level, porosity...)
+  TpmsOptions tpms = {};  ///< what grows in the region (its own type, style, level, porosity...)
   Region region = {};
   double width = 1;  ///< transition width across the region's boundary, mm (> 0)
   Transition transition = Transition::Sigmoid;
   double peak = 0.5;  ///< Beta: where μ grows fastest, 0 < peak < 1 (0.5 is smoothstep)
 };
 
-/// A lattice field supplied by the caller, mm, solid where negative (any field whose zero set
-/// is a surface: another implicit lattice, a strut network's distance, a measured density).
-/// `block` is called for blocks of whole grid rows in parallel (a Grid with its own origin and
-/// dims, values x fastest); `at` per point. Set either; `block` wins. Both must be safe to
-/// call from several threads at once and return the same value for the same point.
-struct CustomField {
-  std::function<float(Vec3)> at = {};
-  std::function<void(const Grid& block, float* values)> block = {};
-  explicit operator bool() const { return at || block; }
-};
-
-/// A base lattice (the TpmsOptions part) with grading, blends or a custom field.
+/// A base TPMS (the TpmsOptions part) with grading and blends, or a caller's field in its place.
 struct LatticeDesign : TpmsOptions {
   std::vector<Grading> grading = {};  ///< at most one per Graded quantity
   std::vector<Blend> blends = {};     ///< applied in order
-  CustomField custom = {};            ///< replaces the base TPMS when set
+  /// Replaces the base TPMS when set: any field source (field.hpp), e.g. function_source() of
+  /// a strut network's distance. Grading applies to TPMS only; blends still apply on top.
+  FieldSource custom = {};
 };
 
-/// @throws InputError  a layer fails validate(TpmsOptions), a quantity is graded twice, porosity
+/// @throws InputError  a layer fails require_valid(TpmsOptions), a quantity is graded twice,
+/// porosity
 ///                     and level/thickness are both graded, a level grading on a sheet or a
 ///                     thickness grading on a network, a cell grading by depth (the phase
 ///                     could not stay continuous), a non-positive cell value, a zero ramp
 ///                     axis for linear ramps, a blend width ≤ 0, peak ∉ (0, 1), or a region
 ///                     of non-positive size
-void validate(const LatticeDesign& design);
+void require_valid(const LatticeDesign& design);
 
 /// The design with everything fill() needs fixed: porosities solved into levels or
 /// thicknesses (resolve_porosity, per layer) and unset ramp positions taken from `model` (the
 /// model's bounding box). What the report echoes.
 LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model);
 
-/// φ_L at every node of `grid`.
-/// @param depth  depth below the model's surface at every node, mm (needed for Depth ramps;
-///               voxel.hpp's distance_transform of the occupancy)
-/// @throws InputError  invalid design, or a Depth ramp without `depth`
-Field lattice_field(const Grid& grid, const LatticeDesign& design, const Field* depth = nullptr,
-                    Progress* progress = nullptr);
-
-/// φ_L at one point (no Depth ramps).
-float lattice_value(Vec3 p, const LatticeDesign& design);
+/// The design as a field source (field.hpp): φ_L, with porosities solved (resolve_design;
+/// ramps need their positions set, which resolve_design against the model does). Its bound
+/// is twice the largest cell size of its layers.
+/// @param depth  depth below the model's surface at every node of the grid it will be
+///               evaluated on, mm (Depth ramps only; voxel.hpp's distance_transform of the
+///               occupancy); it must outlive the source
+/// @throws InputError  invalid design, a ramp without positions; when bound to a grid, a Depth
+///                     ramp without `depth` or a `depth` on another grid
+FieldSource design_source(const LatticeDesign& design, const Field* depth = nullptr);
 
 /// Names used by the CLI and recipes: "porosity", "level", "thickness", "cell"; "linear",
 /// "radial", "depth"; "half-space", "slab", "sphere", "cylinder"; "sigmoid", "beta".

@@ -1,15 +1,14 @@
-// Lattice design: grading, blending and custom fields on top of the TPMS table, evaluated row
-// by row. Without rotation or a radial warp a layer is separable and its per-axis
+// Stage "design": grading, blending and custom sources on top of the TPMS table, evaluated by
+// blocks of rows. Without rotation or a radial warp a layer is separable and its per-axis
 // trigonometry is computed once per grid line; otherwise per node.
-#include "tpmsfill/lattice.hpp"
+#include "tpmsfill/design.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
-#include "detail/lattice_rows.hpp"
 #include "detail/names.hpp"
-#include "detail/parallel.hpp"
 #include "detail/tpms_kernel.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -154,13 +153,13 @@ Transition transition_from_name(std::string_view name) {
 
 // ---- validation and resolution ----------------------------------------------------------------
 
-void validate(const LatticeDesign& d) {
-  validate(static_cast<const TpmsOptions&>(d));
-  bool network = d.style == LatticeStyle::Network && !d.custom,
-       sheet = d.style == LatticeStyle::Sheet && !d.custom;
+void require_valid(const LatticeDesign& d) {
+  require_valid(static_cast<const TpmsOptions&>(d));
+  bool network = d.style == TpmsStyle::Network && !d.custom,
+       sheet = d.style == TpmsStyle::Sheet && !d.custom;
   for (const Blend& b : d.blends) {
-    validate(b.lattice);
-    (b.lattice.style == LatticeStyle::Network ? network : sheet) = true;
+    require_valid(b.tpms);
+    (b.tpms.style == TpmsStyle::Network ? network : sheet) = true;
     if (!(b.width > 0) || !std::isfinite(b.width))
       throw InputError("a blend's transition width must be a positive number of millimetres");
     if (!(b.peak > 0 && b.peak < 1))
@@ -216,10 +215,10 @@ void validate(const LatticeDesign& d) {
 }
 
 LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
-  validate(design);
+  require_valid(design);
   LatticeDesign r = design;
   static_cast<TpmsOptions&>(r) = resolve_porosity(design);
-  for (Blend& b : r.blends) b.lattice = resolve_porosity(b.lattice);
+  for (Blend& b : r.blends) b.tpms = resolve_porosity(b.tpms);
   for (Grading& g : r.grading) {
     Ramp& ramp = g.ramp;
     if ((ramp.point || ramp.shape == RampShape::Depth) && ramp.from && ramp.to) continue;
@@ -309,229 +308,204 @@ Frame make_frame(const Warp& warp, Vec3 p) {
   return f;
 }
 
+// A TPMS of the design with what its evaluation on one grid needs.
 struct Layer {
-  TpmsOptions o;
-  double k[3];
-  double clamp;
-  bool refine;  // refines()
-  bool separable;
-  Mat3 to_lattice;                             // Rᵀ
+  TpmsLayer tpms;
+  bool separable;                              // per-axis tables (no rotation, axis warp)
   std::shared_ptr<const CellSamples> samples;  // porosity grading only
   std::vector<AxisTrig> trig[3];               // separable: per node index along each axis
 };
 
-}  // namespace
+// The design on one grid.
+class DesignRows {
+ public:
+  DesignRows(const LatticeDesign& design, const Grid& grid, const Field* depth);
 
-struct LatticeRows::Impl {
-  Grid grid;
-  const Field* depth = nullptr;
-  LatticeDesign design;
-  Warp warp;
-  std::vector<Layer> layers;  // base first (absent with a custom field), then the blends
-  std::optional<RampEval> porosity, level, thickness;
-  bool per_node_frame = false;  // the warp is not separable for some layer
-  std::vector<double> stretch[3], scale[3];  // separable warp: per node index along its axis
-  std::vector<double> warped;                // separable warp: warped coordinate along it
+  // φ_L at the needed nodes of rows [first_row, first_row + row_count).
+  void rows(std::size_t first_row, std::size_t row_count, float* values,
+            const std::uint8_t* need) const;
 
+ private:
   double ramp_t(const RampEval& r, const Frame& f) const {
     return r.shape == RampShape::Depth ? f.depth : r.coordinate(f.p);
   }
+  Frame frame(int i, int j, int k) const;
+  double layer_value(const Layer& L, const Frame& f, int i, int j, int k) const;
+  void add_layer(const TpmsOptions& o);
+  void table_separable_warp();
 
-  double layer_value(const Layer& L, const Frame& f, int i, int j, int k) const {
-    AxisTrig tx, ty, tz;
-    Vec3 g, q;
-    FGrad fg;
-    if (L.separable) {
-      tx = L.trig[0][i], ty = L.trig[1][j], tz = L.trig[2][k];
-      fg = tpms_f(L.o.type, tx, ty, tz);
-      g = {L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
-      if (L.refine)
-        q = Vec3{warp.axis == 0 ? warped[i] : grid.coordinate(0, i),
-                 warp.axis == 1 ? warped[j] : grid.coordinate(1, j),
-                 warp.axis == 2 ? warped[k] : grid.coordinate(2, k)} -
-            L.o.origin;
-      if (warp.on) {
-        const int idx[3] = {i, j, k};
-        const int a = warp.axis;
-        const double s = stretch[a][idx[a]];
-        g = {a == 0 ? s * g.x : g.x, a == 1 ? s * g.y : g.y, a == 2 ? s * g.z : g.z};
-      }
-    } else {
-      q = L.to_lattice * (f.w - L.o.origin);
-      tx = axis_trig(L.k[0] * q.x), ty = axis_trig(L.k[1] * q.y), tz = axis_trig(L.k[2] * q.z);
-      fg = tpms_f(L.o.type, tx, ty, tz);
-      g = f.gradient(warp, L.o.rotation * Vec3{L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz});
-    }
-    double d = tpms_distance(fg.f, g.x, g.y, g.z, L.clamp);
-    if (L.refine && std::fabs(d) < L.clamp) {
-      // In lattice coordinates (rotation is an isometry), then scaled as the warp scales f̃.
-      const double gq[3] = {L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
-      const double qq[3] = {q.x, q.y, q.z};
-      const double ratio = std::sqrt(gq[0] * gq[0] + gq[1] * gq[1] + gq[2] * gq[2]) / norm(g);
-      d = refined_distance(L.o.type, L.k, qq, fg.f, gq) * ratio;
-    }
-    const bool network = L.o.style == LatticeStyle::Network;
-    double v;
-    if (porosity)
-      v = level_for_porosity(*L.samples, L.o.style,
-                             std::clamp(porosity->value(ramp_t(*porosity, f)), 1e-6, 1 - 1e-6)) *
-          f.scale;
-    else if (network && level)
-      v = level->value(ramp_t(*level, f));
-    else if (!network && thickness)
-      v = thickness->value(ramp_t(*thickness, f));
-    else
-      v = (network ? L.o.level : L.o.thickness) * (L.o.porosity ? f.scale : 1.0);
-    return network ? d + v : std::fabs(d) - 0.5 * v;
-  }
-
-  Frame frame(int i, int j, int k) const {
-    const Vec3 p = grid.node(i, j, k);
-    Frame f;
-    if (per_node_frame) {
-      f = make_frame(warp, p);
-    } else {
-      f.p = f.w = p;
-      if (warp.on) {
-        const int idx[3] = {i, j, k};
-        f.scale = scale[warp.axis][idx[warp.axis]];
-      }
-    }
-    if (depth) f.depth = depth->values[grid.index(i, j, k)];
-    return f;
-  }
+  Grid grid_;
+  const Field* depth_ = nullptr;
+  std::vector<Blend> blends_;
+  RowFunction custom_;  // the base, when the design has a custom source
+  Warp warp_;
+  std::vector<Layer> layers_;  // base first (absent with a custom source), then the blends
+  std::optional<RampEval> porosity_, level_, thickness_;
+  bool per_node_frame_ = false;                // the warp is not separable for some layer
+  std::vector<double> stretch_[3], scale_[3];  // separable warp: per node index along its axis
+  std::vector<double> warped_;                 // separable warp: warped coordinate along it
 };
 
-LatticeRows::LatticeRows(const LatticeDesign& design, const Grid& grid, const Field* depth)
-    : impl_(std::make_unique<Impl>()) {
-  Impl& m = *impl_;
-  m.grid = grid;
-  m.depth = depth;
-  m.design = design;
-  if (depth && depth->values.size() != grid.node_count())
-    throw InputError("lattice_field: the depth field does not match the grid");
+DesignRows::DesignRows(const LatticeDesign& design, const Grid& grid, const Field* depth)
+    : grid_(grid), depth_(depth), blends_(design.blends) {
+  if (depth && (!(depth->grid == grid) || depth->values.size() != grid.node_count()))
+    throw InputError("design_source: the depth field does not match the grid");
   if (const Grading* g = find_grading(design, Graded::Cell)) {
-    m.warp.on = true;
-    m.warp.ramp = RampEval(g->ramp);
-    m.warp.reference = design.cell.x;
-    const Vec3 a = m.warp.ramp.axis;
+    warp_.on = true;
+    warp_.ramp = RampEval(g->ramp);
+    warp_.reference = design.cell.x;
+    const Vec3 a = warp_.ramp.axis;
     if (g->ramp.shape == RampShape::Linear)
       for (int axis = 0; axis < 3; ++axis)
-        if (std::fabs(a[axis]) == 1) m.warp.axis = axis;
+        if (std::fabs(a[axis]) == 1) warp_.axis = axis;
   }
   auto ramp = [&](Graded what, std::optional<RampEval>& out) {
     if (const Grading* g = find_grading(design, what)) {
       out.emplace(g->ramp);
       if (g->ramp.shape == RampShape::Depth && !depth)
         throw InputError(
-            "a depth ramp needs the depth below the model's surface (lattice_field's depth)");
+            "a depth ramp needs the depth below the model's surface (design_source's depth)");
     }
   };
-  ramp(Graded::Porosity, m.porosity);
-  ramp(Graded::Level, m.level);
-  ramp(Graded::Thickness, m.thickness);
+  ramp(Graded::Porosity, porosity_);
+  ramp(Graded::Level, level_);
+  ramp(Graded::Thickness, thickness_);
 
-  std::vector<TpmsOptions> options;
-  if (!design.custom) options.push_back(design);
-  for (const Blend& b : design.blends) options.push_back(b.lattice);
-  for (const TpmsOptions& o : options) {
-    Layer L;
-    L.o = o;
-    for (int axis = 0; axis < 3; ++axis) L.k[axis] = 2 * M_PI / o.cell[axis];
-    L.clamp = std::fmax(o.cell.x, std::fmax(o.cell.y, o.cell.z));
-    L.refine = refines(o);
-    L.to_lattice = o.rotation.transposed();
-    L.separable = o.rotation.is_identity() && (!m.warp.on || m.warp.axis >= 0);
-    if (m.porosity) L.samples = shared_cell_samples(o);
-    m.per_node_frame = m.per_node_frame || (!L.separable && m.warp.on);
-    m.layers.push_back(std::move(L));
-  }
-  // Separable warp: warped coordinate, stretch and scale per node index along its axis (the
-  // linear warp moves coordinates along that axis only).
-  std::vector<double>& warped = m.warped;
-  if (m.warp.on && m.warp.axis >= 0) {
-    const int a = m.warp.axis;
-    for (int n = 0; n < grid.dims[a]; ++n) {
-      Vec3 p{};
-      (a == 0 ? p.x : a == 1 ? p.y : p.z) = grid.coordinate(a, n);
-      const Frame f = make_frame(m.warp, p);
-      warped.push_back(f.w[a]);
-      m.stretch[a].push_back(f.stretch);
-      m.scale[a].push_back(f.scale);
-    }
-  }
-  for (Layer& L : m.layers) {
+  if (design.custom)
+    custom_ = design.custom.on_grid(grid);
+  else
+    add_layer(design);
+  for (const Blend& b : design.blends) add_layer(b.tpms);
+  if (warp_.on && warp_.axis >= 0) table_separable_warp();
+  for (Layer& L : layers_) {
     if (!L.separable) continue;
     for (int axis = 0; axis < 3; ++axis)
-      for (int n = 0; n < grid.dims[axis]; ++n) {
-        const double x = axis == m.warp.axis ? warped[n] : grid.coordinate(axis, n);
-        L.trig[axis].push_back(axis_trig(L.k[axis] * (x - L.o.origin[axis])));
-      }
+      for (int n = 0; n < grid.dims[axis]; ++n)
+        L.trig[axis].push_back(
+            L.tpms.trig(axis, axis == warp_.axis ? warped_[n] : grid.coordinate(axis, n)));
   }
 }
 
-LatticeRows::~LatticeRows() = default;
+void DesignRows::add_layer(const TpmsOptions& o) {
+  Layer L{TpmsLayer(o), false, nullptr, {}};
+  L.separable = !L.tpms.rotated && (!warp_.on || warp_.axis >= 0);
+  if (porosity_) L.samples = shared_cell_samples(o);
+  per_node_frame_ = per_node_frame_ || (!L.separable && warp_.on);
+  layers_.push_back(std::move(L));
+}
 
-void LatticeRows::row(int j, int k, float* out, const std::uint8_t* need) const {
-  const Impl& m = *impl_;
-  const int nx = m.grid.dims[0];
-  std::vector<float> custom;
-  if (m.design.custom.block) {
-    Grid block = m.grid;
-    block.origin = m.grid.node(0, j, k);
-    block.dims = {nx, 1, 1};
-    custom.resize(static_cast<std::size_t>(nx));
-    m.design.custom.block(block, custom.data());
+// A linear warp along a grid axis moves coordinates along that axis only: the warped
+// coordinate, stretch and scale are tabled per node index along it.
+void DesignRows::table_separable_warp() {
+  const int a = warp_.axis;
+  for (int n = 0; n < grid_.dims[a]; ++n) {
+    Vec3 p{};
+    (a == 0 ? p.x : a == 1 ? p.y : p.z) = grid_.coordinate(a, n);
+    const Frame f = make_frame(warp_, p);
+    warped_.push_back(f.w[a]);
+    stretch_[a].push_back(f.stretch);
+    scale_[a].push_back(f.scale);
   }
-  const std::size_t first_blend = m.design.custom ? 0 : 1;
-  for (int i = 0; i < nx; ++i) {
-    if (need && !need[i]) continue;
-    const Frame f = m.frame(i, j, k);
-    double phi;
-    if (m.design.custom.block)
-      phi = custom[static_cast<std::size_t>(i)];
-    else if (m.design.custom)
-      phi = m.design.custom.at(f.p);
-    else
-      phi = m.layer_value(m.layers[0], f, i, j, k);
-    for (std::size_t b = 0; b < m.design.blends.size(); ++b) {
-      const double mu = blend_weight(m.design.blends[b], f.p);
-      if (mu <= 0) continue;
-      const double other = m.layer_value(m.layers[first_blend + b], f, i, j, k);
-      phi = mu >= 1 ? other : (1 - mu) * phi + mu * other;
+}
+
+Frame DesignRows::frame(int i, int j, int k) const {
+  const Vec3 p = grid_.node(i, j, k);
+  Frame f;
+  if (per_node_frame_) {
+    f = make_frame(warp_, p);
+  } else {
+    f.p = f.w = p;
+    if (warp_.on) {
+      const int idx[3] = {i, j, k};
+      f.scale = scale_[warp_.axis][idx[warp_.axis]];
     }
-    out[i] = static_cast<float>(phi);
+  }
+  if (depth_) f.depth = depth_->values[grid_.index(i, j, k)];
+  return f;
+}
+
+double DesignRows::layer_value(const Layer& L, const Frame& f, int i, int j, int k) const {
+  const TpmsLayer& t = L.tpms;
+  Vec3 g, q;
+  FGrad fg;
+  if (L.separable) {
+    fg = tpms_f(t.o.type, L.trig[0][i], L.trig[1][j], L.trig[2][k]);
+    g = {t.k[0] * fg.gx, t.k[1] * fg.gy, t.k[2] * fg.gz};
+    if (t.refine)
+      q = Vec3{warp_.axis == 0 ? warped_[i] : grid_.coordinate(0, i),
+               warp_.axis == 1 ? warped_[j] : grid_.coordinate(1, j),
+               warp_.axis == 2 ? warped_[k] : grid_.coordinate(2, k)} -
+          t.o.origin;
+    if (warp_.on) {
+      const int idx[3] = {i, j, k};
+      const int a = warp_.axis;
+      const double s = stretch_[a][idx[a]];
+      g = {a == 0 ? s * g.x : g.x, a == 1 ? s * g.y : g.y, a == 2 ? s * g.z : g.z};
+    }
+  } else {
+    q = t.to_lattice * (f.w - t.o.origin);
+    fg =
+        tpms_f(t.o.type, axis_trig(t.k[0] * q.x), axis_trig(t.k[1] * q.y), axis_trig(t.k[2] * q.z));
+    g = f.gradient(warp_, t.o.rotation * Vec3{t.k[0] * fg.gx, t.k[1] * fg.gy, t.k[2] * fg.gz});
+  }
+  const double d = t.distance(fg, g, q);
+  const bool network = t.o.style == TpmsStyle::Network;
+  double v;
+  if (porosity_)
+    v = level_for_porosity(*L.samples, t.o.style,
+                           std::clamp(porosity_->value(ramp_t(*porosity_, f)), 1e-6, 1 - 1e-6)) *
+        f.scale;
+  else if (network && level_)
+    v = level_->value(ramp_t(*level_, f));
+  else if (!network && thickness_)
+    v = thickness_->value(ramp_t(*thickness_, f));
+  else
+    v = (network ? t.o.level : t.o.thickness) * (t.o.porosity ? f.scale : 1.0);
+  return t.phi(d, v);
+}
+
+void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* values,
+                      const std::uint8_t* need) const {
+  // A custom base writes its values first; the blends then read them back.
+  if (custom_) custom_(first_row, row_count, values, need);
+  const std::size_t nx = static_cast<std::size_t>(grid_.dims[0]);
+  const std::size_t ny = static_cast<std::size_t>(grid_.dims[1]);
+  const std::size_t first_blend = custom_ ? 0 : 1;
+  for (std::size_t r = 0; r < row_count; ++r) {
+    const int j = static_cast<int>((first_row + r) % ny),
+              k = static_cast<int>((first_row + r) / ny);
+    float* out = values + r * nx;
+    for (std::size_t n = 0; n < nx; ++n) {
+      if (need && !need[r * nx + n]) continue;
+      const int i = static_cast<int>(n);
+      const Frame f = frame(i, j, k);
+      double phi = custom_ ? out[n] : layer_value(layers_[0], f, i, j, k);
+      for (std::size_t b = 0; b < blends_.size(); ++b) {
+        const double mu = blend_weight(blends_[b], f.p);
+        if (mu <= 0) continue;
+        const double other = layer_value(layers_[first_blend + b], f, i, j, k);
+        phi = mu >= 1 ? other : (1 - mu) * phi + mu * other;
+      }
+      out[n] = static_cast<float>(phi);
+    }
   }
 }
 
+}  // namespace
 }  // namespace detail
 
-Field lattice_field(const Grid& grid, const LatticeDesign& design, const Field* depth,
-                    Progress* progress) {
+FieldSource design_source(const LatticeDesign& design, const Field* depth) {
   const LatticeDesign resolved = resolve_design(design, Box3{});
-  const detail::LatticeRows rows(resolved, grid, depth);
-  Field field{grid, std::vector<float>(grid.node_count())};
-  const std::size_t count = grid.row_count();
-  detail::ProgressCounter counter(progress, "tpms", count);
-  detail::parallel_for(count, 16, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t r = begin; r < end; ++r)
-      rows.row(static_cast<int>(r % grid.dims[1]), static_cast<int>(r / grid.dims[1]),
-               field.values.data() + r * grid.dims[0]);
-    counter.add(end - begin);
-  });
-  counter.finish();
-  return field;
-}
-
-float lattice_value(Vec3 p, const LatticeDesign& design) {
-  const LatticeDesign resolved = resolve_design(design, Box3{});
-  Grid one;
-  one.origin = p;
-  one.spacing = 1;
-  one.dims = {1, 1, 1};
-  float v = 0;
-  detail::LatticeRows(resolved, one, nullptr).row(0, 0, &v);
-  return v;
+  double bound = resolved.custom ? resolved.custom.bound : 0;
+  if (!resolved.custom) bound = 2 * detail::TpmsLayer(resolved).clamp;
+  for (const Blend& b : resolved.blends)
+    bound = std::fmax(bound, 2 * detail::TpmsLayer(b.tpms).clamp);
+  return {.on_grid = [resolved, depth](const Grid& grid) -> RowFunction {
+            auto rows = std::make_shared<const detail::DesignRows>(resolved, grid, depth);
+            return [rows](std::size_t first, std::size_t count, float* values,
+                          const std::uint8_t* need) { rows->rows(first, count, values, need); };
+          },
+          .bound = bound};
 }
 
 }  // namespace tpmsfill
