@@ -496,8 +496,7 @@ void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* value
 
 FieldSource design_source(const LatticeDesign& design, const Field* depth) {
   const LatticeDesign resolved = resolve_design(design, Box3{});
-  double bound = resolved.custom ? resolved.custom.bound : 0;
-  if (!resolved.custom) bound = 2 * detail::TpmsLayer(resolved).clamp;
+  double bound = resolved.custom ? resolved.custom.bound : 2 * detail::TpmsLayer(resolved).clamp;
   for (const Blend& b : resolved.blends)
     bound = std::fmax(bound, 2 * detail::TpmsLayer(b.tpms).clamp);
   return {.on_grid = [resolved, depth](const Grid& grid) -> RowFunction {
