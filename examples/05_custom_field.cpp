@@ -54,19 +54,14 @@ int main(int argc, char** argv) {
     // function it returns fills blocks of whole rows, from several threads at once: the way
     // to bring a field computed in bulk (a GPU kernel, a sampled density). Row r is (j, k) =
     // (r mod dims[1], r div dims[1]); values are x fastest. `need`, when given, marks the
-    // nodes whose value matters (compose skips the nodes outside the model).
+    // nodes whose value matters (compose skips the nodes outside the model);
+    // for_each_needed_node walks exactly those.
     o.design.custom.on_grid = [](const Grid& grid) -> RowFunction {
       return [grid](std::size_t first_row, std::size_t row_count, float* values,
                     const std::uint8_t* need) {
-        const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
-        for (std::size_t r = 0; r < row_count; ++r) {
-          const std::size_t row = first_row + r;
-          const int j = static_cast<int>(row % grid.dims[1]),
-                    k = static_cast<int>(row / grid.dims[1]);
-          for (std::size_t i = 0; i < nx; ++i)
-            if (!need || need[r * nx + i])
-              values[r * nx + i] = struts(grid.node(static_cast<int>(i), j, k));
-        }
+        for_each_needed_node(
+            grid, first_row, row_count, need,
+            [&](int i, int j, int k, std::size_t n) { values[n] = struts(grid.node(i, j, k)); });
       };
     };
     const FillResult by_block = fill(box, o);

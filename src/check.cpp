@@ -199,7 +199,7 @@ void record_closed_shape(MeshCheck& c, const TriangleSoup& soup, const SoupTopol
                          const detail::SurfaceMesh& mesh, const FaceFacts& faces) {
   if (!(c.closed() && c.manifold() && c.consistently_oriented() && faces.surface_triangles > 0))
     return;
-  const Vec3 centre = 0.5 * (c.bbox.min + c.bbox.max);
+  const Vec3 centre = c.bbox.centre();
   c.volume = signed_volume(soup, topo, centre);
   // does_bound_a_volume() checks that nested shells alternate in orientation, but it also
   // accepts a mesh whose outermost shells are all inside out (it then bounds the unbounded

@@ -282,7 +282,7 @@ std::vector<double> piece_volumes(const SoupTopology& topo, const std::vector<st
   for (std::size_t t = 0; t < nt; ++t)
     if (keep[t])
       for (std::uint32_t v : topo.corners[t]) box.extend(position[v]);
-  const Vec3 o = box.empty() ? Vec3{} : 0.5 * (box.min + box.max);
+  const Vec3 o = box.centre();
   std::vector<double> volume(pieces.first.size(), 0);
   for (std::size_t t = 0; t < nt; ++t) {
     if (!keep[t]) continue;

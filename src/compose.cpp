@@ -31,8 +31,7 @@ template <class ModelRow>
 Field compose_rows(const Grid& grid, const FieldSource& source, const ComposeOptions& o,
                    const ModelRow& model_row) {
   require_valid(o);
-  if (!source) throw InputError("compose_field: the lattice's field source is empty");
-  const RowFunction lattice = source.on_grid(grid);
+  const RowFunction lattice = bind_source(source, grid);
   // Any positive value serves outside the band: no cell there has a corner with φ < 0. One
   // like a distance keeps the measures' gradients there plausible.
   const float outside = static_cast<float>(1 + o.skin + source.bound);

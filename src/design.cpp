@@ -225,7 +225,7 @@ LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
     if (model.empty())
       throw InputError("the " + std::string(graded_name(g.what)) +
                        " grading's ramp needs explicit positions (no model to span)");
-    const Vec3 centre = 0.5 * (model.min + model.max), size = model.size();
+    const Vec3 centre = model.centre(), size = model.size();
     if (ramp.shape != RampShape::Depth)
       ramp.point = ramp.point.value_or(ramp.shape == RampShape::Radial ? centre : Vec3{});
     ramp.axis = unit(ramp.axis);
@@ -372,18 +372,15 @@ DesignRows::DesignRows(const LatticeDesign& design, const Grid& grid, const Fiel
   ramp(Graded::Thickness, thickness_);
 
   if (design.custom)
-    custom_ = design.custom.on_grid(grid);
+    custom_ = bind_source(design.custom, grid);
   else
     add_layer(design);
   for (const Blend& b : design.blends) add_layer(b.tpms);
   if (warp_.on && warp_.axis >= 0) table_separable_warp();
-  for (Layer& L : layers_) {
-    if (!L.separable) continue;
-    for (int axis = 0; axis < 3; ++axis)
-      for (int n = 0; n < grid.dims[axis]; ++n)
-        L.trig[axis].push_back(
-            L.tpms.trig(axis, axis == warp_.axis ? warped_[n] : grid.coordinate(axis, n)));
-  }
+  for (Layer& L : layers_)
+    if (L.separable)
+      for (int axis = 0; axis < 3; ++axis)
+        L.trig[axis] = L.tpms.trig_table(grid, axis, axis == warp_.axis ? &warped_ : nullptr);
 }
 
 void DesignRows::add_layer(const TpmsOptions& o) {
@@ -430,7 +427,7 @@ double DesignRows::layer_value(const Layer& L, const Frame& f, int i, int j, int
   FGrad fg;
   if (L.separable) {
     fg = tpms_f(t.o.type, L.trig[0][i], L.trig[1][j], L.trig[2][k]);
-    g = {t.k[0] * fg.gx, t.k[1] * fg.gy, t.k[2] * fg.gz};
+    g = t.lattice_gradient(fg);
     if (t.refine)
       q = Vec3{warp_.axis == 0 ? warped_[i] : grid_.coordinate(0, i),
                warp_.axis == 1 ? warped_[j] : grid_.coordinate(1, j),
@@ -443,10 +440,8 @@ double DesignRows::layer_value(const Layer& L, const Frame& f, int i, int j, int
       g = {a == 0 ? s * g.x : g.x, a == 1 ? s * g.y : g.y, a == 2 ? s * g.z : g.z};
     }
   } else {
-    q = t.to_lattice * (f.w - t.o.origin);
-    fg =
-        tpms_f(t.o.type, axis_trig(t.k[0] * q.x), axis_trig(t.k[1] * q.y), axis_trig(t.k[2] * q.z));
-    g = f.gradient(warp_, t.o.rotation * Vec3{t.k[0] * fg.gx, t.k[1] * fg.gy, t.k[2] * fg.gz});
+    fg = t.at(f.w, q);
+    g = f.gradient(warp_, t.o.rotation * t.lattice_gradient(fg));
   }
   const double d = t.distance(fg, g, q);
   const bool network = t.o.style == TpmsStyle::Network;
@@ -468,27 +463,18 @@ void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* value
                       const std::uint8_t* need) const {
   // A custom base writes its values first; the blends then read them back.
   if (custom_) custom_(first_row, row_count, values, need);
-  const std::size_t nx = static_cast<std::size_t>(grid_.dims[0]);
-  const std::size_t ny = static_cast<std::size_t>(grid_.dims[1]);
   const std::size_t first_blend = custom_ ? 0 : 1;
-  for (std::size_t r = 0; r < row_count; ++r) {
-    const int j = static_cast<int>((first_row + r) % ny),
-              k = static_cast<int>((first_row + r) / ny);
-    float* out = values + r * nx;
-    for (std::size_t n = 0; n < nx; ++n) {
-      if (need && !need[r * nx + n]) continue;
-      const int i = static_cast<int>(n);
-      const Frame f = frame(i, j, k);
-      double phi = custom_ ? out[n] : layer_value(layers_[0], f, i, j, k);
-      for (std::size_t b = 0; b < blends_.size(); ++b) {
-        const double mu = blend_weight(blends_[b], f.p);
-        if (mu <= 0) continue;
-        const double other = layer_value(layers_[first_blend + b], f, i, j, k);
-        phi = mu >= 1 ? other : (1 - mu) * phi + mu * other;
-      }
-      out[n] = static_cast<float>(phi);
+  for_each_needed_node(grid_, first_row, row_count, need, [&](int i, int j, int k, std::size_t n) {
+    const Frame f = frame(i, j, k);
+    double phi = custom_ ? values[n] : layer_value(layers_[0], f, i, j, k);
+    for (std::size_t b = 0; b < blends_.size(); ++b) {
+      const double mu = blend_weight(blends_[b], f.p);
+      if (mu <= 0) continue;
+      const double other = layer_value(layers_[first_blend + b], f, i, j, k);
+      phi = mu >= 1 ? other : (1 - mu) * phi + mu * other;
     }
-  }
+    values[n] = static_cast<float>(phi);
+  });
 }
 
 }  // namespace

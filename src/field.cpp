@@ -1,6 +1,7 @@
 // The field seam: sources bound to a grid, sampled by blocks of rows.
 #include "tpmsfill/field.hpp"
 
+#include <cmath>
 #include <utility>
 
 #include "detail/parallel.hpp"
@@ -8,38 +9,30 @@
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
-namespace {
 
-RowFunction bind(const FieldSource& source, const Grid& grid, const char* caller) {
-  if (!source) throw InputError(std::string(caller) + ": the field source is empty");
+RowFunction bind_source(const FieldSource& source, const Grid& grid) {
+  if (!source) throw InputError("the field source is empty (no on_grid)");
+  if (!(source.bound >= 0) || !std::isfinite(source.bound))
+    throw InputError("the field source's bound must be a non-negative number of millimetres");
   RowFunction rows = source.on_grid(grid);
-  if (!rows) throw InputError(std::string(caller) + ": the field source gave no row function");
+  if (!rows) throw InputError("the field source's on_grid returned no row function");
   return rows;
 }
-
-}  // namespace
 
 FieldSource function_source(std::function<float(Vec3)> at) {
   if (!at) return {};
   return {.on_grid = [at = std::move(at)](const Grid& grid) -> RowFunction {
     return [at, grid](std::size_t first_row, std::size_t row_count, float* values,
                       const std::uint8_t* need) {
-      const int nx = grid.dims[0];
-      for (std::size_t r = 0; r < row_count; ++r) {
-        const std::size_t row = first_row + r;
-        const int j = static_cast<int>(row % static_cast<std::size_t>(grid.dims[1]));
-        const int k = static_cast<int>(row / static_cast<std::size_t>(grid.dims[1]));
-        float* out = values + r * static_cast<std::size_t>(nx);
-        const std::uint8_t* wanted = need ? need + r * static_cast<std::size_t>(nx) : nullptr;
-        for (int i = 0; i < nx; ++i)
-          if (!wanted || wanted[i]) out[i] = at(grid.node(i, j, k));
-      }
+      for_each_needed_node(
+          grid, first_row, row_count, need,
+          [&](int i, int j, int k, std::size_t n) { values[n] = at(grid.node(i, j, k)); });
     };
   }};
 }
 
 Field sample_field(const FieldSource& source, const Grid& grid, Progress* progress) {
-  const RowFunction rows = bind(source, grid, "sample_field");
+  const RowFunction rows = bind_source(source, grid);
   Field field{grid, std::vector<float>(grid.node_count())};
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
   detail::ProgressCounter counter(progress, "field", grid.row_count());
@@ -57,7 +50,7 @@ float field_value(const FieldSource& source, Vec3 p) {
   one.spacing = 1;
   one.dims = {1, 1, 1};
   float v = 0;
-  bind(source, one, "field_value")(0, 1, &v, nullptr);
+  bind_source(source, one)(0, 1, &v, nullptr);
   return v;
 }
 

@@ -58,13 +58,18 @@ std::string gigabytes(double bytes) {
   return s;
 }
 
-void require_budget(const Box3& bounds, std::uint64_t triangles, const FillOptions& o,
-                    std::uint64_t* estimate) {
+// Bytes as a count, saturating where a double estimate leaves the 64-bit range.
+std::uint64_t saturated_bytes(double bytes) {
+  return bytes >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max()
+                         : static_cast<std::uint64_t>(bytes);
+}
+
+// The job's estimated bytes; refuses a job over its budget, naming a voxel size that fits.
+std::uint64_t require_budget(const Box3& bounds, std::uint64_t triangles, const FillOptions& o) {
   const double budget =
       static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
   const double need = estimate_bytes(bounds, triangles, o);
-  *estimate = estimate_fill_memory(bounds, triangles, o);
-  if (need <= budget) return;
+  if (need <= budget) return saturated_bytes(need);
   // The estimate falls as the voxel grows: bisect for the smallest voxel size that fits.
   FillOptions trial = o;
   double lo = o.grid.voxel_size, hi = o.grid.voxel_size;
@@ -154,7 +159,6 @@ struct Job {
   FillResult& result;
   FillReport& report;
   StageClock stage;
-  LatticeDesign design;  // resolved
   Grid grid;
   Occupancy occupancy;
   std::optional<MeshIndex> tree;
@@ -172,7 +176,8 @@ void resolve(Job& job) {
   FillReport& r = job.report;
   r.input_triangles = job.model.triangles.size();
   r.input_bbox = bounding_box(job.model);
-  const LatticeDesign& d = job.design = resolve_design(o.design, r.input_bbox);
+  job.result.resolved = o;
+  const LatticeDesign& d = job.result.resolved.design = resolve_design(o.design, r.input_bbox);
   r.design = d.custom ? std::string("custom field") : tpms_label(d);
   for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
   r.cell = d.cell;
@@ -183,11 +188,9 @@ void resolve(Job& job) {
   r.porosity_target = d.porosity;
   r.sheet = d.style == TpmsStyle::Sheet;
   if (!d.custom) r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
-  job.result.resolved = o;
-  job.result.resolved.design = d;
 
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
-  require_budget(r.input_bbox, job.model.triangles.size(), o, &r.estimated_memory_bytes);
+  r.estimated_memory_bytes = require_budget(r.input_bbox, job.model.triangles.size(), o);
   r.grid = job.grid;
   r.samples = job.grid.node_count();
 }
@@ -246,10 +249,11 @@ void compose(Job& job) {
   FillReport& r = job.report;
   const Mask& inside = job.occupancy.inside;
   // Depth ramps grade by the distance below the surface: the occupancy's distance transform.
-  for (const Grading& g : job.design.grading)
+  const LatticeDesign& design = job.result.resolved.design;
+  for (const Grading& g : design.grading)
     if (g.ramp.shape == RampShape::Depth && !job.depth)
       job.depth = job.stage("depth", [&] { return distance_transform(inside); });
-  const FieldSource lattice = design_source(job.design, job.depth ? &*job.depth : nullptr);
+  const FieldSource lattice = design_source(design, job.depth ? &*job.depth : nullptr);
   const ComposeOptions compose_options{
       .skin = o.skin, .skin_windows = o.skin_windows, .progress = o.progress};
   const DistanceOptions distance_options{.progress = o.progress};
@@ -326,8 +330,7 @@ std::uint64_t default_memory_budget() {
 
 std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
                                    const FillOptions& options) {
-  const double b = estimate_bytes(bounds, triangles, options);
-  return b >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(b);
+  return saturated_bytes(estimate_bytes(bounds, triangles, options));
 }
 
 FillResult fill(const TriangleSoup& model, const FillOptions& options) {

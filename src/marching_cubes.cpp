@@ -262,6 +262,16 @@ void require_cells(const Grid& grid) {
     throw InputError("marching_cubes: the grid needs at least 2 nodes along each axis");
 }
 
+// An extractor over `values`, which start at grid node `first_node` (0: the whole field).
+template <bool kSlab>
+Extractor<kSlab> extractor(const Grid& grid, const float* values, float iso,
+                           std::size_t first_node = 0) {
+  const std::size_t sy = static_cast<std::size_t>(grid.dims[0]);
+  const std::size_t sz = sy * static_cast<std::size_t>(grid.dims[1]);
+  return {grid, values, iso, grid.dims[0],        grid.dims[1], grid.dims[2],
+          1,    sy,     sz,  detail::mc_tables(), first_node};
+}
+
 }  // namespace
 
 TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
@@ -270,29 +280,22 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
   if (field.values.size() != grid.node_count())
     throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
                      " values for " + std::to_string(grid.node_count()) + " grid nodes");
-  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  const std::size_t sy = static_cast<std::size_t>(nx), sz = sy * static_cast<std::size_t>(ny);
-  const Extractor<false> ex{grid, field.values.data(), options.iso, nx, ny, nz, 1, sy,
-                            sz,   detail::mc_tables()};
+  const auto ex = extractor<false>(grid, field.values.data(), options.iso);
   return extract(grid, options, 1, [&](std::size_t, std::size_t, const auto& work) { work(ex); });
 }
 
 TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const McOptions& options) {
   require_cells(grid);
-  if (!source) throw InputError("marching_cubes: the field source is empty");
-  const RowFunction rows = source.on_grid(grid);
-  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  const std::size_t sy = static_cast<std::size_t>(nx), sz = sy * static_cast<std::size_t>(ny);
-  const std::size_t layers = static_cast<std::size_t>(nz);
+  const RowFunction rows = bind_source(source, grid);
+  const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
+  const std::size_t layer = static_cast<std::size_t>(grid.dims[0]) * ny;
+  const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
   // Each task evaluates the node layers it reads, two more than it owns.
   return extract(grid, options, 8, [&](std::size_t b, std::size_t e, const auto& work) {
     const std::size_t end = std::min(e + 2, layers);
-    std::vector<float> slab((end - b) * sz);
-    rows(b * static_cast<std::size_t>(ny), (end - b) * static_cast<std::size_t>(ny), slab.data(),
-         nullptr);
-    const Extractor<true> ex{grid, slab.data(), options.iso,         nx,    ny, nz, 1,
-                             sy,   sz,          detail::mc_tables(), b * sz};
-    work(ex);
+    std::vector<float> slab((end - b) * layer);
+    rows(b * ny, (end - b) * ny, slab.data(), nullptr);
+    work(extractor<true>(grid, slab.data(), options.iso, b * layer));
   });
 }
 

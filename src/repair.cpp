@@ -426,7 +426,7 @@ void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Progress* pro
   const bool closed = CGAL::is_closed(mesh);
   Box3 box;
   for (Vertex v : mesh.vertices()) box.extend(position(mesh, v));
-  const Vec3 origin = 0.5 * (box.min + box.max);
+  const Vec3 origin = box.centre();
   const std::vector<double> before = closed ? shell_volumes(mesh, origin) : std::vector<double>{};
   auto volume_ok = [&](SurfaceMesh& candidate) {
     if (!closed) return true;

@@ -102,10 +102,8 @@ struct TpmsRows {
 
   TpmsRows(const TpmsOptions& o, const Grid& g)
       : layer(o), grid(g), value(o.style == TpmsStyle::Network ? o.level : o.thickness) {
-    if (layer.rotated) return;
-    for (int axis = 0; axis < 3; ++axis)
-      for (int n = 0; n < grid.dims[axis]; ++n)
-        trig[axis].push_back(layer.trig(axis, grid.coordinate(axis, n)));
+    if (!layer.rotated)
+      for (int axis = 0; axis < 3; ++axis) trig[axis] = layer.trig_table(grid, axis);
   }
 
   double at(int i, int j, int k) const {
@@ -114,28 +112,20 @@ struct TpmsRows {
     Vec3 g, q;
     if (!L.rotated) {
       fg = detail::tpms_f(L.o.type, trig[0][i], trig[1][j], trig[2][k]);
-      g = {L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
+      g = L.lattice_gradient(fg);
       if (L.refine) q = grid.node(i, j, k) - L.o.origin;
     } else {
-      q = L.to_lattice * (grid.node(i, j, k) - L.o.origin);
-      fg = detail::tpms_f(L.o.type, detail::axis_trig(L.k[0] * q.x),
-                          detail::axis_trig(L.k[1] * q.y), detail::axis_trig(L.k[2] * q.z));
-      g = L.o.rotation * Vec3{L.k[0] * fg.gx, L.k[1] * fg.gy, L.k[2] * fg.gz};
+      fg = L.at(grid.node(i, j, k), q);
+      g = L.o.rotation * L.lattice_gradient(fg);
     }
     return L.phi(L.distance(fg, g, q), value);
   }
 
   void rows(std::size_t first_row, std::size_t row_count, float* values,
             const std::uint8_t* need) const {
-    const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
-    const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
-    for (std::size_t r = 0; r < row_count; ++r) {
-      const int j = static_cast<int>((first_row + r) % ny),
-                k = static_cast<int>((first_row + r) / ny);
-      for (std::size_t i = 0; i < nx; ++i)
-        if (!need || need[r * nx + i])
-          values[r * nx + i] = static_cast<float>(at(static_cast<int>(i), j, k));
-    }
+    for_each_needed_node(grid, first_row, row_count, need, [&](int i, int j, int k, std::size_t n) {
+      values[n] = static_cast<float>(at(i, j, k));
+    });
   }
 };
 

@@ -359,16 +359,13 @@ TEST(Design, CustomSourcesPlugIntoTheSamePipeline) {
   LatticeDesign by_point, by_rows;
   by_point.custom = function_source([&](Vec3 p) { return test::tpms_value(p, gyroid); });
   by_rows.custom.on_grid = [gyroid](const Grid& grid) -> RowFunction {
+    // Every node of the block, whatever `need` says: writing more than is needed is allowed.
     return [gyroid, grid](std::size_t first_row, std::size_t row_count, float* values,
                           const std::uint8_t*) {
-      const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
-      for (std::size_t r = 0; r < row_count; ++r)
-        for (std::size_t i = 0; i < nx; ++i) {
-          const std::size_t row = first_row + r;
-          const Vec3 p = grid.node(static_cast<int>(i), static_cast<int>(row % grid.dims[1]),
-                                   static_cast<int>(row / grid.dims[1]));
-          values[r * nx + i] = test::tpms_value(p, gyroid);
-        }
+      for_each_needed_node(grid, first_row, row_count, nullptr,
+                           [&](int i, int j, int k, std::size_t n) {
+                             values[n] = test::tpms_value(grid.node(i, j, k), gyroid);
+                           });
     };
   };
   const Grid g = test::grid_around({{0, 0, 0}, {3, 3, 3}}, 0.1, 0);

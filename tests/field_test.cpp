@@ -8,6 +8,7 @@
 #include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/field.hpp>
+#include <tpmsfill/marching_cubes.hpp>
 #include <tpmsfill/tpms.hpp>
 
 #include "test_util.hpp"
@@ -112,6 +113,18 @@ TEST(Field, FunctionSourceEvaluatesOnlyWhatIsNeeded) {
 TEST(Field, EmptySourcesAndBadDepthAreRefused) {
   EXPECT_THROW(sample_field(FieldSource{}, small_grid()), InputError);
   EXPECT_THROW(field_value(function_source({}), {0, 0, 0}), InputError);
+  // A bound that is no distance, or on_grid giving nothing, is refused by every consumer.
+  FieldSource bad = function_source([](Vec3 p) { return static_cast<float>(p.x); });
+  for (double bound : {-1.0, std::nan("")}) {
+    bad.bound = bound;
+    EXPECT_THROW(sample_field(bad, small_grid()), InputError);
+  }
+  bad = {.on_grid = [](const Grid&) { return RowFunction{}; }};
+  EXPECT_THROW(sample_field(bad, small_grid()), InputError);
+  EXPECT_THROW(marching_cubes(bad, small_grid()), InputError);
+  LatticeDesign custom;
+  custom.custom = bad;
+  EXPECT_THROW(sample_field(design_source(custom), small_grid()), InputError);
   // A depth ramp needs a depth field on the grid it is evaluated on.
   LatticeDesign d;
   d.grading.push_back({Graded::Porosity,

@@ -46,7 +46,8 @@ int skin_band_width(double skin, double spacing);
 /// @param[in] band           nodes with exact distances (band_voxels), on inside.grid
 /// @param[in] band_distance  signed distance at band.nodes, mm (band_distances)
 /// @param[in] lattice        φ_L, evaluated on inside.grid where the model does not decide
-/// @throws InputError  grids or sizes disagree, the skin is negative, or the source is empty
+/// @throws InputError  grids or sizes disagree, the skin is negative, or bind_source refuses
+///                     the source
 /// @throws whatever the source throws
 Field compose_field(const Mask& inside, const Band& band, const std::vector<float>& band_distance,
                     const FieldSource& lattice, const ComposeOptions& options = {});

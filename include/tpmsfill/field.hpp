@@ -50,19 +50,42 @@ struct FieldSource {
   explicit operator bool() const { return static_cast<bool>(on_grid); }
 };
 
+/// Binds `source` to `grid`: what every consumer calls before asking for rows.
+/// @throws InputError  the source is empty, its bound is negative or not finite, or on_grid
+///                     returned no row function
+/// @throws whatever on_grid throws
+RowFunction bind_source(const FieldSource& source, const Grid& grid);
+
+/// Calls f(i, j, k, n) for the nodes of rows [first_row, first_row + row_count) of `grid` that
+/// a RowFunction is asked for: every node when `need` is null, else those with need[n] != 0.
+/// n is the node's place in the block (values[n]); (i, j, k) its grid indices, for
+/// Grid::node(i, j, k). Row by row, x fastest: the loop every row function writes.
+template <class F>
+void for_each_needed_node(const Grid& grid, std::size_t first_row, std::size_t row_count,
+                          const std::uint8_t* need, F&& f) {
+  const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
+  const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
+  for (std::size_t r = 0; r < row_count; ++r) {
+    const int j = static_cast<int>((first_row + r) % ny);
+    const int k = static_cast<int>((first_row + r) / ny);
+    for (std::size_t i = 0, n = r * nx; i < nx; ++i, ++n)
+      if (!need || need[n]) f(static_cast<int>(i), j, k, n);
+  }
+}
+
 /// The simplest source: `at` called at every node (Grid::node), from several threads at once.
 /// @param at  φ at a point, mm; must be thread-safe and return the same value for the same point
 FieldSource function_source(std::function<float(Vec3)> at);
 
 /// φ at every node of `grid`, evaluated in parallel by blocks of rows. Reports the stage
 /// "field" to `progress`.
-/// @throws InputError  `source` is empty
+/// @throws InputError  as bind_source
 /// @throws Cancelled   when progress says so
 /// @throws whatever the source throws (tpmsfill::Error)
 Field sample_field(const FieldSource& source, const Grid& grid, Progress* progress = nullptr);
 
 /// φ at one point, mm (the source on a grid of one node at p).
-/// @throws InputError  `source` is empty
+/// @throws InputError  as bind_source
 float field_value(const FieldSource& source, Vec3 p);
 
 }  // namespace tpmsfill

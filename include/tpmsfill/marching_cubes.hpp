@@ -48,7 +48,8 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options = {});
 /// field is never held whole. Memory beyond the output: about ten node layers of floats per
 /// worker thread; slabs overlap by two layers and both passes evaluate, so each node is
 /// evaluated about 2.5 times.
-/// @throws InputError  a grid dimension is below 2, the source is empty, or the mesh would
+/// @throws InputError  a grid dimension is below 2, bind_source refuses the source, or the mesh
+/// would
 ///                     need 2^32 or more points
 /// @throws Cancelled   when options.progress says so
 /// @throws whatever the source throws

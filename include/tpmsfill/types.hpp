@@ -67,6 +67,7 @@ struct Box3 {
 
   bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
   Vec3 size() const { return empty() ? Vec3{} : max - min; }
+  Vec3 centre() const { return empty() ? Vec3{} : 0.5 * (min + max); }
   void extend(Vec3 p) {
     min = {std::fmin(min.x, p.x), std::fmin(min.y, p.y), std::fmin(min.z, p.z)};
     max = {std::fmax(max.x, p.x), std::fmax(max.y, p.y), std::fmax(max.z, p.z)};

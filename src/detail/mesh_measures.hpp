@@ -6,10 +6,8 @@
 /// operation order, so each sum rounds exactly as it did when it was written inline.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "tpmsfill/types.hpp"
@@ -41,17 +39,10 @@ inline double double_area(const TriangleSoup& mesh, const Triangle& t) {
 /// Centre of the bounding box of the points with used[i] set (the origin when there are
 /// none): where validate and components measure volumes about.
 inline Vec3 box_centre(const TriangleSoup& mesh, const std::vector<std::uint8_t>& used) {
-  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  std::numeric_limits<double>::infinity()};
-  double hi[3] = {-lo[0], -lo[0], -lo[0]};
+  Box3 box;
   for (std::size_t i = 0; i < mesh.points.size(); ++i)
-    if (used[i])
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], mesh.points[i][a]);
-        hi[a] = std::max(hi[a], mesh.points[i][a]);
-      }
-  if (!(lo[0] <= hi[0])) return {};
-  return {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    if (used[i]) box.extend(mesh.points[i]);
+  return box.centre();
 }
 
 }  // namespace tpmsfill::detail

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "tpmsfill/tpms.hpp"
 
@@ -164,8 +165,29 @@ struct TpmsLayer {
         to_lattice(options.rotation.transposed()),
         rotated(!options.rotation.is_identity()) {}
 
-  /// The trigonometry at coordinate x (mm, unrotated) along `axis`: a per-axis table entry.
-  AxisTrig trig(int axis, double x) const { return axis_trig(k[axis] * (x - o.origin[axis])); }
+  /// Not rotated: the per-axis table of trigonometry along `axis` of `grid`, at the nodes'
+  /// coordinates, or at `coordinates[n]` when given (an axis the design warps).
+  std::vector<AxisTrig> trig_table(const Grid& grid, int axis,
+                                   const std::vector<double>* coordinates = nullptr) const {
+    std::vector<AxisTrig> table;
+    for (int n = 0; n < grid.dims[axis]; ++n) {
+      const double x = coordinates ? (*coordinates)[n] : grid.coordinate(axis, n);
+      table.push_back(axis_trig(k[axis] * (x - o.origin[axis])));
+    }
+    return table;
+  }
+
+  /// f and its derivatives at w (mm; a node, or where a warp moves it), and w's lattice
+  /// coordinates q = Rᵀ(w − origin): the path of a rotated TPMS, with no tables.
+  FGrad at(Vec3 w, Vec3& q) const {
+    q = to_lattice * (w - o.origin);
+    return tpms_f(o.type, axis_trig(k[0] * q.x), axis_trig(k[1] * q.y), axis_trig(k[2] * q.z));
+  }
+
+  /// ∇f in the lattice's own coordinates, mm⁻¹ (before rotation or warp).
+  Vec3 lattice_gradient(const FGrad& fg) const {
+    return {k[0] * fg.gx, k[1] * fg.gy, k[2] * fg.gz};
+  }
 
   /// f̃ (mm) from f at a node, its gradient g in mm⁻¹ as the world sees it (rotation and any
   /// warp applied) and, for sheets, the node's lattice coordinates q (mm): the first-order
@@ -175,10 +197,9 @@ struct TpmsLayer {
     double d = tpms_distance(fg.f, g.x, g.y, g.z, clamp);
     if (refine && std::fabs(d) < clamp) {
       // In lattice coordinates (rotation is an isometry), then scaled as the warp scales f̃.
-      const double gq[3] = {k[0] * fg.gx, k[1] * fg.gy, k[2] * fg.gz};
-      const double qq[3] = {q.x, q.y, q.z};
-      const double ratio = std::sqrt(gq[0] * gq[0] + gq[1] * gq[1] + gq[2] * gq[2]) / norm(g);
-      d = refined_distance(o.type, k, qq, fg.f, gq) * ratio;
+      const Vec3 lg = lattice_gradient(fg);
+      const double gq[3] = {lg.x, lg.y, lg.z}, qq[3] = {q.x, q.y, q.z};
+      d = refined_distance(o.type, k, qq, fg.f, gq) * (norm(lg) / norm(g));
     }
     return d;
   }

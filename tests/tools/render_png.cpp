@@ -199,7 +199,7 @@ Camera fit_camera(const Options& o, const Box3& box) {
   c.toward = {std::sin(az) * std::cos(el), -std::cos(az) * std::cos(el), std::sin(el)};
   c.right = {std::cos(az), std::sin(az), 0};
   c.up = cross(c.toward, c.right);
-  c.center = 0.5 * (box.min + box.max);
+  c.center = box.centre();
   double ex = 0, ey = 0;  // half extents of the box's projection, mm
   for (int corner = 0; corner < 8; ++corner) {
     const Vec3 p{corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y,
