@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libtbb-dev zlib1g-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev
+  nettle-dev  # SHA-256 of the input in `tpmsfill fill --report`
   libeigen3-dev  # hole fairing in `tpmsfill repair` (optional at build time)
   # Real meshes for the tests and the demo: CGAL's demo data (femur.off, elephant-with-holes.off,
   # ...) and assimp's odd STL/OBJ/PLY/OFF test files.

@@ -242,7 +242,24 @@ std::vector<std::string> MeshCheck::problems() const {
   return p;
 }
 
+namespace {
+
+// Lengths, areas, volumes and locations × f, f², f³ (f: millimetres per model unit).
+void facts_in_millimetres(MeshCheck& c, double f) {
+  if (f == 1) return;
+  if (!c.bbox.empty()) c.bbox = {f * c.bbox.min, f * c.bbox.max};
+  c.area *= f * f;
+  if (c.volume) *c.volume *= f * f * f;
+  for (auto* edges :
+       {&c.border_edge_examples, &c.non_manifold_edge_examples, &c.inconsistent_edge_examples})
+    for (EdgeLocation& e : *edges) e.ends = {f * e.ends[0], f * e.ends[1]};
+  for (Vec3& p : c.non_manifold_vertex_examples) p = f * p;
+}
+
+}  // namespace
+
 MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
+  require_valid(options.units);
   detail::require_32bit_mesh(soup, "check");
   MeshCheck c;
   const SoupTopology topo = detail::analyze_soup(soup);
@@ -263,6 +280,7 @@ MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
   if (options.self_intersections)
     record_self_intersections(c, repaired, mesh, options.max_examples);
   record_closed_shape(c, soup, topo, mesh, faces);
+  facts_in_millimetres(c, options.units.factor());
   return c;
 }
 

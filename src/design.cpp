@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -126,6 +127,31 @@ double blend_weight(const Blend& b, Vec3 p) {
 
 // ---- names -----------------------------------------------------------------------------------
 
+std::string grading_label(const Grading& g) {
+  char values[96];
+  std::snprintf(values, sizeof values, " %.4g to %.4g", g.ramp.start, g.ramp.end);
+  std::string s = std::string(graded_name(g.what)) + values;
+  const Ramp& r = g.ramp;
+  if (r.shape == RampShape::Depth) {
+    s += " by depth";
+  } else {
+    const char* axes[] = {"x", "y", "z"};
+    std::string along;
+    for (int a = 0; a < 3; ++a)
+      if (r.axis[a] != 0 && r.axis[(a + 1) % 3] == 0 && r.axis[(a + 2) % 3] == 0) along = axes[a];
+    if (r.shape == RampShape::Radial)
+      s += norm(r.axis) == 0 ? " radially" : " radially from the " + along + " axis";
+    else
+      s += " along " + (along.empty() ? std::string("a direction") : along);
+  }
+  if (r.from && r.to) {
+    char range[96];
+    std::snprintf(range, sizeof range, " (%.4g to %.4g mm)", *r.from, *r.to);
+    s += range;
+  }
+  return s;
+}
+
 std::string_view graded_name(Graded what) {
   return detail::name_of(kGraded, what);
 }
@@ -152,6 +178,16 @@ Transition transition_from_name(std::string_view name) {
 }
 
 // ---- validation and resolution ----------------------------------------------------------------
+
+// A porosity target solves the base's level or thickness; a ramp of that quantity would
+// override it, and the part would silently miss the porosity asked for.
+namespace {
+std::string porosity_and(const std::string& graded) {
+  return "a porosity target sets the " + graded + ", which the " + graded +
+         " grading also sets, so the porosity would not be reached: grade the porosity instead "
+         "(--grade porosity A B)";
+}
+}  // namespace
 
 void require_valid(const LatticeDesign& d) {
   require_valid(static_cast<const TpmsOptions&>(d));
@@ -197,9 +233,11 @@ void require_valid(const LatticeDesign& d) {
         break;
       case Graded::Level:
         if (!network) throw InputError("level grading needs a network lattice");
+        if (d.porosity) throw InputError(porosity_and(what));
         break;
       case Graded::Thickness:
         if (!sheet) throw InputError("thickness grading needs a sheet lattice");
+        if (d.porosity) throw InputError(porosity_and(what));
         if (!(r.start > 0 && r.end > 0))
           throw InputError("graded sheet thicknesses must be positive");
         break;

@@ -22,6 +22,7 @@
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/marching_cubes.hpp"
 #include "tpmsfill/measure.hpp"
+#include "tpmsfill/review.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/validate.hpp"
 
@@ -174,12 +175,18 @@ struct Job {
 void resolve(Job& job) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
+  r.units = units_name(o.units.units);
+  r.scale = o.units.scale;
+  r.mm_per_unit = o.units.factor();
   r.input_triangles = job.model.triangles.size();
   r.input_bbox = bounding_box(job.model);
   job.result.resolved = o;
   const LatticeDesign& d = job.result.resolved.design = resolve_design(o.design, r.input_bbox);
   r.design = d.custom ? std::string("custom field") : tpms_label(d);
   for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
+  for (const Grading& g : d.grading)
+    r.grading += (r.grading.empty() ? "" : "; ") + grading_label(g);
+  r.rotation_degrees = euler_from_rotation(d.rotation);
   r.cell = d.cell;
   r.level = d.level;
   r.thickness = d.thickness;
@@ -190,6 +197,10 @@ void resolve(Job& job) {
   if (!d.custom) r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
 
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
+  // What cannot come out as asked is refused here, before the work; doubts are warnings.
+  for (std::string& w :
+       review_design(d, r.input_bbox, {.voxel = job.grid.spacing, .input_units = o.units.units}))
+    r.warnings.push_back(std::move(w));
   r.estimated_memory_bytes = require_budget(r.input_bbox, job.model.triangles.size(), o);
   r.grid = job.grid;
   r.samples = job.grid.node_count();
@@ -276,27 +287,90 @@ void compose(Job& job) {
   job.tree.reset();  // the tree is no longer needed: give its memory back
 }
 
+// Sealed voids hold unfused powder or resin: say how many, whatever sealed them. Voids
+// smaller than a voxel are marching cubes' specks between nearly touching surfaces, not pores.
+void warn_cavities(const FillOptions& o, const Components& comps, double voxel, FillReport& r) {
+  std::uint64_t count = 0;
+  double volume = 0;
+  for (const auto& c : comps.info)
+    if (-c.volume >= voxel * voxel * voxel) ++count, volume -= c.volume;
+  if (!count) return;
+  char figures[96];
+  std::snprintf(figures, sizeof figures, "%llu void(s) (%.3g mm3)",
+                static_cast<unsigned long long>(count), volume);
+  const std::string sealed =
+      std::string(figures) + " sealed in, where unfused powder or resin " + "cannot drain";
+  if (o.skin > 0 && !o.skin_windows)
+    r.warnings.push_back("the closed skin seals " + sealed +
+                         " (--skin-windows opens the skin at the pores)");
+  else if (o.skin > 0)
+    r.warnings.push_back("the skin windows left " + sealed +
+                         " (pores that never reach the skin; a thinner --skin or a larger "
+                         "--cell opens more)");
+  else
+    r.warnings.push_back("the lattice has " + sealed);
+}
+
+// Islands that are whole features: removal of more than 5 % of the lattice, or of any piece
+// larger than a cell, is not the tidying it is meant to be.
+void warn_islands(const FillOptions& o, double lattice_before, FillReport& r) {
+  const double fraction = lattice_before > 0 ? r.islands_volume / lattice_before : 0;
+  const Vec3 c = r.cell;
+  const double largest = r.largest_islands.empty() ? 0 : r.largest_islands.front().volume;
+  if (fraction <= 0.05 && largest <= c.x * c.y * c.z) return;
+  const Vec3 s = r.largest_islands.front().bbox.size();
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "removing %llu island(s) took %.3g mm3, %.1f %% of the lattice (the largest "
+                "%.3g mm3, %.3g x %.3g x %.3g mm)",
+                static_cast<unsigned long long>(r.islands_removed), r.islands_volume,
+                100 * fraction, largest, s.x, s.y, s.z);
+  // Over half: the lattice itself falls apart (a level near its limit); else the islands
+  // are parts of the model too thin for the lattice to join.
+  r.warnings.push_back(
+      std::string(text) +
+      (fraction > 0.5 ? ": the lattice falls apart into pieces at this level or thickness; "
+                        "move it towards 0 (or --porosity nearer 0.5)"
+                      : std::string(": they are features of the model too thin for the lattice "
+                                    "to join; a smaller --cell") +
+                            (o.skin > 0 ? "" : ", a --skin") + " or --keep-islands keeps them"));
+}
+
 // Cavities are counted (a closed skin seals them in); islands, the pieces that are not the
-// main body of their part of the model, are removed unless kept.
+// main body of their part of the model, are removed unless kept, the largest listed.
 void remove_islands(Job& job) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
   const Components comps = mesh_components(job.mesh);
-  for (const auto& c : comps.info)
+  double lattice_before = 0;
+  for (const auto& c : comps.info) {
+    lattice_before += c.volume;
     if (c.volume < 0) ++r.cavities, r.cavities_volume -= c.volume;
-  if (r.cavities && o.skin > 0 && !o.skin_windows)
-    r.warnings.push_back("the closed skin seals " + std::to_string(r.cavities) +
-                         " void(s) in, where unfused powder or resin cannot drain "
-                         "(--skin-windows opens the skin at the pores)");
+  }
+  warn_cavities(o, comps, job.grid.spacing, r);
   if (o.keep_islands || comps.info.size() < 2) return;
   const std::vector<bool> keep =
       main_bodies(job.mesh, comps, job.phi, label_regions(job.occupancy.inside));
+  std::vector<RemovedIsland> removed(comps.info.size());
+  for (std::size_t t = 0; t < job.mesh.triangles.size(); ++t)
+    if (const std::uint32_t c = comps.triangle_component[t]; !keep[c])
+      for (std::uint32_t v : job.mesh.triangles[t]) removed[c].bbox.extend(job.mesh.points[v]);
   for (std::size_t c = 0; c < keep.size(); ++c)
     if (!keep[c]) {
       ++r.islands_removed;
-      r.islands_volume += std::fabs(comps.info[c].volume);
+      removed[c].volume = std::fabs(comps.info[c].volume);
+      r.islands_volume += removed[c].volume;
+      r.largest_islands.push_back(removed[c]);
     }
-  if (r.islands_removed) job.mesh = keep_components(job.mesh, comps, keep);
+  // Largest first; equal volumes keep component order, so the list is deterministic.
+  std::stable_sort(
+      r.largest_islands.begin(), r.largest_islands.end(),
+      [](const RemovedIsland& a, const RemovedIsland& b) { return a.volume > b.volume; });
+  if (r.largest_islands.size() > 10) r.largest_islands.resize(10);
+  if (r.islands_removed) {
+    job.mesh = keep_components(job.mesh, comps, keep);
+    warn_islands(o, lattice_before, r);
+  }
 }
 
 // Nothing is returned that failed validation.
@@ -333,9 +407,14 @@ std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
   return saturated_bytes(estimate_bytes(bounds, triangles, options));
 }
 
-FillResult fill(const TriangleSoup& model, const FillOptions& options) {
+FillResult fill(const TriangleSoup& input, const FillOptions& options) {
+  require_valid(options.units);
   require_valid(options.design);
   require_valid(ComposeOptions{.skin = options.skin});  // fail before any work
+  // The pipeline works in millimetres; a copy only when the input is in another unit.
+  std::optional<TriangleSoup> in_mm;
+  if (options.units.factor() != 1) in_mm = to_millimetres(input, options.units);
+  const TriangleSoup& model = in_mm ? *in_mm : input;
   FillResult result;
   Job job(model, options, result);
   resolve(job);

@@ -223,6 +223,8 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   Reader r(root, "", source);
   std::string description;  // free text for people (catalogues, job sheets): read, not used
   r.text("description", description);
+  r.name("units", o.units.units, units_from_name);
+  r.number("scale", o.units.scale);
   r.number("voxel", o.grid.voxel_size);
   r.integer("padding", o.grid.padding);
   r.integer("band", o.band.width);
@@ -295,6 +297,8 @@ FillOptions read_recipe_file(const std::string& path, const FillOptions& default
 
 std::string recipe_json(const FillOptions& o) {
   json j;
+  j["units"] = units_name(o.units.units);
+  j["scale"] = o.units.scale;
   j["voxel"] = o.grid.voxel_size;
   j["padding"] = o.grid.padding;
   j["band"] = o.band.width;

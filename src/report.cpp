@@ -63,6 +63,22 @@ double FillReport::total_seconds() const {
   return s;
 }
 
+namespace {
+
+json nullable(const std::string& s) {
+  return s.empty() ? json(nullptr) : json(s);
+}
+
+json islands(const std::vector<RemovedIsland>& list) {
+  json a = json::array();
+  for (const RemovedIsland& i : list)
+    a.push_back(
+        {{"volume", i.volume}, {"bbox", {{"min", point(i.bbox.min)}, {"max", point(i.bbox.max)}}}});
+  return a;
+}
+
+}  // namespace
+
 std::string to_json(const FillReport& r) {
   const ValidationReport& v = r.validation;
   json stages = json::array();
@@ -73,14 +89,24 @@ std::string to_json(const FillReport& r) {
       {"valid", v.valid()},
       {"problems", v.problems()},
       {"warnings", r.warnings},
+      {"provenance",
+       {{"input", nullable(r.input_path)},
+        {"input_sha256", nullable(r.input_sha256)},
+        {"command_line", nullable(r.command_line)},
+        {"version", nullable(r.version)}}},
       {"input",
-       {{"triangles", r.input_triangles},
+       {{"units", r.units},
+        {"scale", r.scale},
+        {"mm_per_unit", r.mm_per_unit},
+        {"triangles", r.input_triangles},
         {"bbox", r.input_bbox.empty()
                      ? json(nullptr)
                      : json{{"min", point(r.input_bbox.min)}, {"max", point(r.input_bbox.max)}}}}},
       {"lattice",
        {{"type", r.design},
         {"cell", point(r.cell)},
+        {"rotation_degrees", point(r.rotation_degrees)},
+        {"grading", nullable(r.grading)},
         {"level", r.level},
         {"thickness", r.thickness},
         {"porosity_target", r.porosity_target ? json(*r.porosity_target) : json(nullptr)},
@@ -127,6 +153,7 @@ std::string to_json(const FillReport& r) {
       {"surface_density", r.surface_density()},
       {"islands_removed", r.islands_removed},
       {"islands_volume", r.islands_volume},
+      {"largest_islands", islands(r.largest_islands)},
       {"measures", !r.measures
                        ? json(nullptr)
                        : json{{"pore_diameter", sizes(r.measures->pore)},
@@ -168,7 +195,15 @@ std::string to_text(const FillReport& r) {
                         : ", level %.4g mm for porosity %.4g %%",
                 r.sheet ? r.thickness : r.level, 100 * *r.porosity_target);
   if (r.skin > 0) s += format(", skin %g mm", r.skin);
+  const Vec3 rot = r.rotation_degrees;
+  if (rot.x != 0 || rot.y != 0 || rot.z != 0)
+    s += format(", rotated %.4g %.4g %.4g deg", rot.x, rot.y, rot.z);
   s += "\n";
+  if (!r.grading.empty()) s += "grading      " + r.grading + "\n";
+  if (r.mm_per_unit != 1)
+    s += "input        read as " + r.units +
+         (r.scale != 1 ? format(" scaled by %g", r.scale) : std::string()) +
+         format(": %g mm per unit\n", r.mm_per_unit);
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
   s += "inside       " + inside_summary(r) + "\n";

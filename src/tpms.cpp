@@ -69,6 +69,19 @@ Mat3 rotation_from_euler(Vec3 degrees) {
   return rz * ry * rx;
 }
 
+Vec3 euler_from_rotation(const Mat3& r) {
+  // R = Rz·Ry·Rx: R[2][0] = −sin y, R[2][1] = cos y sin x, R[1][0] = cos y sin z.
+  // Degrees to 1e-9, so that 30° given reads back as 30, not 29.999999999999996.
+  auto deg = [](double radians) {
+    return std::round(radians * (180.0 / M_PI) * 1e9) / 1e9 + 0.0;  // + 0.0: no −0
+  };
+  const double* m = r.m.data();
+  const double y = std::asin(std::clamp(-m[6], -1.0, 1.0));
+  if (std::fabs(m[6]) > 1 - 1e-12)  // gimbal lock: x and z turn about one axis; all in z
+    return {0, deg(y), deg(std::atan2(-m[1], m[4]))};
+  return {deg(std::atan2(m[7], m[8])), deg(y), deg(std::atan2(m[3], m[0]))};
+}
+
 void require_valid(const TpmsOptions& o) {
   for (int axis = 0; axis < 3; ++axis)
     if (!(o.cell[axis] > 0) || !std::isfinite(o.cell[axis]))

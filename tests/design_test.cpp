@@ -328,10 +328,12 @@ TEST(Design, HybridTransitionIsContinuousAndAddsNoComponent) {
 }
 
 TEST(Design, SkinIsWithinOneVoxelOfItsThickness) {
-  // A lattice that is void everywhere (level above its clamp) leaves only the skin: a hollow
-  // box whose volume gives the wall thickness, within one voxel of the requested 0.5 mm.
+  // A field that is void everywhere leaves only the skin: a hollow box whose volume gives
+  // the wall thickness, within one voxel of the requested 0.5 mm. (A TPMS level that leaves
+  // no solid is refused: review.hpp.)
   const double a = 0.1, skin = 0.5, side = 10;
-  FillOptions o = cube_job(a, {.type = TpmsType::Gyroid, .level = 50});
+  FillOptions o = cube_job(a, {.type = TpmsType::Gyroid});
+  o.design.custom = function_source([](Vec3) { return 10.0f; });
   o.skin = skin;
   const FillResult r = fill(test::make_box({0, 0, 0}, {side, side, side}), o);
   const double cavity = std::cbrt(side * side * side - r.report.lattice_volume());

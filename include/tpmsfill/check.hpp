@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tpmsfill/types.hpp"
+#include "tpmsfill/units.hpp"
 
 namespace tpmsfill {
 
@@ -23,6 +24,10 @@ struct CheckOptions {
   bool self_intersections = true;
   /// Largest number of example locations kept per defect class.
   std::size_t max_examples = 10;
+  /// The unit the soup's coordinates are in: the facts are established on the soup as it is
+  /// (no rounding moves a point), and lengths, areas, volumes and locations are reported in
+  /// millimetres.
+  ModelUnits units = {};
 };
 
 /// An edge between two points (coordinates in mm) and one triangle (input index) that uses it.

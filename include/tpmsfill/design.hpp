@@ -16,6 +16,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -123,6 +124,8 @@ FieldSource design_source(const LatticeDesign& design, const Field* depth = null
 /// Names used by the CLI and recipes: "porosity", "level", "thickness", "cell"; "linear",
 /// "radial", "depth"; "half-space", "slab", "sphere", "cylinder"; "sigmoid", "beta".
 std::string_view graded_name(Graded what);
+/// "porosity 0.5 to 0.8 by depth (0 to 7.5 mm)", "cell 2 to 4 along x (0 to 60 mm)", ...
+std::string grading_label(const Grading& grading);
 std::string_view ramp_name(RampShape shape);
 std::string_view region_name(RegionShape shape);
 std::string_view transition_name(Transition transition);

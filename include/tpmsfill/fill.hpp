@@ -19,11 +19,16 @@
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
 #include "tpmsfill/types.hpp"
+#include "tpmsfill/units.hpp"
 #include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill {
 
 struct FillOptions {
+  /// The unit the model's coordinates are in (and a further scale): fill() works, and its
+  /// output and report are, in millimetres. A model that this makes smaller than one cell is
+  /// refused with the likely unit named (review_design).
+  ModelUnits units = {};
   GridOptions grid;  ///< voxel size (mm) and padding
   /// Type, network/sheet, cell size, level, thickness or porosity, rotation, origin; grading,
   /// blends or a custom field source (design.hpp). Porosities are solved and ramps without
@@ -73,16 +78,20 @@ struct FillResult {
 };
 
 /// Fills `model` with the lattice.
-/// @param[in] model  any triangle soup, mm (holes, flips, overlaps and duplicates allowed)
-/// @throws InputError       bad options, a model without a usable triangle, or one that
-///                          encloses no volume
+/// @param[in] model  any triangle soup in options.units (holes, flips, overlaps and duplicates
+///                   allowed)
+/// @throws InputError       bad options, a model without a usable triangle, one that encloses
+///                          no volume, or a design that cannot come out as asked on it
+///                          (review_design: a model smaller than a cell, a voxel over half a
+///                          cell, a level that leaves no solid, ...); doubtful designs are
+///                          warned about in report.warnings instead
 /// @throws ResourceError    the job exceeds the memory budget (message names a voxel size
 ///                          that fits)
 /// @throws ValidationError  the output failed validation (nothing to write; a bug)
 /// @throws Cancelled        options.progress cancelled the job
 FillResult fill(const TriangleSoup& model, const FillOptions& options);
 
-/// Bytes fill() is estimated to need at most for a model with this bounding box and
+/// Bytes fill() is estimated to need at most for a model with this bounding box (mm) and
 /// triangle count (grid, fields, tree and output), without allocating anything.
 std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
                                    const FillOptions& options);

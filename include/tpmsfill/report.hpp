@@ -22,11 +22,27 @@ struct StageTime {
   double peak_memory_mb = 0;  ///< high-water mark of the whole process so far (getrusage)
 };
 
+/// A lattice piece removed as an island (FillOptions::keep_islands unset).
+struct RemovedIsland {
+  double volume = 0;  ///< mm^3
+  Box3 bbox;          ///< mm
+};
+
 struct FillReport {
+  // --- provenance: set by the caller (the CLI), as the recipe is; empty: null in to_json ---
+  std::string input_path;    ///< the file read
+  std::string input_sha256;  ///< of its bytes as stored (hex)
+  std::string command_line;  ///< the full command, shell-quoted
+  std::string version;       ///< the tool's version
   // --- input and settings ---------------------------------------------------------------
+  std::string units = "mm";  ///< what the input's coordinates were read as (units.hpp)
+  double scale = 1;          ///< the further scale applied to them
+  double mm_per_unit = 1;    ///< the two together: millimetres per input coordinate
   std::uint64_t input_triangles = 0;
-  Box3 input_bbox;
+  Box3 input_bbox;                        ///< mm (after units and scale)
   std::string design;                     ///< "gyroid network", "diamond sheet", ...
+  std::string grading;                    ///< "porosity 0.5→0.8 along depth", ... ("" none)
+  Vec3 rotation_degrees;                  ///< the lattice's rotation as Euler angles
   Vec3 cell;                              ///< mm
   double level = 0;                       ///< mm (network)
   double thickness = 0;                   ///< mm (sheet)
@@ -59,6 +75,8 @@ struct FillReport {
   double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3
+  /// The largest removed islands, largest first (at most 10).
+  std::vector<RemovedIsland> largest_islands;
   std::optional<LatticeMeasures> measures;  ///< pores, walls, labyrinths (FillOptions::measure)
   std::uint64_t cavities = 0;         ///< closed voids in the output (negative-volume surfaces)
   double cavities_volume = 0;         ///< their volume, mm^3

@@ -63,6 +63,9 @@ std::string tpms_label(const TpmsOptions& options);
 /// Rotation about x by rx, then about the (fixed) y by ry, then about z by rz, in degrees:
 /// R = Rz · Ry · Rx.
 Mat3 rotation_from_euler(Vec3 degrees);
+/// The angles rotation_from_euler takes to make `rotation` (a rotation matrix), degrees in
+/// (−180, 180] (y in [−90, 90]).
+Vec3 euler_from_rotation(const Mat3& rotation);
 
 /// @throws InputError  a cell size or the thickness is not positive and finite, the level or
 ///                     origin is not finite, the rotation is not a rotation (orthonormal with

@@ -2,6 +2,7 @@
 // where not? The facts come from tpmsfill::check_mesh; this file only prints them.
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <string>
 #include <tpmsfill/check.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/units.hpp>
 
 #include "cli/commands.hpp"
 
@@ -21,6 +23,7 @@ struct CheckArgs {
   bool json = false;
   bool skip_self_intersections = false;
   std::size_t max_examples = 10;
+  std::string units = "mm";
   int threads = 0;
 };
 
@@ -140,7 +143,18 @@ int run_check(const CheckArgs& args) {
   CheckOptions options;
   options.self_intersections = !args.skip_self_intersections;
   options.max_examples = args.max_examples;
+  options.units.units = units_from_name(args.units);
   const MeshCheck check = check_mesh(file.soup, options);
+  // A part a thousandth or a thousand times the size of anything printable was most likely
+  // modelled in another unit: say which before the user fills it.
+  std::string hint = units_hint(check.bbox, options.units.units);
+  if (!hint.empty()) {
+    const Vec3 s = check.bbox.size();
+    char size[96];
+    std::snprintf(size, sizeof size, "the mesh is %.3g mm across, implausible for a part in %s",
+                  std::max({s.x, s.y, s.z}), args.units.c_str());
+    hint = size + hint;
+  }
 
   if (args.json) {
     nlohmann::ordered_json j;
@@ -150,6 +164,8 @@ int run_check(const CheckArgs& args) {
     j["faces_in_file"] = file.faces_in_file;
     j["polygons_triangulated"] = file.polygons_triangulated;
     j["warnings"] = file.warnings;
+    j["units"] = units_name(options.units.units);
+    j["units_hint"] = hint.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(hint);
     const auto facts = nlohmann::ordered_json::parse(to_json(check));  // outlives the loop
     for (const auto& [key, value] : facts.items()) j[key] = value;
     std::printf("%s\n", j.dump(2).c_str());
@@ -157,6 +173,7 @@ int run_check(const CheckArgs& args) {
     for (const std::string& w : file.warnings)
       std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
     print_text(args.input, file, check);
+    if (!hint.empty()) std::printf("hint: %s\n", hint.c_str());
   }
   return check.valid() ? kOk : kNotValid;
 }
@@ -179,6 +196,9 @@ Command add_check_command(CLI::App& app) {
       ->required();
   sub->add_flag("--json", args->json,
                 "Print one JSON object instead of text (fields: docs/cli.md)");
+  sub->add_option("--units", args->units,
+                  "Unit the mesh was modelled in: mm, cm, m, in or um (default mm); sizes are "
+                  "reported in millimetres");
   sub->add_flag("--no-self-intersections", args->skip_self_intersections,
                 "Skip the self-intersection search (the slowest check)");
   sub->add_option("--max-examples", args->max_examples,

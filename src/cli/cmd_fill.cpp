@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
 
 namespace tpmsfill::cli {
@@ -29,7 +31,8 @@ struct FillArgs {
   std::optional<double> level, thickness, porosity, voxel, skin;
   std::vector<std::string> grade;
   std::string grade_along = "z";
-  double scale = 1.0;
+  std::optional<std::string> units;
+  std::optional<double> scale;
   std::optional<int> band;
   bool skin_windows = false, measure = false;
   bool full_field = false, keep_islands = false, no_self_intersections = false, quiet = false;
@@ -83,6 +86,8 @@ Ramp ramp_along(const std::string& along) {
 // Flags on top of the recipe (or the defaults): what is given on the command line wins.
 void apply_flags(const FillArgs& args, FillOptions& options) {
   TpmsOptions& tpms = options.design;
+  if (args.units) options.units.units = units_from_name(*args.units);
+  if (args.scale) options.units.scale = *args.scale;
   if (args.voxel) options.grid.voxel_size = *args.voxel;
   if (args.lattice) tpms.type = tpms_type_from_name(*args.lattice);
   if (args.sheet) tpms.style = TpmsStyle::Sheet;
@@ -149,9 +154,14 @@ int run_fill(const FillArgs& args) {
 
   FillOptions options = args.recipe.empty() ? FillOptions{} : read_recipe_file(args.recipe);
   apply_flags(args, options);
-  // Fail on a bad output name before the work, not after it.
+  // Fail on a bad output name, or one that would replace an input, before the work.
   if (format_from_extension(args.output) == MeshFormat::Auto)
     throw InputError(args.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+  std::vector<OutputFile> outputs{{"OUT", args.output}};
+  if (!args.report.empty()) outputs.push_back({"--report", args.report});
+  std::vector<std::filesystem::path> inputs{args.input};
+  if (!args.recipe.empty()) inputs.emplace_back(args.recipe);
+  require_writable_outputs(inputs, outputs);
 
   std::unique_ptr<TerminalProgress> progress;
   if (!args.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
@@ -159,8 +169,6 @@ int run_fill(const FillArgs& args) {
 
   auto t0 = std::chrono::steady_clock::now();
   MeshFile file = read_mesh_file(args.input);
-  if (args.scale != 1.0)
-    for (Vec3& p : file.soup.points) p = args.scale * p;
   const StageTime read{"read", seconds_since(t0), peak_memory_mb()};
   for (const std::string& w : file.warnings)
     std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
@@ -168,13 +176,21 @@ int run_fill(const FillArgs& args) {
   FillResult result = fill(file.soup, options);
   if (progress) progress->clear();
 
+  // The mesh and the report are one outcome: both are written, or neither.
   t0 = std::chrono::steady_clock::now();
-  write_mesh(args.output, result.mesh);
+  StagedOutputs staged;
+  write_mesh(staged.stage(args.output), result.mesh,
+             {.format = format_from_extension(args.output)});
   FillReport& report = result.report;
   report.recipe = recipe_json(result.resolved);
+  report.input_path = args.input;
+  report.input_sha256 = sha256_of_file(args.input);
+  report.command_line = command_line();
+  report.version = TPMSFILL_VERSION;
   report.stages.insert(report.stages.begin(), read);
   report.stages.push_back({"write", seconds_since(t0), peak_memory_mb()});
-  if (!args.report.empty()) write_file_atomically(args.report, to_json(report));
+  if (!args.report.empty()) write_file_atomically(staged.stage(args.report), to_json(report));
+  staged.commit();
 
   if (!args.quiet) {
     std::printf("%s -> %s\n%s", args.input.c_str(), args.output.c_str(), to_text(report).c_str());
@@ -262,9 +278,12 @@ Command add_fill_command(CLI::App& app) {
                   "ray crossings, the method paper's rule, for closed meshes only) or auto "
                   "(default: the winding number, cleaning the mesh only if some grid row finds "
                   "it open or inside out)");
+  sub->add_option("--units", args->units,
+                  "Unit the input was modelled in: mm, cm, m, in or um (default mm); it is "
+                  "converted to millimetres, the unit of every other length and of OUT");
   sub->add_option("--scale", args->scale,
-                  "Multiply the input's coordinates by this first, e.g. 25.4 for inches or 1000 "
-                  "for metres (default 1)")
+                  "Multiply the input's coordinates (after --units) by this, e.g. 2 to fill the "
+                  "part at twice its size (default 1)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--band", args->band,
                   "Half-width of the exact-distance band in voxels (default 1, the paper's)")

@@ -13,8 +13,10 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/repair.hpp>
+#include <tpmsfill/units.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
 
 namespace tpmsfill::cli {
@@ -25,6 +27,7 @@ struct RepairArgs {
   bool json = false, no_wrap = false, no_fill_holes = false, quiet = false;
   double alpha = 0, offset = 0;
   double min_component = RepairOptions{}.min_component_fraction;
+  std::string units = "mm";
   int threads = 0;
 };
 
@@ -37,6 +40,8 @@ int run_repair(const RepairArgs& args) {
   const MeshFormat format = format_from_extension(args.output);
   if (format == MeshFormat::Auto)
     throw InputError(args.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+  require_writable_outputs({args.input}, {{"OUT", args.output}});
+  const ModelUnits units{.units = units_from_name(args.units)};
 
   RepairOptions options;
   options.wrap = !args.no_wrap;
@@ -51,7 +56,8 @@ int run_repair(const RepairArgs& args) {
   options.progress = progress.get();
 
   const auto t0 = std::chrono::steady_clock::now();
-  const MeshFile file = read_mesh_file(args.input);
+  MeshFile file = read_mesh_file(args.input);
+  file.soup = to_millimetres(std::move(file.soup), units);
   for (const std::string& w : file.warnings)
     std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
   const RepairResult result = repair_mesh(file.soup, options);
@@ -66,6 +72,7 @@ int run_repair(const RepairArgs& args) {
     j["input"] = args.input;
     j["output"] = args.output;
     j["written"] = valid;
+    j["units"] = args.units;
     j["seconds"] = seconds;
     const auto report = nlohmann::ordered_json::parse(to_json(result.report));
     for (const auto& [key, value] : report.items()) j[key] = value;
@@ -109,6 +116,9 @@ Command add_repair_command(CLI::App& app) {
   sub->add_option("OUT", args->output,
                   "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
       ->required();
+  sub->add_option("--units", args->units,
+                  "Unit the input was modelled in: mm, cm, m, in or um (default mm); it is "
+                  "converted to millimetres, the unit of OUT and of every length");
   sub->add_flag("--json", args->json,
                 "Print the JSON report instead of text (fields: docs/cli.md)");
   sub->add_flag("--no-wrap", args->no_wrap,

@@ -5,6 +5,7 @@
 #include <tpmsfill/error.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/job_files.hpp"
 
 int main(int argc, char** argv) {
   using namespace tpmsfill::cli;
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   Command fill = add_fill_command(app);
   Command repair = add_repair_command(app);
 
+  set_command_line(argc, argv);  // for the reports' provenance
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

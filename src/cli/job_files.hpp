@@ -1,0 +1,53 @@
+// The files a command reads and writes, settled before any work: an output that would
+// replace the input, or that cannot be written, is refused up front (not after a long job),
+// and the outputs are written together (every one or none).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tpmsfill::cli {
+
+/// An output file and the option that named it ("OUT", "--report").
+struct OutputFile {
+  std::string option;
+  std::filesystem::path path;
+};
+
+/// @param inputs  the files the command reads (the mesh, a recipe)
+/// @throws InputError  an output is an input (same file, or the same path once resolved), two
+///                     outputs are one file, an output names a folder, or its folder does not
+///                     exist or cannot be written to
+void require_writable_outputs(const std::vector<std::filesystem::path>& inputs,
+                              const std::vector<OutputFile>& outputs);
+
+/// Outputs staged in temporary files beside their targets and renamed onto them together by
+/// commit(); whatever is not committed is removed, so a failure leaves every target as it was.
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  ~StagedOutputs();
+  /// A temporary path in `target`'s folder to write `target`'s content to.
+  std::filesystem::path stage(const std::filesystem::path& target);
+  /// Renames every staged file onto its target.
+  /// @throws IoError  a rename failed (the targets renamed before it are restored)
+  void commit();
+
+ private:
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;  // temp, target
+};
+
+/// SHA-256 of a file's bytes as stored, lower-case hex.
+/// @throws IoError  the file cannot be read
+std::string sha256_of_file(const std::filesystem::path& path);
+
+/// The command line as typed, each argument shell-quoted where it needs to be; set once by
+/// main().
+void set_command_line(int argc, const char* const* argv);
+const std::string& command_line();
+
+}  // namespace tpmsfill::cli

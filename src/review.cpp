@@ -1,0 +1,316 @@
+// Review: every layer a design can produce, checked against the model and the voxel.
+#include "tpmsfill/review.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "tpmsfill/error.hpp"
+#include "tpmsfill/field.hpp"
+#include "tpmsfill/voxel.hpp"
+
+namespace tpmsfill {
+namespace {
+
+std::string num(double v) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.3g", v);
+  return s;
+}
+
+std::string mm(double v) {
+  return num(v) + " mm";
+}
+
+std::string percent(double fraction) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f %%", 100 * fraction);
+  return s;
+}
+
+double smallest(Vec3 v) {
+  return std::min({v.x, v.y, v.z});
+}
+double largest(Vec3 v) {
+  return std::max({v.x, v.y, v.z});
+}
+
+// One TPMS the design produces somewhere, and where ("" for the base).
+struct Layer {
+  TpmsOptions tpms;
+  std::string where;
+};
+
+// The base at each end of each ramp (the other quantities at their base values), and each
+// blend: the extremes of what the design produces.
+std::vector<Layer> layers_of(const LatticeDesign& design) {
+  std::vector<Layer> layers;
+  const TpmsOptions& base = design;
+  if (!design.custom) {
+    layers.push_back({resolve_porosity(base), ""});
+    for (const Grading& g : design.grading)
+      for (int end = 0; end < 2; ++end) {
+        const double value = end ? g.ramp.end : g.ramp.start;
+        TpmsOptions t = base;
+        switch (g.what) {
+          case Graded::Porosity:
+            t.porosity = value;
+            break;
+          case Graded::Level:
+            t.level = value, t.porosity.reset();
+            break;
+          case Graded::Thickness:
+            t.thickness = value, t.porosity.reset();
+            break;
+          case Graded::Cell:
+            t.cell = (value / base.cell.x) * base.cell;
+            break;
+        }
+        layers.push_back({resolve_porosity(t), " at the " + std::string(end ? "end" : "start") +
+                                                   " of the " + std::string(graded_name(g.what)) +
+                                                   " ramp"});
+      }
+  }
+  for (std::size_t b = 0; b < design.blends.size(); ++b)
+    layers.push_back(
+        {resolve_porosity(design.blends[b].tpms), " in blend " + std::to_string(b + 1)});
+  return layers;
+}
+
+// Refuses a model smaller than one cell along its longest side; warns under three cells.
+void review_size(const std::vector<Layer>& layers, const Box3& model, const ReviewOptions& o,
+                 std::vector<std::string>& warnings) {
+  if (layers.empty()) return;
+  const Vec3 size = model.size();
+  const Vec3 cell = layers.front().tpms.cell;
+  const double spans = std::max({size.x / cell.x, size.y / cell.y, size.z / cell.z});
+  const std::string across = "the model is " + mm(largest(size)) + " across";
+  if (spans < 1)
+    throw InputError(
+        across + ", smaller than one " + mm(largest(cell)) + " cell" +
+        units_hint(model, o.input_units, largest(cell)) +
+        (likely_units(model, o.input_units, largest(cell)) ? "" : "; use a smaller --cell"));
+  if (spans < 3)
+    warnings.push_back(across + ", " + num(spans) +
+                       " cells: too few for a lattice to show (a smaller --cell gives more)" +
+                       units_hint(model, o.input_units));
+}
+
+// Refuses a voxel coarser than half the smallest cell (the lattice cannot be sampled); warns
+// over a quarter (aliased).
+void review_voxel(const std::vector<Layer>& layers, const ReviewOptions& o,
+                  std::vector<std::string>& warnings) {
+  const Layer* finest = nullptr;
+  for (const Layer& l : layers)
+    if (!finest || smallest(l.tpms.cell) < smallest(finest->tpms.cell)) finest = &l;
+  if (!finest) return;
+  const double cell = smallest(finest->tpms.cell);
+  const std::string what = "the voxel (" + mm(o.voxel) + ") is coarser than ";
+  const std::string which = " of the smallest cell (" + mm(cell) + finest->where + ")";
+  if (o.voxel > cell / 2)
+    throw InputError(what + "half" + which + ": the lattice cannot be sampled; use --voxel " +
+                     num(cell / 4) + " or less");
+  if (o.voxel > cell / 4)
+    warnings.push_back(what + "a quarter" + which + ": the lattice is aliased (rough and " +
+                       "off its porosity); --voxel " + mm(cell / 8) + " gives it 8 per cell");
+}
+
+// The solid fraction of a layer, from its sorted cell samples.
+double solid_fraction(const TpmsOptions& t) {
+  const CellSamples cell = sample_cell(t);
+  const bool network = t.style == TpmsStyle::Network;
+  const std::vector<float>& s = network ? cell.values : cell.absolute;
+  const float threshold = static_cast<float>(network ? -t.level : 0.5 * t.thickness);
+  return static_cast<double>(std::lower_bound(s.begin(), s.end(), threshold) - s.begin()) /
+         static_cast<double>(s.size());
+}
+
+// What range of the layer's level or thickness gives between 3 % and 97 % solid.
+std::string fitting_range(const TpmsOptions& t) {
+  const CellSamples cell = sample_cell(t);
+  if (t.style == TpmsStyle::Network)
+    return "levels from " + mm(level_for_porosity(cell, t.style, 0.97)) + " to " +
+           mm(level_for_porosity(cell, t.style, 0.03)) + " give 3-97 % solid";
+  return "thicknesses up to " + mm(level_for_porosity(cell, t.style, 0.03)) +
+         " leave some void; --porosity sets it directly";
+}
+
+// Refuses a layer that leaves (almost) no solid or no void; warns under 3 % of either, and
+// where its struts, walls or pores are thinner than two voxels.
+void review_layers(const std::vector<Layer>& layers, const ReviewOptions& o,
+                   std::vector<std::string>& warnings) {
+  for (const Layer& l : layers) {
+    const double solid = solid_fraction(l.tpms);
+    const std::string name = "the " + tpms_label(l.tpms) + l.where;
+    const std::string what = l.tpms.style == TpmsStyle::Network
+                                 ? "level " + mm(l.tpms.level)
+                                 : "thickness " + mm(l.tpms.thickness);
+    if (solid < 0.01 || solid > 0.99)
+      throw InputError(name + " with " + what + " leaves " +
+                       (solid < 0.5 ? "no solid" : "no void") + " (solid " + percent(solid) +
+                       "); " + fitting_range(l.tpms));
+    if (solid < 0.03 || solid > 0.97) {
+      warnings.push_back(name + " with " + what + " leaves almost " +
+                         (solid < 0.5 ? "no solid" : "no void") + " (solid " + percent(solid) +
+                         ")");
+      continue;
+    }
+    const LayerSizes sizes = layer_sizes(l.tpms);
+    const bool network = l.tpms.style == TpmsStyle::Network;
+    if (sizes.solid < 2 * o.voxel)
+      warnings.push_back(name + " has " + (network ? "struts" : "walls") + " at most " +
+                         mm(sizes.solid) + " thick, thinner than two voxels (" + mm(2 * o.voxel) +
+                         "): they come out broken and the porosity misses; " + "--voxel " +
+                         num(sizes.solid / 4) + " resolves them");
+    if (sizes.pore < 2 * o.voxel)
+      warnings.push_back(name + " has pores at most " + mm(sizes.pore) +
+                         " wide, narrower than two voxels (" + mm(2 * o.voxel) +
+                         "): they close up and the porosity misses; --voxel " +
+                         num(sizes.pore / 4) + " resolves them");
+  }
+}
+
+// (n + 1)³ points spread through the box, its corners included.
+template <class F>
+void for_each_box_sample(const Box3& box, int n, F&& f) {
+  const Vec3 s = box.size();
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) f(box.min + Vec3{s.x * i / n, s.y * j / n, s.z * k / n});
+}
+
+bool in_region(const Region& r, Vec3 p) {
+  const Vec3 n = (1 / std::max(norm(r.axis), 1e-300)) * r.axis;
+  const Vec3 d = p - r.point;
+  switch (r.shape) {
+    case RegionShape::HalfSpace:
+      return dot(d, n) > 0;
+    case RegionShape::Slab:
+      return std::fabs(dot(d, n)) < r.size / 2;
+    case RegionShape::Sphere:
+      return norm(d) < r.size;
+    case RegionShape::Cylinder:
+      return norm(d - dot(d, n) * n) < r.size;
+  }
+  return false;
+}
+
+// Refuses a blend whose region misses the model's box; warns when what it covers of the box
+// holds fewer than 8 of the blended lattice's cells (2 per side: the lattice barely shows).
+void review_blends(const LatticeDesign& design, const Box3& model,
+                   std::vector<std::string>& warnings) {
+  constexpr int n = 24;
+  for (std::size_t b = 0; b < design.blends.size(); ++b) {
+    const Region& r = design.blends[b].region;
+    std::size_t in = 0;
+    for_each_box_sample(model, n, [&](Vec3 p) { in += in_region(r, p); });
+    const double fraction = static_cast<double>(in) / ((n + 1) * (n + 1) * (n + 1));
+    const std::string what =
+        "blend " + std::to_string(b + 1) + "'s " + std::string(region_name(r.shape)) + " region";
+    if (in == 0)
+      throw InputError(what + " lies outside the model's box: the blend would change nothing; " +
+                       "move its point into the model");
+    const Vec3 size = model.size(), cell = design.blends[b].tpms.cell;
+    const double covered = fraction * size.x * size.y * size.z;
+    if (covered < 8 * cell.x * cell.y * cell.z)
+      warnings.push_back(what + " covers only " + num(covered) + " mm3 of the model's box (" +
+                         percent(fraction) + "), less than 8 of its " + mm(largest(cell)) +
+                         " cells: the blended lattice barely shows");
+  }
+}
+
+// The ramp coordinate's range over the model's box.
+std::pair<double, double> ramp_coordinates(const Ramp& ramp, const Box3& model) {
+  double lo = INFINITY, hi = -INFINITY;
+  const Vec3 point = ramp.point.value_or(Vec3{});
+  const double length = norm(ramp.axis);
+  const Vec3 n = length > 0 ? (1 / length) * ramp.axis : Vec3{};
+  for_each_box_sample(model, 16, [&](Vec3 p) {
+    const Vec3 d = p - point;
+    const double t = ramp.shape == RampShape::Linear ? dot(d, n)
+                     : length > 0                    ? norm(d - dot(d, n) * n)
+                                                     : norm(d);
+    lo = std::min(lo, t), hi = std::max(hi, t);
+  });
+  if (ramp.shape == RampShape::Depth) lo = 0, hi = smallest(model.size()) / 2;
+  return {lo, hi};
+}
+
+// Refuses a ramp whose range misses the model (it would be constant); warns when the model
+// sees under 10 % of its change, or a radial ramp is centred outside the model's box.
+void review_ramps(const LatticeDesign& design, const Box3& model,
+                  std::vector<std::string>& warnings) {
+  for (const Grading& g : design.grading) {
+    const Ramp& r = g.ramp;
+    if (!r.from || !r.to || r.start == r.end) continue;
+    const auto [lo, hi] = ramp_coordinates(r, model);
+    const double a = std::min(*r.from, *r.to), b = std::max(*r.from, *r.to);
+    const double seen = std::max(0.0, std::min(b, hi) - std::max(a, lo)) / std::max(b - a, 1e-300);
+    const std::string what = "the " + std::string(graded_name(g.what)) + " ramp (" +
+                             std::string(ramp_name(r.shape)) + ", " + mm(*r.from) + " to " +
+                             mm(*r.to) + ")";
+    const std::string span = "the model spans " + mm(lo) + " to " + mm(hi) + " along it";
+    if (seen <= 0)
+      throw InputError(what + " misses the model: " + span +
+                       ", so the whole part would get one value; set --grade-range within it");
+    if (seen < 0.1)
+      warnings.push_back(what + ": " + span + ", so only " + percent(seen) +
+                         " of the change happens in the part");
+    if (r.shape == RampShape::Radial && r.point) {
+      const Vec3 c = *r.point;
+      if (c.x < model.min.x || c.y < model.min.y || c.z < model.min.z || c.x > model.max.x ||
+          c.y > model.max.y || c.z > model.max.z)
+        warnings.push_back(what + " is centred outside the model's box");
+    }
+  }
+}
+
+}  // namespace
+
+LayerSizes layer_sizes(const TpmsOptions& tpms) {
+  // Three periods wide, measured in the middle one, so that no distance there is cut short
+  // by the sample's faces; about 24 nodes per smallest cell.
+  const double cmin = smallest(tpms.cell), cmax = largest(tpms.cell);
+  const double h = std::max(cmin / 24, 3 * cmax / 96);
+  Grid grid;
+  grid.spacing = h;
+  const int n = static_cast<int>(std::ceil(3 * cmax / h)) + 1;
+  grid.dims = {n, n, n};
+  grid.origin = tpms.origin - Vec3{1.5 * cmax, 1.5 * cmax, 1.5 * cmax};
+  const Field phi = sample_field(tpms_source(tpms), grid);
+  Mask solid{grid, std::vector<std::uint8_t>(phi.values.size())};
+  Mask pore = solid;
+  for (std::size_t i = 0; i < phi.values.size(); ++i)
+    solid.values[i] = phi.values[i] < 0, pore.values[i] = phi.values[i] >= 0;
+  const Field ds = distance_transform(solid, true), dp = distance_transform(pore, true);
+  LayerSizes sizes;
+  const int lo = static_cast<int>(std::floor(cmax / h)), hi = n - 1 - lo;
+  for (int k = lo; k <= hi; ++k)
+    for (int j = lo; j <= hi; ++j)
+      for (int i = lo; i <= hi; ++i) {
+        const std::size_t at = grid.index(i, j, k);
+        sizes.solid = std::max(sizes.solid, static_cast<double>(ds.values[at]));
+        sizes.pore = std::max(sizes.pore, static_cast<double>(dp.values[at]));
+      }
+  // Node distances reach the nearest node of the other phase, about half a voxel beyond the
+  // surface on average: the sphere's diameter is twice the distance less one voxel.
+  sizes.solid = std::max(0.0, 2 * sizes.solid - h);
+  sizes.pore = std::max(0.0, 2 * sizes.pore - h);
+  return sizes;
+}
+
+std::vector<std::string> review_design(const LatticeDesign& design, const Box3& model,
+                                       const ReviewOptions& options) {
+  std::vector<std::string> warnings;
+  if (model.empty()) return warnings;
+  const std::vector<Layer> layers = layers_of(design);
+  review_size(layers, model, options, warnings);
+  review_voxel(layers, options, warnings);
+  review_blends(design, model, warnings);
+  review_ramps(design, model, warnings);
+  review_layers(layers, options, warnings);
+  return warnings;
+}
+
+}  // namespace tpmsfill

@@ -1,0 +1,146 @@
+// The command line refuses, before any work and without touching a file, what would overwrite
+// an input or could not be written; it writes the mesh and the report together; and the
+// report says what ran on what (units, input hash, command line, version).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <tpmsfill/io.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+
+namespace {
+
+std::string cli() {
+  return TPMSFILL_CLI;
+}
+
+int run(const std::string& args, std::string* out) {
+  return test::run_command(cli() + " " + args + " 2>&1", out);
+}
+
+std::size_t lines(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(CliOutputs, OutputThatIsTheInputIsRefusedAndTheInputUntouched) {
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "part.off";
+  write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
+  const std::string before = test::read_file(in);
+  std::filesystem::create_hard_link(in, dir / "alias.off");
+  std::string out;
+  for (const std::string& args :
+       {"fill '" + in.string() + "' '" + in.string() + "'",
+        "fill '" + in.string() + "' '" + (dir / "." / "part.off").string() + "'",
+        "fill '" + in.string() + "' '" + (dir / "alias.off").string() + "'",
+        "fill '" + in.string() + "' '" + (dir / "o.stl").string() + "' --report '" + in.string() +
+            "'",
+        "repair '" + in.string() + "' '" + in.string() + "'"}) {
+    EXPECT_EQ(run(args, &out), 2) << args << "\n" << out;
+    EXPECT_EQ(lines(out), 1u) << out;
+    EXPECT_TRUE(has(out, "tpmsfill: error:") && has(out, "would be overwritten")) << out;
+    EXPECT_EQ(test::read_file(in), before);
+    EXPECT_FALSE(std::filesystem::exists(dir / "o.stl"));
+  }
+  EXPECT_EQ(run("fill '" + in.string() + "' '" + (dir / "o.stl").string() + "' --report '" +
+                    (dir / "o.stl").string() + "'",
+                &out),
+            2)
+      << out;
+  EXPECT_TRUE(has(out, "--report")) << out;
+}
+
+TEST(CliOutputs, UnwritableOutputsFailBeforeAnyWorkAndWriteNothing) {
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "part.off";
+  write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
+  std::string out;
+  // A missing folder for OUT or for the report: refused at once (the job would take
+  // seconds at this voxel), and OUT is not written when only the report's folder is missing.
+  const std::string job = "fill '" + in.string() + "' ";
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(run(job + "'" + (dir / "no" / "o.stl").string() + "' --voxel 0.02", &out), 2);
+  EXPECT_TRUE(has(out, "does not exist")) << out;
+  EXPECT_EQ(run(job + "'" + (dir / "o.stl").string() + "' --voxel 0.02 --report '" +
+                    (dir / "no" / "r.json").string() + "'",
+                &out),
+            2);
+  EXPECT_TRUE(has(out, "--report") && has(out, "does not exist")) << out;
+  EXPECT_LT(test::seconds_since(t0), 5.0);
+  std::filesystem::create_directory(dir / "folder.stl");
+  EXPECT_EQ(run(job + "'" + (dir / "folder.stl").string() + "'", &out), 2);
+  EXPECT_TRUE(has(out, "is a folder")) << out;
+  EXPECT_EQ(test::files_in(dir, 1 << 30).size(), 1u) << "something was written";
+}
+
+TEST(CliOutputs, ReportRecordsProvenance) {
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "part.off";
+  write_mesh(in, test::make_box({0, 0, 0}, {1, 1, 1}));  // 1 cm in centimetres
+  std::string out, sum;
+  ASSERT_EQ(run("fill '" + in.string() + "' '" + (dir / "o.stl").string() +
+                    "' --units cm --cell 2 --voxel 0.2 --rotate 0 0 45 --report '" +
+                    (dir / "r.json").string() + "'",
+                &out),
+            0)
+      << out;
+  EXPECT_TRUE(has(out, "rotated 0 0 45 deg")) << out;
+  ASSERT_EQ(test::run_command("sha256sum '" + in.string() + "'", &sum), 0);
+  const auto j = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_EQ(j["provenance"]["input_sha256"], sum.substr(0, 64));
+  EXPECT_EQ(j["provenance"]["input"], in.string());
+  EXPECT_TRUE(has(j["provenance"]["command_line"].get<std::string>(), " fill ")) << j;
+  EXPECT_TRUE(has(j["provenance"]["command_line"].get<std::string>(), "--units cm")) << j;
+  EXPECT_FALSE(j["provenance"]["version"].get<std::string>().empty());
+  EXPECT_EQ(j["input"]["units"], "cm");
+  EXPECT_EQ(j["input"]["mm_per_unit"], 10);
+  EXPECT_NEAR(j["model_volume"].get<double>(), 1000, 10);
+  EXPECT_EQ(j["recipe"]["units"], "cm");
+}
+
+TEST(CliOutputs, ModelInAnotherUnitIsRefusedWithAHintAndCheckHintsToo) {
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "part-in-metres.off";
+  write_mesh(in, test::make_box({0, 0, 0}, {0.03, 0.02, 0.01}));
+  std::string out;
+  EXPECT_EQ(run("fill '" + in.string() + "' '" + (dir / "o.stl").string() + "' --cell 2", &out), 2);
+  EXPECT_EQ(lines(out), 1u) << out;
+  EXPECT_TRUE(has(out,
+                  "0.03 mm across, smaller than one 2 mm cell; if it is in metres, add "
+                  "--units m"))
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.stl"));
+  EXPECT_EQ(run("check '" + in.string() + "'", &out), 0) << out;
+  EXPECT_TRUE(has(out, "hint: the mesh is 0.03 mm across") && has(out, "--units m")) << out;
+  EXPECT_EQ(run("check --json --units m '" + in.string() + "'", &out), 0) << out;
+  const auto j = nlohmann::json::parse(out);
+  EXPECT_TRUE(j["units_hint"].is_null()) << out;
+  EXPECT_NEAR(j["bbox"]["max"][0].get<double>(), 30, 1e-9);
+  EXPECT_NEAR(j["volume"].get<double>(), 6000, 1e-6);
+}
+
+TEST(CliOutputs, ContradictoryOrImpossibleDesignsExitTwo) {
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "part.off";
+  write_mesh(in, test::make_box({0, 0, 0}, {20, 20, 20}));
+  const std::string job = "fill '" + in.string() + "' '" + (dir / "o.stl").string() + "' ";
+  std::string out;
+  EXPECT_EQ(run(job + "--porosity 0.7 --grade level -0.2 0.2", &out), 2);
+  EXPECT_TRUE(has(out, "grade the porosity instead")) << out;
+  EXPECT_EQ(run(job + "--voxel 1.5", &out), 2);
+  EXPECT_TRUE(has(out, "--voxel 0.5 or less")) << out;
+  EXPECT_EQ(run(job + "--level 1.9", &out), 2);
+  EXPECT_TRUE(has(out, "leaves no solid")) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.stl"));
+  // Doubtful: written, with the warning on stderr.
+  EXPECT_EQ(run(job + "--voxel 0.6 --quiet", &out), 0);
+  EXPECT_TRUE(has(out, "tpmsfill: warning: the voxel (0.6 mm) is coarser than a quarter")) << out;
+}
