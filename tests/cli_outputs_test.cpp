@@ -144,3 +144,16 @@ TEST(CliOutputs, ContradictoryOrImpossibleDesignsExitTwo) {
   EXPECT_EQ(run(job + "--voxel 0.6 --quiet", &out), 0);
   EXPECT_TRUE(has(out, "tpmsfill: warning: the voxel (0.6 mm) is coarser than a quarter")) << out;
 }
+
+TEST(CliOutputs, RepairReadsUnitsAndWritesMillimetres) {
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "part.off";
+  write_mesh(in, test::make_box_with_hole({0, 0, 0}, {0.02, 0.01, 0.01}));  // metres
+  std::string out;
+  ASSERT_EQ(run("repair --units m '" + in.string() + "' '" + (dir / "o.off").string() + "'", &out),
+            0)
+      << out;
+  const Box3 box = bounding_box(read_mesh(dir / "o.off"));
+  EXPECT_NEAR(box.size().x, 20, 1e-9);
+  EXPECT_NEAR(box.size().z, 10, 1e-9);
+}

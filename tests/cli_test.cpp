@@ -273,3 +273,53 @@ TEST(Cli, FillHandlesHolesAndRefusesASheetInOneLine) {
   EXPECT_NE(out.find("encloses no volume"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(dir / "lattice.stl"));
 }
+
+// Usage errors read like the tool's own: one line, exit 2, no parser library's wording, and
+// a did-you-mean for misspelt options and commands.
+TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
+  auto dir = test::scratch_dir();
+  const std::string in = (dir / "box.off").string(), out = (dir / "o.stl").string();
+  write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
+  const std::string job = "fill '" + in + "' '" + out + "' ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"", "a command is needed: check, fill or repair"},
+      {"fil a b", "unknown command 'fil' (did you mean fill?)"},
+      {"fill", "fill needs IN and OUT"},
+      {"check", "check needs FILE"},
+      {job + "--scale 0", "--scale must be > 0"},
+      {job + "--poro 0.7", "unknown option --poro for fill (did you mean --porosity?)"},
+      {job + "--porosity 0.7 extra", "unexpected argument 'extra'"},
+      {job + "--cell 1 2 3 4", "--cell takes 1 to 3 values"},
+      {job + "--rotate 1 2", "--rotate takes 3 values"},
+      {job + "--voxel abc", "--voxel: 'abc' is not a number"},
+      {job + "--band 2.5", "--band: '2.5' is not a whole number"},
+      {job + "--band 0", "--band must be 1 to 64"},
+      {job + "--threads 0", "--threads must be 1 to 1024"},
+      {job + "--voxel", "--voxel needs a value"},
+      {job + "--grade porosity 0.5", "--grade takes three values each time"},
+      {job + "--recipe '" + (dir / "none.json").string() + "'", "--recipe: no such file"},
+      {job + "--units furlong", "unknown unit 'furlong'"},
+      {"repair --alpah 2 '" + in + "' '" + out + "'",
+       "unknown option --alpah for repair (did you mean --alpha?)"},
+      {"repair '" + in + "' '" + out + "' --min-component 1",
+       "--min-component must be at least 0 and below 1"},
+      {"check --max-examples -1 '" + in + "'", "--max-examples must be 0 to 1000000"},
+  };
+  for (const auto& [args, sentence] : cases) {
+    std::string output;
+    EXPECT_EQ(test::run_command(cli() + " " + args + " 2>&1", &output), 2) << args;
+    EXPECT_EQ(count_lines(output), 1u) << args << "\n" << output;
+    EXPECT_EQ(output.rfind("tpmsfill: error: ", 0), 0u) << output;
+    EXPECT_NE(output.find(sentence), std::string::npos) << args << "\n" << output;
+    for (const char* leak : {"required", "not expected", "not in range", "Could not convert",
+                             "At Most", "At least", "FLOAT", "TEXT"})
+      EXPECT_EQ(output.find(leak), std::string::npos) << args << "\n" << output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // --help and --version still exit 0.
+  std::string help;
+  EXPECT_EQ(test::run_command(cli() + " fill --help", &help), 0);
+  EXPECT_NE(help.find("--units"), std::string::npos);
+  EXPECT_EQ(test::run_command(cli() + " --version", &help), 0);
+  EXPECT_NE(help.find("tpmsfill "), std::string::npos);
+}

@@ -183,6 +183,10 @@ TEST(IoMalformed, HugeDeclaredCountsFailFast) {
       "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
       "h.ply", "h.ply:7:");
   expect_parse_error("OFF 1000000000000 1 0\n0 0 0\n", "h.off", "h.off:1:");
+  // A glued count is still checked, and anything but digits glued on is no keyword.
+  expect_parse_error("OFF1000000000000 1 0\n0 0 0\n", "g.off", "g.off:1:");
+  expect_parse_error("OFF8 1\n0 0 0\n", "g.off", "g.off:1:");
+  expect_parse_error("OFFx 1 0\n", "g.off", "g.off:1:");
   expect_parse_error("OFF\n3 1000000000000\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "h.off", "h.off:2:");
   // A binary list claiming more items than bytes remain.
   std::string ply =

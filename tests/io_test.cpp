@@ -338,6 +338,24 @@ TEST(IoOff, LeadingWhitespaceCountsOnKeywordLineAndComments) {
   EXPECT_EQ(mesh.soup.triangles[1], (Triangle{0, 2, 3}));
 }
 
+TEST(IoOff, KeywordGluedToTheVertexCount) {
+  // "OFF8 6 12": a cube's header with the space after OFF lost, as a real file had it. Read
+  // as OFF with 8 vertices, 6 quads and 12 edges: a closed box of volume 1.
+  std::string text = "OFF8 6 12\n";
+  for (int v = 0; v < 8; ++v)
+    text += std::to_string(v & 1) + " " + std::to_string(v >> 1 & 1) + " " +
+            std::to_string(v >> 2 & 1) + "\n";
+  text += "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+  const MeshFile mesh = parse(text, "cube.off");
+  EXPECT_EQ(mesh.format, MeshFormat::Off);
+  EXPECT_EQ(mesh.soup.points.size(), 8u);
+  EXPECT_EQ(mesh.faces_in_file, 6u);
+  EXPECT_NEAR(test::signed_volume(mesh.soup), 1.0, 1e-12);
+  // Found by content too, whatever the name says.
+  EXPECT_EQ(parse(text, "cube.txt").soup.triangles.size(), 12u);
+  EXPECT_EQ(parse("COFF3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "c.off").soup.triangles.size(), 1u);
+}
+
 TEST(IoOff, CoffWithColoursAndCountsOnNextLine) {
   const std::string text =
       "COFF\n# c\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n"

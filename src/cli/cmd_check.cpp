@@ -14,6 +14,7 @@
 #include <tpmsfill/units.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
 namespace {
@@ -203,9 +204,9 @@ Command add_check_command(CLI::App& app) {
                 "Skip the self-intersection search (the slowest check)");
   sub->add_option("--max-examples", args->max_examples,
                   "Locations kept per defect class (default 10)")
-      ->check(CLI::Range(0, 1000000));
+      ->check(between(0, 1000000, "0 to 1000000"));
   sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(between(1, 1024, "1 to 1024"));
   return [args] { return run_check(*args); };
 }
 

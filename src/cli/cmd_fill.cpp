@@ -19,6 +19,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
 namespace {
@@ -109,6 +110,8 @@ void apply_flags(const FillArgs& args, FillOptions& options) {
   if (args.porosity) tpms.porosity = *args.porosity;
   if (!args.rotate.empty()) tpms.rotation = rotation_from_euler(three(args.rotate));
   if (!args.origin.empty()) tpms.origin = three(args.origin);
+  if (args.grade.size() % 3 != 0)
+    throw InputError("--grade takes three values each time: WHAT FROM TO");
   if (!args.grade.empty()) {
     Ramp ramp = ramp_along(args.grade_along);
     if (!args.grade_range.empty()) ramp.from = args.grade_range[0], ramp.to = args.grade_range[1];
@@ -211,8 +214,14 @@ Command add_fill_command(CLI::App& app) {
       "The lattice is the zero level of max(model distance, TPMS field), meshed by marching "
       "cubes on a grid of --voxel mm, and validated before it is written: closed, 2-manifold, "
       "outward, no degenerate faces, no self-intersections. If validation fails nothing is "
-      "written. Lengths are millimetres. Network lattices are solid where f/|grad f| + level < 0; "
-      "sheet lattices are walls of --thickness around the minimal surface.\n\n"
+      "written. Lengths are millimetres (--units converts IN; OUT is in mm). Network lattices "
+      "are solid where f/|grad f| + level < 0; sheet lattices are walls of --thickness around "
+      "the minimal surface.\n\n"
+      "Before any work the design is reviewed against the model: what cannot come out as asked "
+      "(a model smaller than a cell, a voxel over half a cell, a level that leaves no solid, a "
+      "ramp or blend that misses the model, OUT or --report replacing IN) is refused with the "
+      "value that fits; what may not (thin struts, few cells, islands that were features, "
+      "sealed voids) is written with a warning (docs/cli.md lists them).\n\n"
       "Examples:\n"
       "  tpmsfill fill femur.stl scaffold.stl --lattice gyroid --cell 2 --voxel 0.1\n"
       "  tpmsfill fill part.obj shell.stl --lattice diamond --sheet --thickness 0.4 --report "
@@ -220,7 +229,8 @@ Command add_fill_command(CLI::App& app) {
       "  tpmsfill fill femur.stl implant.stl --porosity 0.7 --grade porosity 0.5 0.8 "
       "--grade-along depth --skin 0.4\n"
       "  tpmsfill fill part.stl graded.stl --lattice iwp --grade cell 2 4 --grade-along x\n"
-      "  tpmsfill fill part.stl hybrid.stl --recipe hybrid.json   (docs/recipes.md)\n\n"
+      "  tpmsfill fill part.stl hybrid.stl --recipe hybrid.json   (docs/recipes.md)\n"
+      "  tpmsfill fill bracket-in-metres.stl lattice.stl --units m --cell 4\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input,
@@ -233,7 +243,7 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("--recipe", args->recipe,
                   "JSON recipe with every setting below and more (blends of several lattices, "
                   "explicit ramps; docs/recipes.md); flags given as well override it")
-      ->check(CLI::ExistingFile);
+      ->check(existing_file());
   sub->add_option("--lattice", args->lattice,
                   "primitive, gyroid, diamond, iwp, neovius, frd, lidinoid or splitp (default "
                   "gyroid)");
@@ -284,10 +294,10 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("--scale", args->scale,
                   "Multiply the input's coordinates (after --units) by this, e.g. 2 to fill the "
                   "part at twice its size (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   sub->add_option("--band", args->band,
                   "Half-width of the exact-distance band in voxels (default 1, the paper's)")
-      ->check(CLI::Range(1, 64));
+      ->check(between(1, 64, "1 to 64"));
   sub->add_flag("--full-field", args->full_field,
                 "Compute the model distance at every node, not just the band (the paper's "
                 "reference; slow)");
@@ -303,7 +313,7 @@ Command add_fill_command(CLI::App& app) {
                   "jobs are refused with the voxel size that fits");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(between(1, 1024, "1 to 1024"));
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_fill(*args); };
 }

@@ -18,6 +18,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
 namespace {
@@ -125,17 +126,17 @@ Command add_repair_command(CLI::App& app) {
                 "Never fall back to alpha wrapping; fail (exit 1) instead");
   sub->add_option("--alpha", args->alpha,
                   "Alpha of the wrap in mm (default: bounding-box diagonal / 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   sub->add_option("--offset", args->offset, "Offset of the wrap in mm (default: alpha / 30)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   sub->add_flag("--no-fill-holes", args->no_fill_holes,
                 "Do not fill holes (an open mesh then needs the wrap)");
   sub->add_option("--min-component", args->min_component,
                   "Remove components whose area is below this fraction of the largest one's "
                   "(default 0.001; 0 keeps all)")
-      ->check(CLI::Range(0.0, 0.999999));
+      ->check(between(0, 0.999999, "at least 0 and below 1"));
   sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(between(1, 1024, "1 to 1024"));
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_repair(*args); };
 }

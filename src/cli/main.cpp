@@ -2,10 +2,12 @@
 // exceptions into one line on stderr and an exit code; everything else lives in the library.
 #include <cstdio>
 #include <exception>
+#include <string>
 #include <tpmsfill/error.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/usage_errors.hpp"
 
 int main(int argc, char** argv) {
   using namespace tpmsfill::cli;
@@ -27,13 +29,29 @@ int main(int argc, char** argv) {
   Command repair = add_repair_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
+  // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
+  // (with a did-you-mean) rather than CLI11's.
+  app.allow_extras();
+  for (CLI::App* sub : app.get_subcommands({})) sub->allow_extras();
+  auto usage = [](const std::string& sentence) {
+    std::fprintf(stderr, "tpmsfill: error: %s\n", sentence.c_str());
+    return kBadInput;
+  };
+  if (std::string wrong = unknown_command(app, argc, argv); !wrong.empty()) return usage(wrong);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // --help and --version arrive here too, with exit code 0.
-    int code = app.exit(e);
-    return code == 0 ? kOk : kBadInput;
+    return usage(usage_error(app, e, argc, argv));
   }
+  if (std::string extra = unplaced_arguments(app); !extra.empty()) return usage(extra);
+  for (const CLI::App* sub : app.get_subcommands())
+    if (std::string extra = unplaced_arguments(*sub); !extra.empty()) return usage(extra);
 
   try {
     for (CLI::App* sub : app.get_subcommands())

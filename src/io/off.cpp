@@ -1,5 +1,7 @@
 // OFF and its variants (COFF, NOFF, CNOFF, STOFF ...), ASCII only. Vertex lines may carry
 // colours, normals or texture coordinates after x y z; face lines may carry a colour.
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "io/formats.hpp"
@@ -7,26 +9,48 @@
 
 namespace tpmsfill::io {
 
+namespace {
+
+// The keyword and what is glued to it: "OFF8" (seen in real files, "OFF8 6 12" being a cube's
+// header with the space lost) is read as Geomview's and CGAL's stream readers read it, the
+// keyword OFF followed by the vertex count 8. Only digits may be glued on.
+std::pair<std::string_view, std::string_view> split_off_keyword(std::string_view word) {
+  const std::size_t at = word.find("OFF");
+  if (at == std::string_view::npos) return {};
+  const std::string_view prefix = word.substr(0, at), rest = word.substr(at + 3);
+  if (prefix.find_first_not_of("STCNn4") != std::string_view::npos ||
+      rest.find_first_not_of("0123456789") != std::string_view::npos)
+    return {};
+  return {word.substr(0, at + 3), rest};
+}
+
+}  // namespace
+
 bool is_off_keyword(std::string_view word) {
-  if (!word.ends_with("OFF")) return false;
-  word.remove_suffix(3);
-  return word.find_first_not_of("STCNn4") == std::string_view::npos;
+  return !split_off_keyword(word).first.empty();
 }
 
 void read_off(std::string_view data, const std::string& source, MeshFile& mesh) {
   TextScanner in(data, source, {.comment = '#'});
   in.skip_empty_lines();
-  const std::string_view keyword = in.token();
-  if (!is_off_keyword(keyword))
-    in.fail("expected an OFF keyword, found '" + std::string(keyword) + "'");
+  const std::string_view word = in.token();
+  const auto [keyword, glued] = split_off_keyword(word);
+  if (keyword.empty()) in.fail("expected an OFF keyword, found '" + std::string(word) + "'");
+  // The header's next token: what was glued to the keyword first, if anything.
+  std::string_view pending = glued;
+  auto next_token = [&] {
+    const std::string_view t = pending.empty() ? in.token_any_line() : pending;
+    pending = {};
+    return t;
+  };
   if (keyword.find('4') != std::string_view::npos)
     in.fail("4-dimensional OFF ('" + std::string(keyword) + "') is not supported");
   if (keyword.find('n') != std::string_view::npos) {
-    const std::uint64_t dimension = in.non_negative(in.token_any_line(), "nOFF dimension");
+    const std::uint64_t dimension = in.non_negative(next_token(), "nOFF dimension");
     if (dimension != 3)
       in.fail("nOFF with dimension " + std::to_string(dimension) + " is not supported");
   }
-  std::string_view token = in.token_any_line();
+  std::string_view token = next_token();
   if (token == "BINARY") in.fail("binary OFF is not supported");
   const std::uint64_t nv = in.non_negative(token, "vertex count");
   const std::uint64_t nf = in.non_negative(in.token_any_line(), "face count");

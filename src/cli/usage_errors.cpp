@@ -1,0 +1,167 @@
+// Usage errors: CLI11's exception texts ("At Most 1 required", "Could not convert: ...")
+// mapped to one sentence each, naming the option and what it takes.
+#include "cli/usage_errors.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace tpmsfill::cli {
+namespace {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The known name nearest `given`: the only one it abbreviates, else the closest within a
+// third of its length (at least 2 edits); "" when none is near.
+std::string nearest(const std::string& given, const std::vector<std::string>& known) {
+  std::vector<std::string> extending;
+  for (const std::string& k : known)
+    if (k.size() > given.size() && k.compare(0, given.size(), given) == 0) extending.push_back(k);
+  if (extending.size() == 1) return extending.front();
+  if (given.size() <= 2) return "";  // "-q" is as near "-h" as to anything: no guess
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, given.size() / 3) + 1;
+  for (const std::string& k : known)
+    if (const std::size_t d = edit_distance(given, k); d < best_distance)
+      best = k, best_distance = d;
+  return best;
+}
+
+std::vector<std::string> option_names(const CLI::App& command) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : command.get_options()) {
+    for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+    for (const std::string& s : o->get_snames()) names.push_back("-" + s);
+  }
+  return names;
+}
+
+// The command named on the line (the first argument naming one), or null.
+const CLI::App* given_command(const CLI::App& app, int argc, const char* const* argv) {
+  for (int i = 1; i < argc; ++i)
+    for (const CLI::App* sub : app.get_subcommands({}))
+      if (sub->get_name() == argv[i]) return sub;
+  return nullptr;
+}
+
+// The option of `command` whose name appears in CLI11's message (the longest such), or null.
+const CLI::Option* option_in(const CLI::App* command, const std::string& message) {
+  if (!command) return nullptr;
+  const CLI::Option* found = nullptr;
+  std::size_t length = 0;
+  for (const CLI::Option* o : command->get_options()) {
+    const std::string name = o->get_name();
+    if (!name.empty() && name.size() > length && message.find(name) != std::string::npos)
+      found = o, length = name.size();
+  }
+  return found;
+}
+
+std::string commands_list(const CLI::App& app) {
+  std::string list;
+  const auto subs = app.get_subcommands({});
+  for (std::size_t i = 0; i < subs.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == subs.size() ? " or " : ", ") + subs[i]->get_name();
+  return list;
+}
+
+std::string help_for(const CLI::App* command) {
+  return command ? " (tpmsfill " + command->get_name() + " --help)" : " (tpmsfill --help)";
+}
+
+std::string missing_arguments(const CLI::App& app, const CLI::App* command) {
+  if (!command) return "a command is needed: " + commands_list(app) + help_for(nullptr);
+  std::vector<std::string> required;
+  for (const CLI::Option* o : command->get_options())
+    if (o->get_positional() && o->get_required()) required.push_back(o->get_name(true));
+  std::string names;
+  for (std::size_t i = 0; i < required.size(); ++i)
+    names += (i == 0 ? "" : i + 1 == required.size() ? " and " : ", ") + required[i];
+  return command->get_name() + " needs " + names + help_for(command);
+}
+
+std::string count_mismatch(const CLI::Option* o, const CLI::App* command) {
+  const int lo = o->get_expected_min(), hi = o->get_expected_max();
+  const std::string name = o->get_name();
+  if (hi == 0) return name + " takes no value";
+  if (lo == hi)
+    return name + (lo == 1 ? " needs a value" : " takes " + std::to_string(lo) + " values") +
+           help_for(command);
+  return name + " takes " + std::to_string(lo) + " to " + std::to_string(hi) + " values" +
+         help_for(command);
+}
+
+std::string bad_value(const CLI::Option* o, const std::string& message) {
+  const std::size_t eq = message.find(" = ");
+  if (eq == std::string::npos) return o->get_name() + " takes no value";  // a flag given one
+  const std::string value = message.substr(eq + 3);
+  const std::string type = o->get_type_name();
+  return o->get_name() + ": '" + value + "' is not " +
+         (type.rfind("INT", 0) == 0     ? "a whole number"
+          : type.rfind("FLOAT", 0) == 0 ? "a number"
+                                        : "a valid value");
+}
+
+}  // namespace
+
+std::string usage_error(const CLI::App& app, const CLI::ParseError& error, int argc,
+                        const char* const* argv) {
+  const CLI::App* command = given_command(app, argc, argv);
+  const std::string message = error.what();
+  const CLI::Option* option = option_in(command, message);
+  if (dynamic_cast<const CLI::RequiredError*>(&error)) return missing_arguments(app, command);
+  if (option && dynamic_cast<const CLI::ArgumentMismatch*>(&error))
+    return count_mismatch(option, command);
+  if (option && dynamic_cast<const CLI::ConversionError*>(&error))
+    return bad_value(option, message);
+  if (option && dynamic_cast<const CLI::ValidationError*>(&error)) {
+    // "NAME: MESSAGE" from our validators (validators.hpp).
+    const std::string name = option->get_name(), said = message.substr(message.find(": ") + 2);
+    return name + (said.rfind("must be", 0) == 0 ? " " : ": ") + said;
+  }
+  if (command) {
+    if (std::string extra = unplaced_arguments(*command); !extra.empty()) return extra;
+  }
+  std::string text = message;
+  if (!text.empty()) text[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(text[0])));
+  return text + help_for(command);
+}
+
+std::string unplaced_arguments(const CLI::App& command) {
+  const std::vector<std::string> left = command.remaining();
+  if (left.empty()) return "";
+  std::string given = left.front();
+  if (given.size() > 1 && given[0] == '-') {
+    given = given.substr(0, given.find('='));
+    const std::string near = nearest(given, option_names(command));
+    return "unknown option " + given + " for " + command.get_name() +
+           (near.empty() ? help_for(&command) : " (did you mean " + near + "?)");
+  }
+  return "unexpected argument '" + given + "'" + help_for(&command);
+}
+
+std::string unknown_command(const CLI::App& app, int argc, const char* const* argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  const std::string given = argv[1];
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+  if (std::find(names.begin(), names.end(), given) != names.end()) return "";
+  const std::string near = nearest(given, names);
+  return "unknown command '" + given + "'" +
+         (near.empty() ? ": the commands are " + commands_list(app)
+                       : " (did you mean " + near + "?)");
+}
+
+}  // namespace tpmsfill::cli
