@@ -14,6 +14,7 @@
 
 #include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
+#include "detail/job_progress.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/components.hpp"
@@ -91,11 +92,14 @@ std::uint64_t require_budget(const Box3& bounds, std::uint64_t triangles, const 
                                    : "; a voxel size of " + std::string(fit) + " or more fits"));
 }
 
+// Times each stage into the report and announces it to the job's progress.
 class StageClock {
  public:
-  explicit StageClock(FillReport& report) : report_(report) {}
+  StageClock(FillReport& report, detail::JobProgress& progress)
+      : report_(report), progress_(progress) {}
   template <class F>
   auto operator()(const char* name, F&& work) {
+    progress_.begin_stage(name);
     const auto t0 = std::chrono::steady_clock::now();
     if constexpr (std::is_void_v<decltype(work())>) {
       work();
@@ -113,7 +117,33 @@ class StageClock {
     report_.stages.push_back({name, s, peak_memory_mb()});
   }
   FillReport& report_;
+  detail::JobProgress& progress_;
 };
+
+// The stages fill() will run, in order, with rough shares of the time (from the femur's stage
+// table, docs/benchmarks.md). The auto inside rule plans the clean and the second
+// classification it may need; they are credited when skipped.
+std::vector<detail::PlannedStage> plan_stages(const FillOptions& o) {
+  std::vector<detail::PlannedStage> plan;
+  const InsideRule rule = o.inside.value_or(InsideRule::Winding);
+  if (rule == InsideRule::Parity || !o.inside)
+    plan.insert(plan.end(), {{"spatial", 1}, {"classify", 2}});
+  if (rule == InsideRule::Winding)
+    plan.insert(plan.end(), {{"clean", 2}, {"spatial", 1}, {"classify", 2}});
+  for (const Grading& g : o.design.grading)
+    if (g.ramp.shape == RampShape::Depth) {
+      plan.push_back({"depth", 1});
+      break;
+    }
+  if (!o.full_field) plan.push_back({"band", 1});
+  plan.insert(plan.end(), {{"distance", o.full_field ? 8.0 : 2.0},
+                           {"compose", 2},
+                           {"marching cubes", 3},
+                           {"islands", 1}});
+  if (o.measure) plan.push_back({"measure", 4});
+  plan.push_back({"validate", 4});
+  return plan;
+}
 
 // Islands: lattice components that are not the largest piece within their part of the model
 // (a 26-connected region of inside nodes). A component's part is found from a corner with
@@ -159,6 +189,8 @@ struct Job {
   const FillOptions& options;
   FillResult& result;
   FillReport& report;
+  detail::JobProgress job_progress;
+  Progress* progress;  ///< what the stages report to: job_progress, or null without a caller's
   StageClock stage;
   Grid grid;
   Occupancy occupancy;
@@ -168,7 +200,13 @@ struct Job {
   TriangleSoup mesh;
 
   Job(const TriangleSoup& m, const FillOptions& o, FillResult& r)
-      : model(m), options(o), result(r), report(r.report), stage(r.report) {}
+      : model(m),
+        options(o),
+        result(r),
+        report(r.report),
+        job_progress(o.progress, plan_stages(o)),
+        progress(job_progress.get()),
+        stage(r.report, job_progress) {}
 };
 
 // Settings into the report, the design resolved against the model's box.
@@ -216,7 +254,7 @@ void classify(Job& job) {
   r.inside_rule = inside_name(rule);
   auto run = [&] {
     job.occupancy = job.stage("classify", [&] {
-      return classify_grid(*job.tree, job.grid, {.rule = rule, .progress = o.progress});
+      return classify_grid(*job.tree, job.grid, {.rule = rule, .progress = job.progress});
     });
   };
   if (rule == InsideRule::Parity || !o.inside) {
@@ -226,7 +264,7 @@ void classify(Job& job) {
   if (rule == InsideRule::Winding && (o.inside || job.occupancy.unbalanced_rows > 0)) {
     job.tree.reset();
     CleanResult cleaned =
-        job.stage("clean", [&] { return clean_soup(job.model, {.progress = o.progress}); });
+        job.stage("clean", [&] { return clean_soup(job.model, {.progress = job.progress}); });
     r.clean = cleaned.report;
     if (cleaned.soup.triangles.empty())
       throw InputError("the mesh encloses no volume: no triangle has three distinct corners");
@@ -266,8 +304,8 @@ void compose(Job& job) {
       job.depth = job.stage("depth", [&] { return distance_transform(inside); });
   const FieldSource lattice = design_source(design, job.depth ? &*job.depth : nullptr);
   const ComposeOptions compose_options{
-      .skin = o.skin, .skin_windows = o.skin_windows, .progress = o.progress};
-  const DistanceOptions distance_options{.progress = o.progress};
+      .skin = o.skin, .skin_windows = o.skin_windows, .progress = job.progress};
+  const DistanceOptions distance_options{.progress = job.progress};
   if (!o.full_field) {
     const BandOptions band_options{
         std::max(o.band.width, skin_band_width(o.skin, job.grid.spacing))};
@@ -385,7 +423,7 @@ void validate(Job& job) {
   r.validation = job.stage("validate", [&] {
     return validate_mesh(job.mesh, {.self_intersections = o.check_self_intersections,
                                     .cell_grid = job.grid,
-                                    .progress = o.progress});
+                                    .progress = job.progress});
   });
   if (!r.validation.valid()) {
     std::string why;
@@ -421,16 +459,17 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   classify(job);
   compose(job);
   job.mesh = job.stage("marching cubes",
-                       [&] { return marching_cubes(job.phi, {.progress = options.progress}); });
+                       [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
   job.stage("islands", [&] { remove_islands(job); });
   if (options.measure)
     result.report.measures = job.stage("measure", [&] {
-      return measure_lattice(job.phi, job.occupancy.inside, {.progress = options.progress});
+      return measure_lattice(job.phi, job.occupancy.inside, {.progress = job.progress});
     });
   job.phi = Field{};
   job.occupancy = Occupancy{};
   job.depth.reset();
   validate(job);
+  job.job_progress.finish();
   result.mesh = std::move(job.mesh);
   return result;
 }
