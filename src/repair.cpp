@@ -28,11 +28,17 @@
 #include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/Polygon_mesh_processing/stitch_borders.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#if defined(CGAL_EIGEN3_ENABLED)
+#include <CGAL/Polygon_mesh_processing/fair.h>
+#endif
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <iterator>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -46,6 +52,8 @@
 #include "detail/mesh_measures.hpp"
 #include "detail/soup_indices.hpp"
 #include "detail/stage_progress.hpp"
+#include "detail/surface_deviation.hpp"
+#include "tpmsfill/components.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -173,62 +181,117 @@ std::uint64_t remove_degenerate(SurfaceMesh& mesh) {
 }
 
 struct HoleCounts {
-  std::uint64_t found = 0, filled = 0, faired = 0;
+  std::uint64_t found = 0, filled = 0, faired = 0, flat = 0, fairing_undone = 0;
 };
 
-/// Fills one hole: refine and fair, or refine only, or the exhaustive triangulation alone.
-/// Returns whether faces were added; sets `faired`.
-bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, bool& faired) {
-  faired = false;
+// A hole's rim: its points' box, its diameter (the box's diagonal) and whether it lies in one
+// plane (within a thousandth of its diameter, Newell's normal through the rim's centroid).
+struct Rim {
+  Box3 box;
+  double diameter = 0;
+  bool planar = false;
+};
+
+Rim rim_of(const SurfaceMesh& mesh, Halfedge h) {
+  std::vector<Vec3> p;
+  for (Halfedge e : CGAL::halfedges_around_face(h, mesh))
+    p.push_back(position(mesh, mesh.target(e)));
+  Rim rim;
+  Vec3 normal{}, centroid{};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 a = p[i], b = p[(i + 1) % p.size()];
+    normal = normal +
+             Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+    centroid = centroid + (1.0 / static_cast<double>(p.size())) * a;
+    rim.box.extend(a);
+  }
+  rim.diameter = norm(rim.box.size());
+  const double length = norm(normal);
+  if (length == 0) return rim;
+  double off_plane = 0;
+  for (const Vec3& q : p)
+    off_plane = std::max(off_plane, std::fabs(dot(q - centroid, normal)) / length);
+  rim.planar = off_plane <= 1e-3 * rim.diameter;
+  return rim;
+}
+
+// Fairing may not grow a dome out of its hole: every new vertex stays within the rim's box
+// grown by a tenth of the rim's diameter.
+bool within_rim(const SurfaceMesh& mesh, const std::vector<Vertex>& inner, const Rim& rim) {
+  const double margin = 0.1 * rim.diameter;
+  for (Vertex v : inner) {
+    const Vec3 q = position(mesh, v);
+    for (int a = 0; a < 3; ++a)
+      if (q[a] < rim.box.min[a] - margin || q[a] > rim.box.max[a] + margin) return false;
+  }
+  return true;
+}
+
+/// Fills one hole: flat if planar; else triangulated and refined, then faired where the
+/// patch stays within its rim; the exhaustive triangulation alone as the last resort.
+/// Returns whether faces were added (marked in the "f:patch" property); counts what it did.
+bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, HoleCounts& counts) {
   const std::size_t edges = CGAL::halfedges_around_face(h, mesh).size();
   const bool cubic_too = edges <= kMaxCubicHole;
+  const Rim rim = rim_of(mesh, h);
   const auto np = CGAL::parameters::use_2d_constrained_delaunay_triangulation(true)
                       .use_delaunay_triangulation(true)
                       .do_not_use_cubic_algorithm(!cubic_too);
   std::vector<Face> patch;
   std::vector<Vertex> inner;
-#if defined(CGAL_EIGEN3_ENABLED)
-  if (fair) {
-    // Where fairing fails the refined patch stays as it is (fair() then moves nothing).
-    faired = std::get<0>(PMP::triangulate_refine_and_fair_hole(mesh, h, std::back_inserter(patch),
-                                                               std::back_inserter(inner), np));
-    faired = faired && !patch.empty();
+  if (rim.planar) {
+    PMP::triangulate_hole(mesh, h, std::back_inserter(patch), np);
+    if (!patch.empty()) ++counts.flat;
   }
-#else
-  (void)fair;  // built without Eigen: no fairing
-#endif
-  if (patch.empty() && mesh.is_border(h))
+  if (patch.empty() && mesh.is_border(h)) {
     PMP::triangulate_and_refine_hole(mesh, h, std::back_inserter(patch), std::back_inserter(inner),
                                      np);
+#if defined(CGAL_EIGEN3_ENABLED)
+    if (fair && !patch.empty() && !inner.empty()) {
+      std::vector<Point3> refined;
+      for (Vertex v : inner) refined.push_back(mesh.point(v));
+      const bool faired = PMP::fair(mesh, inner);
+      if (faired && within_rim(mesh, inner, rim)) {
+        ++counts.faired;
+      } else {
+        for (std::size_t i = 0; i < inner.size(); ++i) mesh.point(inner[i]) = refined[i];
+        if (faired) ++counts.fairing_undone;
+      }
+    }
+#else
+    (void)fair;  // built without Eigen: no fairing
+#endif
+  }
   // Last resort: no Delaunay search space at all, only the exhaustive one.
   if (patch.empty() && mesh.is_border(h) && cubic_too)
     PMP::triangulate_hole(mesh, h, std::back_inserter(patch),
                           CGAL::parameters::use_delaunay_triangulation(false)
                               .use_2d_constrained_delaunay_triangulation(false));
+  auto is_patch = mesh.property_map<Face, bool>("f:patch").first;
+  for (Face f : patch) is_patch[f] = true;
   return !patch.empty();
 }
 
-/// Fills every border cycle (step 4). A hole whose filling fails inside CGAL is left open:
-/// the mesh is restored and the holes are filled again without it.
+/// Fills every border cycle (step 4), marking the patches' faces. A hole whose filling fails
+/// inside CGAL is left open: the mesh is restored and the holes are filled again without it.
 HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Progress* progress) {
   std::vector<Halfedge> cycles;
   PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
   HoleCounts counts;
   counts.found = cycles.size();
   if (cycles.empty()) return counts;
+  mesh.add_property_map<Face, bool>("f:patch", false);
   const SurfaceMesh original = mesh;  // halfedge indices stay valid in copies
   std::vector<bool> skip(cycles.size(), false);
   for (;;) {
-    counts.filled = counts.faired = 0;
+    counts = {.found = counts.found};
     std::size_t i = 0;
     try {
       for (; i < cycles.size(); ++i) {
         detail::report_or_cancel(progress,
                                  static_cast<double>(i) / static_cast<double>(cycles.size()));
         if (skip[i] || !mesh.is_border(cycles[i])) continue;
-        bool faired = false;
-        if (fill_hole(mesh, cycles[i], fair, faired)) ++counts.filled;
-        if (faired) ++counts.faired;
+        if (fill_hole(mesh, cycles[i], fair, counts)) ++counts.filled;
       }
       break;
     } catch (const CGAL::Failure_exception&) {
@@ -615,24 +678,202 @@ void wrap_result(RepairResult& result, const TriangleSoup& wrap_input,
   detail::report_or_cancel(options.progress, 1.0);
 }
 
+/// The reference a repair is measured against: the input as cleaned, with its hole patches
+/// (`all`), and without them (`surface`, what the output must stay near).
+struct Reference {
+  TriangleSoup all, surface;
+  Box3 input_box;
+};
+
+Reference reference_of(const Steps& steps, const TriangleSoup& input) {
+  Reference r;
+  r.input_box = bounding_box(input);
+  if (steps.failure || steps.filled.is_empty()) {
+    r.all = r.surface = input;
+    return r;
+  }
+  r.all = to_soup(steps.filled);
+  r.surface = r.all;
+  const auto patch = steps.filled.property_map<Face, bool>("f:patch");
+  if (patch.second) {
+    std::size_t t = 0;
+    std::vector<Triangle> kept;
+    for (Face f : steps.filled.faces()) {
+      if (!patch.first[f]) kept.push_back(r.all.triangles[t]);
+      ++t;
+    }
+    r.surface.triangles = std::move(kept);
+  }
+  return r;
+}
+
+double volume_of(const TriangleSoup& soup) {
+  double six = 0;
+  for (const Triangle& t : soup.triangles) six += detail::six_volume(soup, t, Vec3{});
+  return six / 6;
+}
+
+RepairDeviation deviation_of(const TriangleSoup& output, const Reference& ref) {
+  RepairDeviation d;
+  const detail::DistanceStats to = detail::surface_distances(output, ref.all);
+  const detail::DistanceStats from = detail::surface_distances(ref.surface, output);
+  d.to_input = {to.max, to.p95};
+  d.from_input = {from.max, from.p95};
+  const double before = volume_of(ref.all), after = volume_of(output);
+  if (before != 0) d.volume_change = (after - before) / std::fabs(before);
+  const Box3 out = bounding_box(output);
+  for (int a = 0; a < 3 && !out.empty(); ++a)
+    d.bbox_growth = std::max(
+        {d.bbox_growth, out.max[a] - ref.input_box.max[a], ref.input_box.min[a] - out.min[a]});
+  return d;
+}
+
+std::string mm(double v) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.3g mm", v);
+  return s;
+}
+
+/// The log's lines for defects that were still there when the wrap ran: "N remained", so the
+/// log and the wrap's reasons never contradict each other.
+void mark_remaining(std::vector<RepairAction>& actions, const MeshCheck& left) {
+  const std::pair<const char*, std::uint64_t> remaining[] = {
+      {"non-manifold vertices", left.non_manifold_vertices},
+      {"non-manifold edges", left.non_manifold_edges},
+      {"inconsistently oriented edges", left.inconsistent_edges},
+      {"degenerate triangles", left.degenerate_triangles},
+      {"duplicate triangles", left.duplicate_triangles},
+      {"holes", left.closed() ? 0 : left.holes},
+      {"self-intersecting triangle pairs", left.self_intersecting_pairs.value_or(0)}};
+  for (RepairAction& a : actions)
+    for (const auto& [defect, count] : remaining)
+      if (a.defect == defect && count > 0) {
+        a.fixed = a.found > count ? a.found - count : 0;
+        a.action += (a.action.empty() ? "" : "; ") + std::to_string(count) +
+                    " remained, so the surface was wrapped";
+      }
+}
+
+/// CGAL's warnings and error messages (printed raw to stderr by its default handlers, with
+/// bug-reporting instructions) are collected while a repair runs and become one sentence of
+/// the report. The handlers are process-wide: installed by the first repair running,
+/// restored by the last.
+class CgalMessages {
+ public:
+  CgalMessages() {
+    std::lock_guard lock(mutex());
+    if (users()++ == 0) {
+      previous_warning() = CGAL::set_warning_handler(&record);
+      previous_error() = CGAL::set_error_handler(&record);
+    }
+  }
+  ~CgalMessages() {
+    std::lock_guard lock(mutex());
+    if (--users() == 0) {
+      CGAL::set_warning_handler(previous_warning());
+      CGAL::set_error_handler(previous_error());
+    }
+  }
+  /// The sentence for what was collected since construction ("" if nothing), and clears it.
+  std::string sentence() {
+    std::lock_guard lock(mutex());
+    std::vector<std::string>& seen = messages();
+    if (seen.empty()) return "";
+    std::string s =
+        "CGAL noted " + std::to_string(seen.size()) +
+        " internal check(s) that did not hold during the repair (first: " + seen.front() +
+        "); steps that failed were undone and the result was checked "
+        "on its own, as every result is";
+    seen.clear();
+    return s;
+  }
+
+ private:
+  static void record(const char* type, const char* expression, const char* file, int line,
+                     const char* message) {
+    (void)type;
+    std::string where = std::filesystem::path(file ? file : "").filename().string();
+    std::string text =
+        std::string(expression ? expression : "") + " in " + where + ":" + std::to_string(line);
+    if (message && *message) text += ", " + std::string(message);
+    std::lock_guard lock(mutex());
+    if (messages().size() < 1000) messages().push_back(one_line(text.c_str()));
+  }
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static int& users() {
+    static int n = 0;
+    return n;
+  }
+  static std::vector<std::string>& messages() {
+    static std::vector<std::string> m;
+    return m;
+  }
+  static CGAL::Failure_function& previous_warning() {
+    static CGAL::Failure_function f = nullptr;
+    return f;
+  }
+  static CGAL::Failure_function& previous_error() {
+    static CGAL::Failure_function f = nullptr;
+    return f;
+  }
+};
+
+/// Sentences for what the result does not show by itself: cavities the wrap filled, a box
+/// that grew beyond the tolerance, a result past the tolerance.
+void warn_deviation(RepairReport& report, const Reference& ref) {
+  const RepairDeviation& d = report.deviation;
+  char pct[32];
+  std::snprintf(pct, sizeof pct, "%+.1f %%", 100 * d.volume_change);
+  if (report.wrapped && d.volume_change > 0.02) {
+    std::uint64_t cavities = 0;
+    for (const auto& c : mesh_components(ref.all).info) cavities += c.volume < 0;
+    report.warnings.push_back(
+        "the alpha wrap changed the volume by " + std::string(pct) +
+        (cavities ? ": it filled the input's " + std::to_string(cavities) + " enclosed cavity(s)"
+                  : ": it closed openings and concavities narrower than alpha (" +
+                        mm(report.alpha) + ")"));
+  }
+  if (d.bbox_growth > report.tolerance)
+    report.warnings.push_back("the output reaches " + mm(d.bbox_growth) +
+                              " beyond the input's bounding box (tolerance " +
+                              mm(report.tolerance) + ")");
+  if (!report.within_tolerance)
+    report.warnings.push_back(
+        "the result lies up to " + mm(d.worst()) + " from the input (95 % within " +
+        mm(std::max(d.to_input.p95, d.from_input.p95)) + "), beyond the tolerance of " +
+        mm(report.tolerance) + "; volume " + pct);
+}
+
 }  // namespace
+
+double RepairDeviation::worst() const {
+  return std::max({to_input.max, from_input.max, bbox_growth});
+}
 
 RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options) {
   check_options(options);
   detail::require_indices_in_range(input);
   if (input.triangles.empty()) throw InputError("the mesh has no triangles");
+  CgalMessages cgal_messages;
   RepairResult result;
   RepairReport& report = result.report;
   report.min_component_fraction = options.min_component_fraction;
 
   detail::begin_stage(options.progress, "check input");
   report.before = check_mesh(input);
+  report.tolerance =
+      options.tolerance > 0 ? options.tolerance : 0.01 * norm(bounding_box(input).size());
   detail::report_or_cancel(options.progress, 1.0);
 
   Steps steps = repair_steps(input, options);
   report.components = steps.components;
   report.small_component_threshold = steps.small_component_threshold;
-  report.holes_faired = steps.holes_faired;
+  report.holes_faired = steps.counts.holes.faired;
+  report.holes_flat = steps.counts.holes.flat;
+  report.fairing_undone = steps.counts.holes.fairing_undone;
   std::optional<std::string> failure = std::move(steps.failure);
   if (!failure) {
     try {
@@ -645,18 +886,52 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
   }
   if (failure) result.mesh = input;
   report.actions = write_log(report.before, steps.counts, options);
+  steps.failure = failure;
+  const Reference reference = reference_of(steps, input);
 
-  // --- 7. check; wrap if still not valid -----------------------------------------------------
+  // --- 7. check; wrap if still not valid or past the tolerance ------------------------------
   detail::begin_stage(options.progress, "check result");
   report.after = check_mesh(result.mesh);
   if (options.float_coordinates && !failure) round_result(result, options);
   detail::report_or_cancel(options.progress, 1.0);
-  if (report.after.valid() || !options.wrap) return result;
-
-  report.unresolved = report.after.problems();
-  if (failure) report.unresolved.insert(report.unresolved.begin(), *failure);
-  detail::begin_stage(options.progress, "alpha wrap");
-  wrap_result(result, failure ? input : to_soup(steps.filled), options);
+  if (report.after.valid()) {
+    detail::begin_stage(options.progress, "deviation");
+    report.deviation = deviation_of(result.mesh, reference);
+    report.within_tolerance = report.deviation.worst() <= report.tolerance;
+    if (!report.within_tolerance && options.wrap) {
+      // Past the tolerance: the wrap is the other candidate; the nearer one is the result.
+      RepairResult wrapped = result;
+      wrapped.report.unresolved = {"the repair lies up to " + mm(report.deviation.worst()) +
+                                   " from the input, beyond the tolerance of " +
+                                   mm(report.tolerance)};
+      detail::begin_stage(options.progress, "alpha wrap");
+      wrap_result(wrapped, failure ? input : to_soup(steps.filled), options);
+      if (wrapped.report.wrapped && wrapped.report.after.valid()) {
+        wrapped.report.deviation = deviation_of(wrapped.mesh, reference);
+        if (wrapped.report.deviation.worst() < report.deviation.worst()) {
+          wrapped.report.rejected = report.deviation;
+          wrapped.report.rejected_kind = "repair";
+          result = std::move(wrapped);
+        } else {
+          report.rejected = wrapped.report.deviation;
+          report.rejected_kind = "wrap";
+        }
+      }
+      report.within_tolerance = report.deviation.worst() <= report.tolerance;
+    }
+  } else if (options.wrap) {
+    report.unresolved = report.after.problems();
+    if (failure) report.unresolved.insert(report.unresolved.begin(), *failure);
+    mark_remaining(report.actions, report.after);
+    detail::begin_stage(options.progress, "alpha wrap");
+    wrap_result(result, failure ? input : to_soup(steps.filled), options);
+    if (report.after.valid()) {
+      report.deviation = deviation_of(result.mesh, reference);
+      report.within_tolerance = report.deviation.worst() <= report.tolerance;
+    }
+  }
+  if (report.valid()) warn_deviation(report, reference);
+  if (std::string cgal = cgal_messages.sentence(); !cgal.empty()) report.warnings.push_back(cgal);
   return result;
 }
 

@@ -28,6 +28,23 @@ std::string summary(const MeshCheck& c) {
   return s;
 }
 
+json deviation_json(const RepairDeviation& d) {
+  return {{"to_input", {{"max", d.to_input.max}, {"p95", d.to_input.p95}}},
+          {"from_input", {{"max", d.from_input.max}, {"p95", d.from_input.p95}}},
+          {"volume_change", d.volume_change},
+          {"bbox_growth", d.bbox_growth}};
+}
+
+std::string deviation_text(const RepairDeviation& d) {
+  char s[256];
+  std::snprintf(s, sizeof s,
+                "output to input max %.3g mm (95 %% within %.3g), input to output max %.3g mm "
+                "(95 %% within %.3g), volume %+.2f %%",
+                d.to_input.max, d.to_input.p95, d.from_input.max, d.from_input.p95,
+                100 * d.volume_change);
+  return s;
+}
+
 }  // namespace
 
 std::string to_json(const RepairReport& r) {
@@ -38,6 +55,12 @@ std::string to_json(const RepairReport& r) {
   json j = {
       {"valid", r.valid()},
       {"problems", r.after.problems()},
+      {"warnings", r.warnings},
+      {"within_tolerance", r.within_tolerance},
+      {"tolerance", r.tolerance},
+      {"deviation", deviation_json(r.deviation)},
+      {"rejected", r.rejected ? deviation_json(*r.rejected) : json(nullptr)},
+      {"rejected_kind", r.rejected ? json(r.rejected_kind) : json(nullptr)},
       {"wrapped", r.wrapped},
       {"alpha", r.wrapped ? json(r.alpha) : json(nullptr)},
       {"offset", r.wrapped ? json(r.offset) : json(nullptr)},
@@ -47,6 +70,8 @@ std::string to_json(const RepairReport& r) {
       {"small_component_threshold", r.small_component_threshold},
       {"components", r.components},
       {"holes_faired", r.holes_faired},
+      {"holes_flat", r.holes_flat},
+      {"fairing_undone", r.fairing_undone},
       {"actions", std::move(actions)},
       {"before", json::parse(to_json(r.before))},
       {"after", json::parse(to_json(r.after))},
@@ -70,7 +95,12 @@ std::string to_text(const RepairReport& r) {
     if (a.defect == "small components")
       head += " (area below " + g(r.small_component_threshold) + " mm^2)";
     if (a.defect == "holes" && a.fixed > 0)
-      head += " (" + std::to_string(r.holes_faired) + " faired)";
+      head += " (" + std::to_string(r.holes_flat) + " flat, " + std::to_string(r.holes_faired) +
+              " faired" +
+              (r.fairing_undone ? ", " + std::to_string(r.fairing_undone) +
+                                      " left unfaired where fairing outgrew the hole"
+                                : std::string()) +
+              ")";
     s += head + "\n";
   }
   if (!any) s += "repairs  none needed\n";
@@ -83,10 +113,18 @@ std::string to_text(const RepairReport& r) {
          std::to_string(r.float_repasses) + (r.float_repasses == 1 ? " time\n" : " times\n");
   if (r.wrapped) {
     s += "wrap     alpha wrap with alpha " + g(r.alpha) + " mm, offset " + g(r.offset) +
-         " mm, because the repaired mesh still had:\n";
+         " mm, because the repaired mesh " +
+         (r.rejected_kind == "repair" ? "was valid but" : "still had:") + "\n";
     for (const std::string& p : r.unresolved) s += "  - " + p + "\n";
   }
   s += "output   " + summary(r.after) + "\n";
+  if (r.valid()) {
+    s += "deviation " + deviation_text(r.deviation) + "; tolerance " + g(r.tolerance) +
+         " mm: " + (r.within_tolerance ? "within" : "BEYOND") + "\n";
+    if (r.rejected)
+      s += "  (the " + r.rejected_kind + " was not taken: " + deviation_text(*r.rejected) + ")\n";
+  }
+  for (const std::string& w : r.warnings) s += "warning  " + w + "\n";
   if (r.valid()) {
     s += "verdict: VALID: a closed, outward-oriented 2-manifold without self-intersections or "
          "degenerate faces\n";

@@ -2,6 +2,9 @@
 // parses, and what is written passes `tpmsfill check`.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 // GCC 12 reports a false -Wrestrict inside std::string concatenation here (GCC bug 105329).
 #pragma GCC diagnostic ignored "-Wrestrict"
 
@@ -46,12 +49,26 @@ TEST(RepairCli, JsonParsesAndNamesTheWrap) {
   const auto dir = test::scratch_dir();
   write_mesh(dir / "open.off", test::make_box_with_hole({0, 0, 0}, {10, 10, 10}));
   std::string out;
+  // A 1.5 mm ball rounds the 10 mm box's edges by more than the default tolerance (1 % of
+  // the diagonal, 0.17 mm): refused, exit 1, nothing written, unless accepted.
+  EXPECT_EQ(repair(dir / "open.off", dir / "fixed.ply", "--no-fill-holes --alpha 1.5", &out), 1)
+      << out;
+  EXPECT_NE(out.find("beyond the tolerance of 0.173 mm; nothing was written"), std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(dir / "fixed.ply"));
   ASSERT_EQ(repair(dir / "open.off", dir / "fixed.ply",
-                   "--json --no-fill-holes --alpha 1.5 --offset 0.05", &out),
+                   "--json --no-fill-holes --alpha 1.5 --offset 0.05 --accept-deviation", &out),
             0)
       << out;
-  const auto j = nlohmann::json::parse(out);
+  // The JSON on stdout, then the warnings on stderr.
+  const auto j = nlohmann::json::parse(out.substr(0, out.rfind('}') + 1));
+  EXPECT_NE(out.find("tpmsfill: warning: the result lies up to"), std::string::npos) << out;
   EXPECT_EQ(j["valid"], true);
+  EXPECT_EQ(j["within_tolerance"], false);
+  EXPECT_GT(std::max(j["deviation"]["from_input"]["max"].get<double>(),
+                     j["deviation"]["to_input"]["max"].get<double>()),
+            j["tolerance"].get<double>());
+  EXPECT_NEAR(j["tolerance"].get<double>(), 0.01 * std::sqrt(300.0), 1e-9);
   EXPECT_EQ(j["written"], true);
   EXPECT_EQ(j["wrapped"], true);
   EXPECT_EQ(j["alpha"].get<double>(), 1.5);

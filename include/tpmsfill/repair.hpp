@@ -14,21 +14,29 @@
 ///     (PMP::remove_degenerate_faces);
 ///  3. remove connected components (through edges) whose area is below
 ///     RepairOptions::min_component_fraction of the largest one's (stray specks);
-///  4. fill every hole: triangulate, refine and fair (PMP::triangulate_refine_and_fair_hole);
-///     where fairing fails the refined patch stays; where triangulation fails, plain
-///     PMP::triangulate_hole with the exhaustive search (holes up to 400 edges);
+///  4. fill every hole. A (nearly) planar hole is triangulated flat in its plane
+///     (PMP::triangulate_hole, 2D constrained Delaunay). Any other is triangulated and refined
+///     (PMP::triangulate_and_refine_hole), then faired (PMP::fair) only if the faired patch
+///     stays within its rim's bounding box grown by a tenth of the rim's diameter: no dome
+///     outgrows its hole. Where triangulation fails, plain PMP::triangulate_hole with the
+///     exhaustive search (holes up to 400 edges);
 ///  5. resolve self-intersections: autorefine and keep the outer hull
 ///     (PMP::experimental::autorefine_and_remove_self_intersections, a union of overlapping
 ///     shells), else local remeshing (PMP::experimental::remove_self_intersections);
 ///  6. orient every shell outward (PMP::orient_to_bound_a_volume);
 ///  7. if check_mesh() still refuses the result, replace it by a 3D alpha wrap
 ///     (CGAL::alpha_wrap_3) of the mesh as it was after step 4 (see RepairOptions::wrap);
-///  8. check_mesh() (self-intersections searched) on the result: RepairReport::after.
+///  8. check_mesh() (self-intersections searched) on the result: RepairReport::after;
+///  9. the result's deviation from the input (RepairDeviation): a valid repair whose deviation
+///     exceeds the tolerance is not accepted as it is; the wrap is tried, and the result is
+///     the candidate with the smaller deviation, RepairReport::within_tolerance saying
+///     whether it is within. CGAL's own warnings are caught into RepairReport::warnings.
 ///
 /// Deterministic: the same soup and options give the same mesh, whatever the thread count.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,7 +70,27 @@ struct RepairOptions {
   /// store floats (STL) hold exactly the mesh that was checked. If rounding breaks validity,
   /// the wrap runs (its output is rounded and checked too).
   bool float_coordinates = false;
+  /// Largest deviation from the input (RepairDeviation::worst) a repair may have to be
+  /// accepted, mm. 0 = 1 % of the input's bounding-box diagonal.
+  double tolerance = 0;
   Progress* progress = nullptr;
+};
+
+/// Distances between two surfaces, mm: over sample points (corners and centroids).
+struct Deviation {
+  double max = 0, p95 = 0;
+};
+
+/// How far a repaired mesh lies from its input. The input side is the input as cleaned (merged,
+/// stitched, specks removed) with its hole patches, so a flat patch over a flat hole is no
+/// deviation, and a patch is held to its hole by step 4's rule instead.
+struct RepairDeviation {
+  Deviation to_input;        ///< output → input surface (patches included)
+  Deviation from_input;      ///< input surface away from the hole patches → output
+  double volume_change = 0;  ///< (V_output − V_input) / |V_input| (0 without an input volume)
+  double bbox_growth = 0;    ///< mm, how far the output's box reaches beyond the input's
+  /// The figure held against the tolerance: the largest of the two maxima and the growth.
+  double worst() const;
 };
 
 /// One line of the repair log per defect class.
@@ -86,15 +114,29 @@ struct RepairReport {
   double small_component_threshold = 0;  ///< mm^2: components with less area were removed
   std::uint64_t components = 0;          ///< edge-connected components before removal
   std::uint64_t holes_faired = 0;        ///< holes filled and faired (of the filled ones)
+  std::uint64_t holes_flat = 0;          ///< planar holes filled flat (of the filled ones)
+  /// Holes whose faired patch would have left its rim's box (+ a tenth of the rim's
+  /// diameter): their refined, unfaired patch was kept.
+  std::uint64_t fairing_undone = 0;
   /// Why the wrap ran: check_mesh()'s problems with the repaired mesh; empty when it did not.
   std::vector<std::string> unresolved;
   /// Times steps 1-6 ran again on the result because rounding it to float
   /// (RepairOptions::float_coordinates) broke its validity (at most 2; then the wrap).
   std::uint64_t float_repasses = 0;
-  bool wrapped = false;  ///< the result is an alpha wrap
-  double alpha = 0;      ///< mm, the value used (0 when not wrapped)
-  double offset = 0;     ///< mm, the value used (0 when not wrapped)
-  MeshCheck after;       ///< check_mesh() of the result (self-intersections searched)
+  bool wrapped = false;       ///< the result is an alpha wrap
+  double alpha = 0;           ///< mm, the value used (0 when not wrapped)
+  double offset = 0;          ///< mm, the value used (0 when not wrapped)
+  MeshCheck after;            ///< check_mesh() of the result (self-intersections searched)
+  double tolerance = 0;       ///< mm, the value used (RepairOptions::tolerance)
+  RepairDeviation deviation;  ///< of the result
+  /// The candidate that was not taken (a valid repair past the tolerance when the wrap was
+  /// taken, or the wrap when it deviated more), and which it was: "repair" or "wrap".
+  std::optional<RepairDeviation> rejected;
+  std::string rejected_kind;
+  bool within_tolerance = true;  ///< deviation.worst() <= tolerance
+  /// Sentences for what the result does not say by itself: a wrap that filled cavities, a box
+  /// that grew, CGAL's own warnings (translated), ... One sentence each.
+  std::vector<std::string> warnings;
 
   /// after.valid(): the result is a closed, outward-oriented 2-manifold without
   /// self-intersections or degenerate faces.
@@ -121,9 +163,12 @@ RepairResult repair_mesh(const TriangleSoup& soup, const RepairOptions& options 
 
 /// The JSON object `tpmsfill repair --json` prints (2-space indent, keys in this order):
 ///
-///   valid, problems (check_mesh's sentences for the result), wrapped, alpha, offset (mm;
-///   null when not wrapped), unresolved (sentences that made the wrap run), float_repasses,
-///   min_component_fraction, small_component_threshold (mm^2), components, holes_faired,
+///   valid, problems (check_mesh's sentences for the result), warnings, within_tolerance,
+///   tolerance (mm), deviation {to_input {max, p95}, from_input {max, p95} (mm),
+///   volume_change (fraction), bbox_growth (mm)}, rejected (the same object, or null),
+///   rejected_kind, wrapped, alpha, offset (mm; null when not wrapped), unresolved (sentences
+///   that made the wrap run), float_repasses, min_component_fraction,
+///   small_component_threshold (mm^2), components, holes_faired, holes_flat, fairing_undone,
 ///   actions: [{defect, found, action, fixed}], before, after (each the object
 ///   to_json(MeshCheck) gives). Each field means what the RepairReport member of the same
 ///   name means.

@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -26,7 +27,8 @@ namespace {
 struct RepairArgs {
   std::string input, output;
   bool json = false, no_wrap = false, no_fill_holes = false, quiet = false;
-  double alpha = 0, offset = 0;
+  bool accept_deviation = false;
+  double alpha = 0, offset = 0, tolerance = 0;
   double min_component = RepairOptions{}.min_component_fraction;
   std::string units = "mm";
   int threads = 0;
@@ -50,6 +52,7 @@ int run_repair(const RepairArgs& args) {
   options.alpha = args.alpha;
   options.offset = args.offset;
   options.min_component_fraction = args.min_component;
+  options.tolerance = args.tolerance;
   // STL stores floats: check what will be written.
   options.float_coordinates = format == MeshFormat::StlBinary || format == MeshFormat::StlAscii;
   std::unique_ptr<TerminalProgress> progress;
@@ -63,7 +66,9 @@ int run_repair(const RepairArgs& args) {
     std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
   const RepairResult result = repair_mesh(file.soup, options);
   if (progress) progress->clear();
-  const bool valid = result.report.valid();
+  const RepairReport& report = result.report;
+  // A valid result past the tolerance is not the part that came in: written only if accepted.
+  const bool valid = report.valid() && (report.within_tolerance || args.accept_deviation);
   if (valid) write_mesh(args.output, result.mesh);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -75,15 +80,30 @@ int run_repair(const RepairArgs& args) {
     j["written"] = valid;
     j["units"] = args.units;
     j["seconds"] = seconds;
-    const auto report = nlohmann::ordered_json::parse(to_json(result.report));
-    for (const auto& [key, value] : report.items()) j[key] = value;
+    const auto fields = nlohmann::ordered_json::parse(to_json(report));
+    for (const auto& [key, value] : fields.items()) j[key] = value;
     std::printf("%s\n", j.dump(2).c_str());
   } else if (!args.quiet) {
     std::printf("%s -> %s\n%s", args.input.c_str(), args.output.c_str(),
                 to_text(result.report).c_str());
     std::printf("time     %.2f s\n", seconds);
   }
-  if (!valid) {
+  std::fflush(stdout);  // the report first, then what it warns about
+  for (const std::string& w : report.warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  if (report.valid() && !valid) {
+    std::fflush(stdout);
+    const RepairDeviation& d = report.deviation;
+    std::fprintf(stderr,
+                 "tpmsfill: error: the repaired %s lies up to %.3g mm from the input (95 %% within "
+                 "%.3g mm, volume %+.1f %%), beyond the tolerance of %.3g mm; nothing was written "
+                 "(--accept-deviation writes it anyway, --tolerance sets the limit)\n",
+                 report.wrapped ? "(wrapped) mesh" : "mesh", d.worst(),
+                 std::max(d.to_input.p95, d.from_input.p95), 100 * d.volume_change,
+                 report.tolerance);
+    return kNotValid;
+  }
+  if (!report.valid()) {
     std::fflush(stdout);
     std::fprintf(stderr,
                  "tpmsfill: error: %s could not be made a valid closed 2-manifold%s; nothing "
@@ -129,6 +149,12 @@ Command add_repair_command(CLI::App& app) {
       ->check(positive());
   sub->add_option("--offset", args->offset, "Offset of the wrap in mm (default: alpha / 30)")
       ->check(positive());
+  sub->add_option("--tolerance", args->tolerance,
+                  "Largest deviation from the input a repair may have, mm (default 1 % of the "
+                  "bounding-box diagonal); past it the wrap is tried and the nearer is kept")
+      ->check(positive());
+  sub->add_flag("--accept-deviation", args->accept_deviation,
+                "Write the result even when it deviates from the input beyond --tolerance");
   sub->add_flag("--no-fill-holes", args->no_fill_holes,
                 "Do not fill holes (an open mesh then needs the wrap)");
   sub->add_option("--min-component", args->min_component,

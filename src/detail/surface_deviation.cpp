@@ -1,0 +1,62 @@
+// Surface-to-surface distances by CGAL's AABB tree over the target's triangles.
+#include "detail/surface_deviation.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "detail/cgal_types.hpp"
+#include "detail/parallel.hpp"
+
+namespace tpmsfill::detail {
+namespace {
+
+using Triangle3 = Kernel::Triangle_3;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle3>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+constexpr std::size_t kMaxSamples = 600000;
+
+}  // namespace
+
+DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to) {
+  std::vector<Triangle3> target;
+  target.reserve(to.triangles.size());
+  for (const Triangle& t : to.triangles) {
+    const Point3 a = to_cgal(to.points[t[0]]), b = to_cgal(to.points[t[1]]),
+                 c = to_cgal(to.points[t[2]]);
+    if (!CGAL::collinear(a, b, c)) target.emplace_back(a, b, c);  // exact: no degenerate
+  }
+  DistanceStats stats;
+  if (target.empty() || from.triangles.empty()) return stats;
+  Tree tree(target.begin(), target.end());
+  tree.accelerate_distance_queries();
+  // Both trees are built lazily: build them here, so the parallel queries only read.
+  tree.build();
+  (void)tree.squared_distance(target.front().vertex(0));
+
+  // Four points per triangle (corners and centroid), every stride-th triangle.
+  const std::size_t stride = std::max<std::size_t>(1, 4 * from.triangles.size() / kMaxSamples);
+  const std::size_t used = (from.triangles.size() + stride - 1) / stride;
+  std::vector<double> d(4 * used);
+  parallel_for(used, 256, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const Triangle& t = from.triangles[i * stride];
+      const Vec3 a = from.points[t[0]], b = from.points[t[1]], c = from.points[t[2]];
+      const Vec3 points[4] = {a, b, c, (1.0 / 3.0) * (a + b + c)};
+      for (int k = 0; k < 4; ++k)
+        d[4 * i + k] = std::sqrt(CGAL::to_double(tree.squared_distance(to_cgal(points[k]))));
+    }
+  });
+  std::sort(d.begin(), d.end());
+  stats.samples = d.size();
+  stats.max = d.back();
+  stats.p95 = d[static_cast<std::size_t>(0.95 * static_cast<double>(d.size() - 1))];
+  return stats;
+}
+
+}  // namespace tpmsfill::detail

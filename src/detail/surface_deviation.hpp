@@ -1,0 +1,23 @@
+/// @file surface_deviation.hpp
+/// @brief How far one surface lies from another: distances from sample points of one
+/// triangle soup to the nearest point of another (CGAL's AABB tree), as max and 95th
+/// percentile. Plain data in and out; CGAL stays in the .cpp.
+#pragma once
+
+#include <cstdint>
+
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill::detail {
+
+struct DistanceStats {
+  double max = 0, p95 = 0;    ///< mm
+  std::uint64_t samples = 0;  ///< points measured
+};
+
+/// Distances from samples of `from` (its triangles' corners and centroids, evenly thinned to
+/// about 600,000 points on large meshes) to the surface of `to` (its non-degenerate
+/// triangles). Deterministic and parallel. Zero samples when either side has no triangle.
+DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to);
+
+}  // namespace tpmsfill::detail
