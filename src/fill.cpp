@@ -124,7 +124,7 @@ class StageClock {
 // table, docs/benchmarks.md). The auto inside rule plans the clean and the second
 // classification it may need; they are credited when skipped.
 std::vector<detail::PlannedStage> plan_stages(const FillOptions& o) {
-  std::vector<detail::PlannedStage> plan;
+  std::vector<detail::PlannedStage> plan{{"review", 0.5}};
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
   if (rule == InsideRule::Parity || !o.inside)
     plan.insert(plan.end(), {{"spatial", 1}, {"classify", 2}});
@@ -236,9 +236,11 @@ void resolve(Job& job) {
 
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
   // What cannot come out as asked is refused here, before the work; doubts are warnings.
-  for (std::string& w :
-       review_design(d, r.input_bbox, {.voxel = job.grid.spacing, .input_units = o.units.units}))
-    r.warnings.push_back(std::move(w));
+  std::vector<std::string> doubts = job.stage("review", [&] {
+    return review_design(d, r.input_bbox,
+                         {.voxel = job.grid.spacing, .input_units = o.units.units});
+  });
+  for (std::string& w : doubts) r.warnings.push_back(std::move(w));
   r.estimated_memory_bytes = require_budget(r.input_bbox, job.model.triangles.size(), o);
   r.grid = job.grid;
   r.samples = job.grid.node_count();

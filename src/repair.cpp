@@ -216,13 +216,16 @@ Rim rim_of(const SurfaceMesh& mesh, Halfedge h) {
 }
 
 // Fairing may not grow a dome out of its hole: every new vertex stays within the rim's box
-// grown by a tenth of the rim's diameter.
-bool within_rim(const SurfaceMesh& mesh, const std::vector<Vertex>& inner, const Rim& rim) {
+// grown by a tenth of the rim's diameter, and within the part's own box.
+bool within_rim(const SurfaceMesh& mesh, const std::vector<Vertex>& inner, const Rim& rim,
+                const Box3& part) {
   const double margin = 0.1 * rim.diameter;
   for (Vertex v : inner) {
     const Vec3 q = position(mesh, v);
     for (int a = 0; a < 3; ++a)
-      if (q[a] < rim.box.min[a] - margin || q[a] > rim.box.max[a] + margin) return false;
+      if (q[a] < std::max(rim.box.min[a] - margin, part.min[a]) ||
+          q[a] > std::min(rim.box.max[a] + margin, part.max[a]))
+        return false;
   }
   return true;
 }
@@ -230,7 +233,8 @@ bool within_rim(const SurfaceMesh& mesh, const std::vector<Vertex>& inner, const
 /// Fills one hole: flat if planar; else triangulated and refined, then faired where the
 /// patch stays within its rim; the exhaustive triangulation alone as the last resort.
 /// Returns whether faces were added (marked in the "f:patch" property); counts what it did.
-bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, HoleCounts& counts) {
+bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, const Box3& part, HoleCounts& counts) {
+  // `part` is the part's box grown by the tolerance.
   const std::size_t edges = CGAL::halfedges_around_face(h, mesh).size();
   const bool cubic_too = edges <= kMaxCubicHole;
   const Rim rim = rim_of(mesh, h);
@@ -251,7 +255,7 @@ bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, HoleCounts& counts) {
       std::vector<Point3> refined;
       for (Vertex v : inner) refined.push_back(mesh.point(v));
       const bool faired = PMP::fair(mesh, inner);
-      if (faired && within_rim(mesh, inner, rim)) {
+      if (faired && within_rim(mesh, inner, rim, part)) {
         ++counts.faired;
       } else {
         for (std::size_t i = 0; i < inner.size(); ++i) mesh.point(inner[i]) = refined[i];
@@ -274,13 +278,17 @@ bool fill_hole(SurfaceMesh& mesh, Halfedge h, bool fair, HoleCounts& counts) {
 
 /// Fills every border cycle (step 4), marking the patches' faces. A hole whose filling fails
 /// inside CGAL is left open: the mesh is restored and the holes are filled again without it.
-HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Progress* progress) {
+HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, double tolerance, Progress* progress) {
   std::vector<Halfedge> cycles;
   PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
   HoleCounts counts;
   counts.found = cycles.size();
   if (cycles.empty()) return counts;
   mesh.add_property_map<Face, bool>("f:patch", false);
+  Box3 part;
+  for (Vertex v : mesh.vertices()) part.extend(position(mesh, v));
+  const double grow = tolerance > 0 ? tolerance : 0.01 * norm(part.size());
+  part = {part.min - Vec3{grow, grow, grow}, part.max + Vec3{grow, grow, grow}};
   const SurfaceMesh original = mesh;  // halfedge indices stay valid in copies
   std::vector<bool> skip(cycles.size(), false);
   for (;;) {
@@ -291,7 +299,7 @@ HoleCounts fill_holes(SurfaceMesh& mesh, bool fair, Progress* progress) {
         detail::report_or_cancel(progress,
                                  static_cast<double>(i) / static_cast<double>(cycles.size()));
         if (skip[i] || !mesh.is_border(cycles[i])) continue;
-        if (fill_hole(mesh, cycles[i], fair, counts)) ++counts.filled;
+        if (fill_hole(mesh, cycles[i], fair, part, counts)) ++counts.filled;
       }
       break;
     } catch (const CGAL::Failure_exception&) {
@@ -549,7 +557,7 @@ void repair_surface(const TriangleSoup& input, const RepairOptions& options, Ste
   // --- 4. holes -------------------------------------------------------------------------
   if (options.fill_holes) {
     detail::begin_stage(progress, "fill holes");
-    s.counts.holes = fill_holes(s.mesh, options.fair_holes, progress);
+    s.counts.holes = fill_holes(s.mesh, options.fair_holes, options.tolerance, progress);
     s.mesh.collect_garbage();
     // A patch may pinch a vertex where a hole's border touches itself, or have a collinear
     // triangle where the border has three collinear corners.
@@ -713,14 +721,25 @@ double volume_of(const TriangleSoup& soup) {
   return six / 6;
 }
 
-RepairDeviation deviation_of(const TriangleSoup& output, const Reference& ref) {
+/// The output's deviation from the reference. A repair's output follows the input except where
+/// a union of overlapping shells removed surface from inside the solid: input samples inside
+/// the output are left out. A wrap encloses all of its input (by its offset, or a cavity's
+/// depth): every sample counts.
+RepairDeviation deviation_of(const TriangleSoup& output, const Reference& ref, bool wrapped) {
   RepairDeviation d;
   const detail::DistanceStats to = detail::surface_distances(output, ref.all);
-  const detail::DistanceStats from = detail::surface_distances(ref.surface, output);
+  const detail::DistanceStats from =
+      detail::surface_distances(ref.surface, output, /*skip_inside=*/!wrapped);
   d.to_input = {to.max, to.p95};
   d.from_input = {from.max, from.p95};
-  const double before = volume_of(ref.all), after = volume_of(output);
-  if (before != 0) d.volume_change = (after - before) / std::fabs(before);
+  // Magnitudes: an inside-out input turned outward is the same solid.
+  const double before = std::fabs(volume_of(ref.all)), after = std::fabs(volume_of(output));
+  if (before != 0) d.volume_change = (after - before) / before;
+  // Volume gained, spread over the input's area: what a filled cavity adds, which no surface
+  // distance sees once its walls are inside the solid.
+  double area = 0;
+  for (const Triangle& t : ref.all.triangles) area += 0.5 * detail::double_area(ref.all, t);
+  if (area > 0) d.added_thickness = std::max(0.0, (after - before) / area);
   const Box3 out = bounding_box(output);
   for (int a = 0; a < 3 && !out.empty(); ++a)
     d.bbox_growth = std::max(
@@ -850,7 +869,7 @@ void warn_deviation(RepairReport& report, const Reference& ref) {
 }  // namespace
 
 double RepairDeviation::worst() const {
-  return std::max({to_input.max, from_input.max, bbox_growth});
+  return std::max({to_input.max, from_input.max, bbox_growth, added_thickness});
 }
 
 RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options) {
@@ -896,7 +915,7 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
   detail::report_or_cancel(options.progress, 1.0);
   if (report.after.valid()) {
     detail::begin_stage(options.progress, "deviation");
-    report.deviation = deviation_of(result.mesh, reference);
+    report.deviation = deviation_of(result.mesh, reference, false);
     report.within_tolerance = report.deviation.worst() <= report.tolerance;
     if (!report.within_tolerance && options.wrap) {
       // Past the tolerance: the wrap is the other candidate; the nearer one is the result.
@@ -907,7 +926,7 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
       detail::begin_stage(options.progress, "alpha wrap");
       wrap_result(wrapped, failure ? input : to_soup(steps.filled), options);
       if (wrapped.report.wrapped && wrapped.report.after.valid()) {
-        wrapped.report.deviation = deviation_of(wrapped.mesh, reference);
+        wrapped.report.deviation = deviation_of(wrapped.mesh, reference, true);
         if (wrapped.report.deviation.worst() < report.deviation.worst()) {
           wrapped.report.rejected = report.deviation;
           wrapped.report.rejected_kind = "repair";
@@ -926,7 +945,7 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
     detail::begin_stage(options.progress, "alpha wrap");
     wrap_result(result, failure ? input : to_soup(steps.filled), options);
     if (report.after.valid()) {
-      report.deviation = deviation_of(result.mesh, reference);
+      report.deviation = deviation_of(result.mesh, reference, report.wrapped);
       report.within_tolerance = report.deviation.worst() <= report.tolerance;
     }
   }

@@ -32,7 +32,8 @@ json deviation_json(const RepairDeviation& d) {
   return {{"to_input", {{"max", d.to_input.max}, {"p95", d.to_input.p95}}},
           {"from_input", {{"max", d.from_input.max}, {"p95", d.from_input.p95}}},
           {"volume_change", d.volume_change},
-          {"bbox_growth", d.bbox_growth}};
+          {"bbox_growth", d.bbox_growth},
+          {"added_thickness", d.added_thickness}};
 }
 
 std::string deviation_text(const RepairDeviation& d) {

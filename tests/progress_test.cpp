@@ -82,7 +82,8 @@ TEST(Progress, EveryStageIsAnnouncedAndOverallNeverGoesBack) {
   o.progress = &closed;
   const FillResult a = fill(test::make_box({0, 0, 0}, {12, 12, 12}), o);
   expect_well_formed(closed, a.report);
-  EXPECT_EQ(closed.begins.front().name, "spatial");
+  EXPECT_EQ(closed.begins.front().name, "review");
+  EXPECT_EQ(closed.begins[1].name, "spatial");
   EXPECT_LT(closed.begins.size(), static_cast<std::size_t>(closed.begins[0].count));
   // With a hole: auto classifies, cleans and classifies again; one plan, no restart at 0 %.
   Recorder open;

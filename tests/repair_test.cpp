@@ -112,7 +112,11 @@ TEST(Repair, SphereWithHolesIsClosedAndKeepsItsVolume) {
   const RepairAction& holes = find_action(r.report, "holes");
   EXPECT_EQ(holes.found, 3u);
   EXPECT_EQ(holes.fixed, 3u);
-  EXPECT_EQ(r.report.holes_faired, 3u);
+  // Every hole was faired; where the faired cap would rise past the sphere's box by more
+  // than the tolerance (the 3 mm hole: 0.46 mm against 0.35 mm) the refined patch stays.
+  EXPECT_EQ(r.report.holes_faired + r.report.fairing_undone, 3u) << to_text(r.report);
+  EXPECT_GE(r.report.holes_faired, 2u);
+  EXPECT_LE(r.report.deviation.bbox_growth, r.report.tolerance);
   const double expected = test::signed_volume(sphere);
   ASSERT_TRUE(r.report.after.volume.has_value());
   EXPECT_NEAR(*r.report.after.volume, expected, 0.02 * expected);
@@ -467,8 +471,11 @@ TEST(RepairShape, WrapThatFillsACavityIsPastToleranceAndSaysSo) {
   ASSERT_TRUE(r.report.wrapped);
   EXPECT_FALSE(r.report.within_tolerance);
   EXPECT_NEAR(r.report.tolerance, 0.01 * std::sqrt(3.0) * 20, 1e-12);
-  EXPECT_GT(r.report.deviation.from_input.max, 1.9);  // the cavity's walls are 2 mm inside
-  EXPECT_GT(r.report.deviation.volume_change, 1.0);   // 8000 − 4096 mm³ → 8000 mm³
+  // The cavity's walls are inside the wrap (no distance sees them); its 4096 mm³ spread over
+  // the input's 3936 mm² are what the tolerance catches.
+  EXPECT_NEAR(r.report.deviation.added_thickness, 4096.0 / 3936.0, 0.1);  // + the wrap's offset
+  EXPECT_GT(r.report.deviation.added_thickness, r.report.tolerance);
+  EXPECT_GT(r.report.deviation.volume_change, 1.0);  // 8000 − 4096 mm³ → 8000 mm³
   std::string all;
   for (const std::string& w : r.report.warnings) all += w + "\n";
   EXPECT_NE(all.find("filled the input's 1 enclosed cavity(s)"), std::string::npos) << all;

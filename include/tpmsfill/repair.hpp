@@ -17,9 +17,9 @@
 ///  4. fill every hole. A (nearly) planar hole is triangulated flat in its plane
 ///     (PMP::triangulate_hole, 2D constrained Delaunay). Any other is triangulated and refined
 ///     (PMP::triangulate_and_refine_hole), then faired (PMP::fair) only if the faired patch
-///     stays within its rim's bounding box grown by a tenth of the rim's diameter: no dome
-///     outgrows its hole. Where triangulation fails, plain PMP::triangulate_hole with the
-///     exhaustive search (holes up to 400 edges);
+///     stays within its rim's bounding box grown by a tenth of the rim's diameter, and within
+///     the part's box grown by the tolerance: no dome outgrows its hole. Where triangulation fails,
+///     plain PMP::triangulate_hole with the exhaustive search (holes up to 400 edges);
 ///  5. resolve self-intersections: autorefine and keep the outer hull
 ///     (PMP::experimental::autorefine_and_remove_self_intersections, a union of overlapping
 ///     shells), else local remeshing (PMP::experimental::remove_self_intersections);
@@ -85,11 +85,18 @@ struct Deviation {
 /// stitched, specks removed) with its hole patches, so a flat patch over a flat hole is no
 /// deviation, and a patch is held to its hole by step 4's rule instead.
 struct RepairDeviation {
-  Deviation to_input;        ///< output → input surface (patches included)
-  Deviation from_input;      ///< input surface away from the hole patches → output
+  Deviation to_input;  ///< output → input surface (patches included)
+  /// Input surface away from the hole patches → output. Unless the output is a wrap, samples
+  /// inside the output are left out (surface a union of overlapping shells removed is no lost
+  /// feature); a wrap encloses its input, so there every sample counts.
+  Deviation from_input;
   double volume_change = 0;  ///< (V_output − V_input) / |V_input| (0 without an input volume)
   double bbox_growth = 0;    ///< mm, how far the output's box reaches beyond the input's
-  /// The figure held against the tolerance: the largest of the two maxima and the growth.
+  /// mm: volume gained over the input's area (a filled cavity, which no distance sees once
+  /// its walls are inside the solid; 0 when the volume shrank, as a union of shells does).
+  double added_thickness = 0;
+  /// The figure held against the tolerance: the largest of the two maxima, the growth and
+  /// the added thickness.
   double worst() const;
 };
 
@@ -165,9 +172,9 @@ RepairResult repair_mesh(const TriangleSoup& soup, const RepairOptions& options 
 ///
 ///   valid, problems (check_mesh's sentences for the result), warnings, within_tolerance,
 ///   tolerance (mm), deviation {to_input {max, p95}, from_input {max, p95} (mm),
-///   volume_change (fraction), bbox_growth (mm)}, rejected (the same object, or null),
-///   rejected_kind, wrapped, alpha, offset (mm; null when not wrapped), unresolved (sentences
-///   that made the wrap run), float_repasses, min_component_fraction,
+///   volume_change (fraction), bbox_growth (mm), added_thickness (mm)}, rejected (the same object,
+///   or null), rejected_kind, wrapped, alpha, offset (mm; null when not wrapped), unresolved
+///   (sentences that made the wrap run), float_repasses, min_component_fraction,
 ///   small_component_threshold (mm^2), components, holes_faired, holes_flat, fairing_undone,
 ///   actions: [{defect, found, action, fixed}], before, after (each the object
 ///   to_json(MeshCheck) gives). Each field means what the RepairReport member of the same

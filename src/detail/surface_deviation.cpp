@@ -23,7 +23,8 @@ constexpr std::size_t kMaxSamples = 600000;
 
 }  // namespace
 
-DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to) {
+DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to,
+                                bool skip_inside) {
   std::vector<Triangle3> target;
   target.reserve(to.triangles.size());
   for (const Triangle& t : to.triangles) {
@@ -42,16 +43,27 @@ DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to
   // Four points per triangle (corners and centroid), every stride-th triangle.
   const std::size_t stride = std::max<std::size_t>(1, 4 * from.triangles.size() / kMaxSamples);
   const std::size_t used = (from.triangles.size() + stride - 1) / stride;
+  // Inside: an odd number of crossings along a ray in a direction no axis-aligned part lines
+  // up with. NaN marks a skipped sample.
+  const Kernel::Vector_3 direction(0.5772156649, 0.6180339887, 0.5320888862);
+  auto inside = [&](const Point3& p) {
+    return tree.number_of_intersected_primitives(Kernel::Ray_3(p, direction)) % 2 == 1;
+  };
   std::vector<double> d(4 * used);
   parallel_for(used, 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const Triangle& t = from.triangles[i * stride];
       const Vec3 a = from.points[t[0]], b = from.points[t[1]], c = from.points[t[2]];
       const Vec3 points[4] = {a, b, c, (1.0 / 3.0) * (a + b + c)};
-      for (int k = 0; k < 4; ++k)
-        d[4 * i + k] = std::sqrt(CGAL::to_double(tree.squared_distance(to_cgal(points[k]))));
+      for (int k = 0; k < 4; ++k) {
+        const Point3 p = to_cgal(points[k]);
+        const double distance = std::sqrt(CGAL::to_double(tree.squared_distance(p)));
+        d[4 * i + k] = skip_inside && distance > 0 && inside(p) ? NAN : distance;
+      }
     }
   });
+  std::erase_if(d, [](double v) { return std::isnan(v); });
+  if (d.empty()) return stats;
   std::sort(d.begin(), d.end());
   stats.samples = d.size();
   stats.max = d.back();

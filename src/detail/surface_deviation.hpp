@@ -17,7 +17,10 @@ struct DistanceStats {
 
 /// Distances from samples of `from` (its triangles' corners and centroids, evenly thinned to
 /// about 600,000 points on large meshes) to the surface of `to` (its non-degenerate
-/// triangles). Deterministic and parallel. Zero samples when either side has no triangle.
-DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to);
+/// triangles). With `skip_inside`, samples off `to`'s surface and inside it (odd crossings
+/// of a ray; `to` closed) are left out: surface a union removed from inside a solid is not a
+/// lost feature. Deterministic and parallel. Zero samples when either side has no triangle.
+DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to,
+                                bool skip_inside = false);
 
 }  // namespace tpmsfill::detail
