@@ -338,17 +338,16 @@ void warn_cavities(const FillOptions& o, const Components& comps, double voxel, 
   char figures[96];
   std::snprintf(figures, sizeof figures, "%llu void(s) (%.3g mm3)",
                 static_cast<unsigned long long>(count), volume);
-  const std::string sealed =
-      std::string(figures) + " sealed in, where unfused powder or resin " + "cannot drain";
+  const std::string drain = ", where unfused powder or resin cannot drain";
   if (o.skin > 0 && !o.skin_windows)
-    r.warnings.push_back("the closed skin seals " + sealed +
+    r.warnings.push_back("the closed skin seals " + std::string(figures) + " in" + drain +
                          " (--skin-windows opens the skin at the pores)");
   else if (o.skin > 0)
-    r.warnings.push_back("the skin windows left " + sealed +
-                         " (pores that never reach the skin; a thinner --skin or a larger "
-                         "--cell opens more)");
+    r.warnings.push_back("the skin windows left " + std::string(figures) + " sealed" + drain +
+                         " (pores that never reach the skin; a thinner --skin or a larger --cell "
+                         "opens more)");
   else
-    r.warnings.push_back("the lattice has " + sealed);
+    r.warnings.push_back("the lattice encloses " + std::string(figures) + drain);
 }
 
 // Islands that are whole features: removal of more than 5 % of the lattice, or of any piece

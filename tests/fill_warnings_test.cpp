@@ -99,7 +99,7 @@ TEST(FillWarnings, SealedVoidsAreWarnedWithOrWithoutWindows) {
     EXPECT_NEAR(r.report.cavities_volume, 27 * 4.18879, 27 * 4.18879 * 0.02) << variant;
     const std::string w = all_warnings(r.report);
     EXPECT_TRUE(has(w, "27 void(s)")) << w;
-    const char* sentence[] = {"the lattice has 27", "the closed skin seals 27",
+    const char* sentence[] = {"the lattice encloses 27", "the closed skin seals 27",
                               "the skin windows left 27"};
     EXPECT_TRUE(has(w, sentence[variant])) << w;
   }

@@ -188,13 +188,13 @@ TEST(Review, StrutsAndPoresThinnerThanTwoVoxels) {
 
 TEST(Review, LayerSizesMatchTheDesign) {
   // A sheet's wall is its thickness; the sampled diameter reads within a sample spacing
-  // (cell / 24) of it.
+  // (cell / 20) of it.
   for (double t : {0.2, 0.4, 0.6}) {
     TpmsOptions sheet{.type = TpmsType::Gyroid, .style = TpmsStyle::Sheet, .thickness = t};
-    EXPECT_NEAR(layer_sizes(sheet).solid, t, 2.0 / 24) << t;
+    EXPECT_NEAR(layer_sizes(sheet).solid, t, 2.0 / 20) << t;
   }
   // A gyroid network at level 0 is its own complement: struts and pores alike.
   const LayerSizes g = layer_sizes(TpmsOptions{.type = TpmsType::Gyroid});
-  EXPECT_NEAR(g.solid, g.pore, 2.0 / 24);
+  EXPECT_NEAR(g.solid, g.pore, 2.0 / 20);
   EXPECT_GT(g.solid, 0.5);
 }
