@@ -2,7 +2,7 @@
 # How far `tpmsfill repair` moves real meshes: runs it on every mesh in ../shared/meshes (when
 # present) and every libcgal-demo mesh under 2 MB, and prints one table row per mesh
 # (deviation max and p95 as % of the diagonal, volume change, box growth, wrapped or not),
-# then the distribution. docs/benchmarks.md §12 quotes its output.
+# then the distribution. docs/benchmarks.md §13 quotes its output.
 #   bash scripts/repair_survey.sh [BUILD] > survey.md
 set -uo pipefail
 cd "$(dirname "$0")/.."

@@ -92,7 +92,8 @@ std::uint64_t require_budget(const Box3& bounds, std::uint64_t triangles, const 
                                    : "; a voxel size of " + std::string(fit) + " or more fits"));
 }
 
-// Times each stage into the report and announces it to the job's progress.
+// Times each stage into the report and announces its start and end to the job's progress
+// (which checks for cancelling at both, also for stages that report nothing themselves).
 class StageClock {
  public:
   StageClock(FillReport& report, detail::JobProgress& progress)
@@ -104,9 +105,11 @@ class StageClock {
     if constexpr (std::is_void_v<decltype(work())>) {
       work();
       record(name, t0);
+      progress_.end_stage();
     } else {
       auto result = work();
       record(name, t0);
+      progress_.end_stage();
       return result;
     }
   }
@@ -120,28 +123,29 @@ class StageClock {
   detail::JobProgress& progress_;
 };
 
-// The stages fill() will run, in order, with rough shares of the time (from the femur's stage
-// table, docs/benchmarks.md). The auto inside rule plans the clean and the second
-// classification it may need; they are credited when skipped.
+// The stages fill() will run, in order, with rough shares of the time: per cent of a job's,
+// the femur's and the tube's stage tables averaged (docs/benchmarks.md §4; measure and the full
+// field from the femur's). The auto inside rule plans the clean and the second classification
+// it may need; they are credited when skipped, so the overall fraction does not go back.
 std::vector<detail::PlannedStage> plan_stages(const FillOptions& o) {
   std::vector<detail::PlannedStage> plan{{"review", 0.5}};
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
   if (rule == InsideRule::Parity || !o.inside)
-    plan.insert(plan.end(), {{"spatial", 1}, {"classify", 2}});
+    plan.insert(plan.end(), {{"spatial", 10}, {"classify", 5}});
   if (rule == InsideRule::Winding)
-    plan.insert(plan.end(), {{"clean", 2}, {"spatial", 1}, {"classify", 2}});
+    plan.insert(plan.end(), {{"clean", 5}, {"spatial", 10}, {"classify", 5}});
   for (const Grading& g : o.design.grading)
     if (g.ramp.shape == RampShape::Depth) {
-      plan.push_back({"depth", 1});
+      plan.push_back({"depth", 5});
       break;
     }
-  if (!o.full_field) plan.push_back({"band", 1});
-  plan.insert(plan.end(), {{"distance", o.full_field ? 8.0 : 2.0},
-                           {"compose", 2},
-                           {"marching cubes", 3},
-                           {"islands", 1}});
-  if (o.measure) plan.push_back({"measure", 4});
-  plan.push_back({"validate", 4});
+  if (!o.full_field) plan.push_back({"band", 8});
+  plan.insert(plan.end(), {{"distance", o.full_field ? 200.0 : 16.0},
+                           {"compose", 3},
+                           {"marching cubes", 7},
+                           {"islands", 6}});
+  if (o.measure) plan.push_back({"measure", 35});
+  plan.push_back({"validate", 46});
   return plan;
 }
 

@@ -103,15 +103,42 @@ std::string count_mismatch(const CLI::Option* o, const CLI::App* command) {
          help_for(command);
 }
 
+// Whether `text` reads as a value of CLI11's type `type` ("INT", "UINT", "FLOAT", ...).
+bool reads_as(const std::string& text, const std::string& type) {
+  const bool whole = type.find("INT") != std::string::npos;
+  std::size_t used = 0;
+  try {
+    if (whole)
+      (void)std::stoll(text, &used);
+    else
+      (void)std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == text.size() && !(whole && text[0] == '-' && type[0] == 'U');
+}
+
 std::string bad_value(const CLI::Option* o, const std::string& message) {
   const std::size_t eq = message.find(" = ");
-  if (eq == std::string::npos) return o->get_name() + " takes no value";  // a flag given one
-  const std::string value = message.substr(eq + 3);
+  if (o->get_expected_max() == 0 || eq == std::string::npos)
+    return o->get_name() + " takes no value";  // a switch given one ("--json=x")
   const std::string type = o->get_type_name();
+  const bool whole = type.find("INT") != std::string::npos;
+  const bool number = whole || type.find("FLOAT") != std::string::npos;
+  // CLI11 joins all the values with ','; name the first that is wrong.
+  std::string value = message.substr(eq + 3);
+  if (number)
+    for (std::size_t start = 0, end = 0; start <= value.size(); start = end + 1) {
+      end = std::min(value.find(',', start), value.size());
+      if (const std::string one = value.substr(start, end - start); !reads_as(one, type)) {
+        value = one;
+        break;
+      }
+    }
   return o->get_name() + ": '" + value + "' is not " +
-         (type.rfind("INT", 0) == 0     ? "a whole number"
-          : type.rfind("FLOAT", 0) == 0 ? "a number"
-                                        : "a valid value");
+         (whole    ? "a whole number"
+          : number ? "a number"
+                   : "a valid value");
 }
 
 }  // namespace
@@ -153,8 +180,16 @@ std::string unplaced_arguments(const CLI::App& command) {
 }
 
 std::string unknown_command(const CLI::App& app, int argc, const char* const* argv) {
-  if (argc < 2 || argv[1][0] == '-') return "";
-  const std::string given = argv[1];
+  if (argc < 2 || std::string(argv[1]) == "--") return "";
+  std::string given = argv[1];
+  if (given.size() > 1 && given[0] == '-') {  // before the command: only --help or --version
+    given = given.substr(0, given.find('='));
+    const std::vector<std::string> known = option_names(app);
+    if (std::find(known.begin(), known.end(), given) != known.end()) return "";
+    const std::string near = nearest(given, known);
+    return "unknown option " + given +
+           (near.empty() ? help_for(nullptr) : " (did you mean " + near + "?)");
+  }
   std::vector<std::string> names;
   for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
   if (std::find(names.begin(), names.end(), given) != names.end()) return "";

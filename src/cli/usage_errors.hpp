@@ -15,8 +15,8 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& error, int a
 /// there are none: an unknown option (with the nearest known one) or an unexpected value.
 std::string unplaced_arguments(const CLI::App& command);
 
-/// The sentence for a first argument that is not a command (with the nearest command), or ""
-/// when it is one or is an option.
+/// The sentence for a first argument that is neither a command nor a top-level option (with
+/// the nearest command or option), or "" when it is one of them.
 std::string unknown_command(const CLI::App& app, int argc, const char* const* argv);
 
 }  // namespace tpmsfill::cli

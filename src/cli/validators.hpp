@@ -6,20 +6,22 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace tpmsfill::cli {
 
 namespace detail {
-// The argument as a number, or NaN when it is not one (the type conversion then reports it).
-inline double as_number(const std::string& text) {
+// The argument as a number, or nothing when it is not one (the type conversion then reports
+// it). "nan" and "inf" are numbers here, so that the range checks refuse them.
+inline std::optional<double> as_number(const std::string& text) {
   try {
     std::size_t used = 0;
     const double v = std::stod(text, &used);
-    return used == text.size() ? v : NAN;
+    if (used == text.size()) return v;
   } catch (const std::exception&) {
-    return NAN;
   }
+  return std::nullopt;
 }
 }  // namespace detail
 
@@ -27,8 +29,8 @@ inline double as_number(const std::string& text) {
 inline CLI::Validator positive() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
-        const double v = detail::as_number(text);
-        return std::isnan(v) || (v > 0 && std::isfinite(v)) ? "" : "must be > 0";
+        const std::optional<double> v = detail::as_number(text);
+        return !v || (*v > 0 && std::isfinite(*v)) ? "" : "must be > 0";
       },
       "> 0");
 }
@@ -37,8 +39,8 @@ inline CLI::Validator positive() {
 inline CLI::Validator between(double lo, double hi, const std::string& range) {
   return CLI::Validator(
       [=](std::string& text) -> std::string {
-        const double v = detail::as_number(text);
-        return std::isnan(v) || (v >= lo && v <= hi) ? "" : "must be " + range;
+        const std::optional<double> v = detail::as_number(text);
+        return !v || (*v >= lo && *v <= hi) ? "" : "must be " + range;
       },
       range);
 }
