@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the mesh readers and the recipe reader with libFuzzer + ASan + UBSan, one run each.
+# Fuzzes the mesh readers, the recipe reader and the field/ITDF readers with libFuzzer + ASan + UBSan, one run each.
 #   scripts/fuzz.sh [seconds per reader]        (default 120)
 # Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
 set -euo pipefail
@@ -17,7 +17,7 @@ fi
 
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTPMSFILL_FUZZ=ON -DTPMSFILL_BUILD_TESTS=OFF -DTPMSFILL_BUILD_EXAMPLES=OFF
-cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz
+cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz read_volume_fuzz
 fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 
 # Seed corpus: one small valid file per format, written here, plus assimp's test models when
@@ -78,4 +78,29 @@ done
 mkdir -p "$seeds/recipe"
 cp "$root"/docs/recipes/*.json "$seeds/recipe/"
 fuzz recipe "$build/tests/fuzz/read_recipe_fuzz" 8192
+# Field files and ITDF, seeded with small files of every form (first byte: even = a field
+# file, odd = ITDF), written by the CLI built in build/ when it is there.
+mkdir -p "$seeds/volume"
+python3 - "$seeds/volume" <<'PY'
+import struct, sys, zlib, gzip
+d = sys.argv[1]
+vals = struct.pack("<8f", *range(8))
+def put(name, b): open(f"{d}/{name}", "wb").write(b"\x00" + b)
+put("a.tdf", b"tpmsfill-field 1\nsize 1 1 1\nsign signed\n2 2 2\n0 1 2 3\n4 5 6 7\n")
+put("b.tdfb", b"TDFB" + struct.pack("<HBB3I3d", 1, 0, 1, 2, 2, 2, 0, 0, 0) + vals)
+put("c.nrrd", b"NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\nspacings: 1 1 2\nencoding: raw\n\n" + vals)
+put("d.nrrd", b"NRRD0004\ntype: short\ndimension: 3\nsizes: 2 1 1\nencoding: ascii\n\n1 2\n")
+put("e.mha", b"NDims = 3\nDimSize = 2 2 2\nElementType = MET_FLOAT\nCompressedData = True\nElementDataFile = LOCAL\n" + zlib.compress(vals))
+h = b"#INRIMAGE-4#{\nXDIM=2\nYDIM=2\nZDIM=2\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\nVX=1\nVY=1\nVZ=1\n"
+put("f.inr", h.ljust(252, b"\n") + b"##}\n" + vals)
+put("g.nrrd.gz", gzip.compress(b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 1 1 2\n\n\x01\x02"))
+PY
+if [ -x "$root/build/tpmsfill" ]; then
+  tmp_itdf=$(mktemp --suffix=.itdf)
+  tail -c +2 "$seeds/volume/a.tdf" >"${tmp_itdf%.itdf}.tdf"
+  "$root/build/tpmsfill" field fit "${tmp_itdf%.itdf}.tdf" "$tmp_itdf" --coefficients 2 --degree 1 --quiet &&
+    { printf '\x01'; cat "$tmp_itdf"; } >"$seeds/volume/h.itdf"
+  rm -f "$tmp_itdf" "${tmp_itdf%.itdf}.tdf"
+fi
+fuzz volume "$build/tests/fuzz/read_volume_fuzz" 65536
 exit $status

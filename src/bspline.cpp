@@ -143,93 +143,74 @@ std::vector<double> apply_transpose(const std::vector<double>& r, const BSplineV
   return t;
 }
 
-// P = (BᵀB + λ D₂ᵀD₂)⁻¹ Bᵀ for one axis (n × m, row-major), by Cholesky.
-std::vector<double> axis_solver(const std::vector<BasisRow>& rows, int degree, int n,
-                                double smoothing) {
-  const int m = static_cast<int>(rows.size());
-  std::vector<double> g(std::size_t(n) * n, 0.0), bt(std::size_t(n) * m, 0.0);
-  for (int a = 0; a < m; ++a)
-    for (int r = 0; r <= degree; ++r) {
-      const int i = rows[a].first + r;
-      bt[std::size_t(i) * m + a] = rows[a].value[r];
-      for (int s = 0; s <= degree; ++s)
-        g[std::size_t(i) * n + rows[a].first + s] += rows[a].value[r] * rows[a].value[s];
+// The banded Cholesky factor L of G = BᵀB + λ D₂ᵀD₂ for one axis (n × n, half-bandwidth
+// b = max(degree, 2)): row i holds L[i][i − b .. i] in l[i·(b + 1) ..], diagonal last.
+struct BandedFactor {
+  int n = 0, b = 0;
+  std::vector<double> l;
+  double& at(int i, int j) { return l[std::size_t(i) * (b + 1) + (j - i + b)]; }
+  double at(int i, int j) const { return l[std::size_t(i) * (b + 1) + (j - i + b)]; }
+
+  // Solves G x = y in place on a strided line (forward, then backward substitution).
+  void solve(double* y, std::size_t stride) const {
+    for (int i = 0; i < n; ++i) {
+      double s = y[i * stride];
+      for (int k = std::max(0, i - b); k < i; ++k) s -= at(i, k) * y[k * stride];
+      y[i * stride] = s / at(i, i);
     }
+    for (int i = n - 1; i >= 0; --i) {
+      double s = y[i * stride];
+      for (int k = i + 1; k <= std::min(n - 1, i + b); ++k) s -= at(k, i) * y[k * stride];
+      y[i * stride] = s / at(i, i);
+    }
+  }
+};
+
+BandedFactor axis_factor(const std::vector<BasisRow>& rows, int degree, int n, double smoothing) {
+  BandedFactor f;
+  f.n = n, f.b = std::max(degree, 2);
+  f.l.assign(std::size_t(n) * (f.b + 1), 0.0);
+  for (const BasisRow& row : rows)  // lower triangle of BᵀB
+    for (int r = 0; r <= degree; ++r)
+      for (int s = 0; s <= r; ++s)
+        f.at(row.first + r, row.first + s) += row.value[r] * row.value[s];
   double trace = 0;
-  for (int i = 0; i < n; ++i) trace += g[std::size_t(i) * n + i];
+  for (int i = 0; i < n; ++i) trace += f.at(i, i);
   const double lambda = smoothing * trace / n;
   for (int i = 0; i + 2 < n; ++i) {  // D₂ row i: c_i − 2 c_{i+1} + c_{i+2}
-    const int idx[3] = {i, i + 1, i + 2};
     const double w[3] = {1, -2, 1};
     for (int r = 0; r < 3; ++r)
-      for (int s = 0; s < 3; ++s) g[std::size_t(idx[r]) * n + idx[s]] += lambda * w[r] * w[s];
+      for (int s = 0; s <= r; ++s) f.at(i + r, i + s) += lambda * w[r] * w[s];
   }
-  // Cholesky G = L Lᵀ (in place, lower), then P = G⁻¹ Bᵀ column by column.
-  for (int j = 0; j < n; ++j) {
-    double d = g[std::size_t(j) * n + j];
-    for (int k = 0; k < j; ++k) d -= g[std::size_t(j) * n + k] * g[std::size_t(j) * n + k];
+  for (int j = 0; j < n; ++j) {  // in place: G's lower band becomes L's
+    double d = f.at(j, j);
+    for (int k = std::max(0, j - f.b); k < j; ++k) d -= f.at(j, k) * f.at(j, k);
     if (!(d > 0))
       throw InputError(
           "the fit's normal equations are singular: fewer samples than "
           "coefficients along an axis, or a smoothing of 0 with too many");
-    g[std::size_t(j) * n + j] = std::sqrt(d);
-    for (int i = j + 1; i < n; ++i) {
-      double s = g[std::size_t(i) * n + j];
-      for (int k = 0; k < j; ++k) s -= g[std::size_t(i) * n + k] * g[std::size_t(j) * n + k];
-      g[std::size_t(i) * n + j] = s / g[std::size_t(j) * n + j];
+    f.at(j, j) = std::sqrt(d);
+    for (int i = j + 1; i <= std::min(n - 1, j + f.b); ++i) {
+      double s = f.at(i, j);
+      for (int k = std::max(0, i - f.b); k < j; ++k) s -= f.at(i, k) * f.at(j, k);
+      f.at(i, j) = s / f.at(j, j);
     }
   }
-  detail::parallel_for(std::size_t(m), 8, [&](std::size_t begin, std::size_t end) {
-    std::vector<double> y(n);
-    for (std::size_t a = begin; a < end; ++a) {
-      for (int i = 0; i < n; ++i) {  // L y = Bᵀ column a
-        double s = bt[std::size_t(i) * m + a];
-        for (int k = 0; k < i; ++k) s -= g[std::size_t(i) * n + k] * y[k];
-        y[i] = s / g[std::size_t(i) * n + i];
-      }
-      for (int i = n - 1; i >= 0; --i) {  // Lᵀ x = y
-        double s = y[i];
-        for (int k = i + 1; k < n; ++k) s -= g[std::size_t(k) * n + i] * y[k];
-        y[i] = s / g[std::size_t(i) * n + i];
-      }
-      for (int i = 0; i < n; ++i) bt[std::size_t(i) * m + a] = y[i];
-    }
-  });
-  return bt;  // now P, n × m
+  return f;
 }
 
-// out = P ×_axis t with a dense P (rows × dims[axis]).
-std::vector<double> mode_dense(const std::vector<double>& t, std::array<int, 3> dims, int axis,
-                               const std::vector<double>& p, int rows) {
-  std::array<int, 3> out_dims = dims;
-  out_dims[axis] = rows;
-  std::vector<double> out(product(out_dims), 0.0);
-  const int m = dims[axis];
-  const std::size_t stride_in = axis == 0   ? 1
-                                : axis == 1 ? dims[0]
-                                            : std::size_t(dims[0]) * dims[1];
-  const std::size_t stride_out = axis == 0   ? 1
-                                 : axis == 1 ? out_dims[0]
-                                             : std::size_t(out_dims[0]) * out_dims[1];
+// Solves G c = t along every line of `axis` in place.
+void solve_lines(std::vector<double>& t, std::array<int, 3> dims, int axis, const BandedFactor& f) {
+  const std::size_t stride = axis == 0 ? 1 : axis == 1 ? dims[0] : std::size_t(dims[0]) * dims[1];
   const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
-  auto offset = [&](const std::array<int, 3>& d, int i1, int i2) {
-    std::array<std::size_t, 3> idx{};
-    idx[o1] = i1, idx[o2] = i2;
-    return idx[0] + d[0] * (idx[1] + std::size_t(d[1]) * idx[2]);
-  };
   detail::parallel_for(std::size_t(dims[o2]), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i2 = begin; i2 < end; ++i2)
       for (int i1 = 0; i1 < dims[o1]; ++i1) {
-        const double* in = t.data() + offset(dims, i1, static_cast<int>(i2));
-        double* o = out.data() + offset(out_dims, i1, static_cast<int>(i2));
-        for (int i = 0; i < rows; ++i) {
-          double s = 0;
-          for (int a = 0; a < m; ++a) s += p[std::size_t(i) * m + a] * in[a * stride_in];
-          o[i * stride_out] = s;
-        }
+        std::array<std::size_t, 3> idx{};
+        idx[o1] = i1, idx[o2] = i2;
+        f.solve(t.data() + idx[0] + dims[0] * (idx[1] + std::size_t(dims[1]) * idx[2]), stride);
       }
   });
-  return out;
 }
 
 }  // namespace
@@ -292,6 +273,42 @@ std::array<double, 3> bspline_gradient(const BSplineVolume& v, double u, double 
   return g;
 }
 
+void bspline_line(const BSplineVolume& vol, const std::vector<double>& u, double v, double w,
+                  double* value, std::array<double, 3>* gradient) {
+  const int p = vol.degree, nu = vol.counts[0];
+  const BasisRow bv = basis_row(vol.knots[1], p, vol.counts[1], v);
+  const BasisRow bw = basis_row(vol.knots[2], p, vol.counts[2], w);
+  // The coefficients contracted over j and k: C(·, v, w), ∂C/∂v(·, v, w), ∂C/∂w(·, v, w).
+  std::vector<double> line(std::size_t(nu) * 3, 0.0);
+  for (int k = 0; k <= p; ++k)
+    for (int j = 0; j <= p; ++j) {
+      const double* c =
+          vol.coefficients.data() +
+          std::size_t(nu) * ((bv.first + j) + std::size_t(vol.counts[1]) * (bw.first + k));
+      const double a = bv.value[j] * bw.value[k], b = bv.derivative[j] * bw.value[k],
+                   d = bv.value[j] * bw.derivative[k];
+      for (int i = 0; i < nu; ++i) {
+        line[3 * i] += a * c[i];
+        line[3 * i + 1] += b * c[i];
+        line[3 * i + 2] += d * c[i];
+      }
+    }
+  for (std::size_t n = 0; n < u.size(); ++n) {
+    const BasisRow bu = basis_row(vol.knots[0], p, nu, u[n]);
+    double s = 0;
+    std::array<double, 3> g{};
+    for (int r = 0; r <= p; ++r) {
+      const double* l = line.data() + 3 * std::size_t(bu.first + r);
+      s += bu.value[r] * l[0];
+      g[0] += bu.derivative[r] * l[0];
+      g[1] += bu.value[r] * l[1];
+      g[2] += bu.value[r] * l[2];
+    }
+    value[n] = s;
+    if (gradient) gradient[n] = g;
+  }
+}
+
 std::vector<double> evaluate_bspline_grid(const BSplineVolume& v, std::array<int, 3> dims) {
   const std::array<std::vector<BasisRow>, 3> rows{
       axis_rows(v, 0, dims[0]), axis_rows(v, 1, dims[1]), axis_rows(v, 2, dims[2])};
@@ -316,9 +333,11 @@ FitResult fit_bspline(const std::vector<double>& values, std::array<int, 3> dims
     std::vector<double> t = values;
     std::array<int, 3> d = dims;
     for (int axis = 0; axis < 3; ++axis) {
-      const std::vector<double> p = axis_solver(rows[axis], v.degree, counts[axis], o.smoothing);
-      t = mode_dense(t, d, axis, p, counts[axis]);
+      // c = (BᵀB + λD₂ᵀD₂)⁻¹ Bᵀ x along this axis: a banded product, then banded solves.
+      const BandedFactor f = axis_factor(rows[axis], v.degree, counts[axis], o.smoothing);
+      t = mode_banded(t, d, axis, rows[axis], v.degree, counts[axis], true);
       d[axis] = counts[axis];
+      solve_lines(t, d, axis, f);
     }
     v.coefficients = std::move(t);
   } else {

@@ -191,6 +191,13 @@ std::string porosity_and(const std::string& graded) {
 
 void require_valid(const LatticeDesign& d) {
   require_valid(static_cast<const TpmsOptions&>(d));
+  if (d.structure) {
+    require_valid(*d.structure);
+    if (!d.grading.empty())
+      throw InputError(
+          "grading applies to a TPMS, not to a porous structure (grade its "
+          "thresholds instead)");
+  }
   bool network = d.style == TpmsStyle::Network && !d.custom,
        sheet = d.style == TpmsStyle::Sheet && !d.custom;
   for (const Blend& b : d.blends) {
@@ -255,6 +262,14 @@ void require_valid(const LatticeDesign& d) {
 LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
   require_valid(design);
   LatticeDesign r = design;
+  if (r.structure && !r.custom) {
+    if (model.empty() && r.structure->placement == Placement::Stretch)
+      throw InputError("a porous structure stretched over the model needs the model's box");
+    const UnitCubeMap map = unit_cube_map(*r.structure, model);
+    if (r.porosity) r.structure = with_porosity(*r.structure, *r.porosity, map.extent);
+    r.custom = porous_source(*r.structure, map);
+    return r;  // the base TPMS and its grading do not apply
+  }
   static_cast<TpmsOptions&>(r) = resolve_porosity(design);
   for (Blend& b : r.blends) b.tpms = resolve_porosity(b.tpms);
   for (Grading& g : r.grading) {

@@ -23,6 +23,7 @@
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/marching_cubes.hpp"
 #include "tpmsfill/measure.hpp"
+#include "tpmsfill/porous.hpp"
 #include "tpmsfill/review.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/validate.hpp"
@@ -224,19 +225,26 @@ void resolve(Job& job) {
   r.input_bbox = bounding_box(job.model);
   job.result.resolved = o;
   const LatticeDesign& d = job.result.resolved.design = resolve_design(o.design, r.input_bbox);
-  r.design = d.custom ? std::string("custom field") : tpms_label(d);
+  r.design = d.structure ? structure_label(*d.structure)
+             : d.custom  ? std::string("custom field")
+                         : tpms_label(d);
   for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
   for (const Grading& g : d.grading)
     r.grading += (r.grading.empty() ? "" : "; ") + grading_label(g);
   r.rotation_degrees = euler_from_rotation(d.rotation);
-  r.cell = d.cell;
+  if (!d.structure) r.cell = d.cell;
   r.level = d.level;
   r.thickness = d.thickness;
   r.full_field = o.full_field;
   r.skin = o.skin;
   r.porosity_target = d.porosity;
   r.sheet = d.style == TpmsStyle::Sheet;
-  if (!d.custom) r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
+  if (d.structure) {  // its "cell" is the unit cube as placed: the model's box or the tile
+    const std::array<double, 3> cube = unit_cube_map(*d.structure, r.input_bbox).extent;
+    r.unclipped_porosity = 1.0 - porous_solid_share(*d.structure, cube);
+    r.cell = {cube[0], cube[1], cube[2]};
+  } else if (!d.custom)
+    r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
 
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
   // What cannot come out as asked is refused here, before the work; doubts are warnings.

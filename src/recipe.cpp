@@ -3,12 +3,14 @@
 #include "tpmsfill/recipe.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "detail/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/itdf.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -237,6 +239,13 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   r.boolean("self_intersections", o.check_self_intersections);
   if (const json* v = r.get("custom"); v && !(v->is_boolean() && !v->get<bool>()))
     r.fail("custom", "a custom field is code: it cannot come from a recipe");
+  // A porous structure (ITDF), relative to the recipe's folder.
+  if (r.get("field")) {
+    r.text("field", o.design.structure_file);
+    std::filesystem::path file = o.design.structure_file;
+    if (file.is_relative()) file = std::filesystem::path(source).parent_path() / file;
+    o.design.structure = read_itdf(file).structure;
+  }
   if (const json* v = r.get("lattice")) {
     Reader l = r.object("lattice", *v);
     read_tpms(l, o.design);
@@ -309,7 +318,10 @@ std::string recipe_json(const FillOptions& o) {
   j["keep_islands"] = o.keep_islands;
   j["measure"] = o.measure;
   j["self_intersections"] = o.check_self_intersections;
-  if (o.design.custom) j["custom"] = true;
+  if (!o.design.structure_file.empty())
+    j["field"] = o.design.structure_file;
+  else if (o.design.custom)
+    j["custom"] = true;
   j["lattice"] = tpms_json(o.design, false);
   json grading = json::array();
   for (const Grading& g : o.design.grading) {

@@ -190,7 +190,11 @@ std::string to_text(const FillReport& r) {
   const ValidationReport& v = r.validation;
   std::string s;
   s += "lattice      " + r.design + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z);
-  if (r.porosity_target)
+  // A porous structure's porosity moves its thresholds, shown in its label, not a level.
+  const bool structure = r.design.starts_with("scanned-field");
+  if (r.porosity_target && structure)
+    s += format(", for porosity %.4g %%", 100 * *r.porosity_target);
+  else if (r.porosity_target)
     s += format(r.sheet ? ", thickness %.4g mm for porosity %.4g %%"
                         : ", level %.4g mm for porosity %.4g %%",
                 r.sheet ? r.thickness : r.level, 100 * *r.porosity_target);

@@ -122,7 +122,8 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
   const std::string docs =
       test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
-  for (const std::string command : {"", "check", "fill", "repair"}) {
+  for (const std::string command :
+       {"", "check", "fill", "repair", "field", "field fit", "field info", "field mesh"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
     // Every "--word" in the help text (no std::regex: GCC 12 warns inside it under ASan).
@@ -282,7 +283,12 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
-      {"", "a command is needed: check, fill or repair"},
+      {"", "a command is needed: check, fill, repair or field"},
+      {"field", "field needs a command: fit, info or mesh"},
+      {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
+      {"field fit", "field fit needs IN and OUT"},
+      {"field fit a b --methd lspia",
+       "unknown option --methd for field fit (did you mean --method?)"},
       {"fil a b", "unknown command 'fil' (did you mean fill?)"},
       {"fill", "fill needs IN and OUT"},
       {"check", "check needs FILE"},

@@ -38,6 +38,12 @@ double bspline_value(const BSplineVolume& volume, double u, double v, double w);
 /// ∇C(u, v, w) (per unit of u, v, w).
 std::array<double, 3> bspline_gradient(const BSplineVolume& volume, double u, double v, double w);
 
+/// C and, when `gradient` is not null, ∇C along one line of points (u[n], v, w), n = 0 ..
+/// u.size() − 1: the rows of a grid whose parameters are separable, at O(degree²) per line
+/// and O(degree) per point. `value` and `gradient` hold u.size() entries.
+void bspline_line(const BSplineVolume& volume, const std::vector<double>& u, double v, double w,
+                  double* value, std::array<double, 3>* gradient = nullptr);
+
 /// C at the centres of a dims[0] × dims[1] × dims[2] grid of cells of the unit cube, x
 /// fastest; separable (the basis per axis once, then three contractions), parallel.
 std::vector<double> evaluate_bspline_grid(const BSplineVolume& volume, std::array<int, 3> dims);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "tpmsfill/field.hpp"
+#include "tpmsfill/porous.hpp"
 #include "tpmsfill/tpms.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -95,6 +96,11 @@ struct LatticeDesign : TpmsOptions {
   /// Replaces the base TPMS when set: any field source (field.hpp), e.g. function_source() of
   /// a strut network's distance. Grading applies to TPMS only; blends still apply on top.
   FieldSource custom = {};
+  /// Seed 003's porous structure (porous.hpp), in place of the base TPMS: resolve_design
+  /// places it over the model's box (or tiles it) and sets `custom` from it, after solving
+  /// `porosity` on it when that is set. Where `custom` is already set, it wins.
+  std::optional<PorousStructure> structure = {};
+  std::string structure_file = {};  ///< the ITDF file it was read from ("" none): for recipes
 };
 
 /// @throws InputError  a layer fails require_valid(TpmsOptions), a quantity is graded twice,

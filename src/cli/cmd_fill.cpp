@@ -13,6 +13,7 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/itdf.hpp>
 #include <tpmsfill/recipe.hpp>
 #include <vector>
 
@@ -25,7 +26,7 @@ namespace tpmsfill::cli {
 namespace {
 
 struct FillArgs {
-  std::string input, output, report, recipe;
+  std::string input, output, report, recipe, field;
   std::optional<std::string> lattice, inside;
   bool sheet = false;
   std::vector<double> cell, rotate, origin, grade_range;
@@ -84,9 +85,34 @@ Ramp ramp_along(const std::string& along) {
                    "' is not x, y, z, radial, radial-x, radial-y, radial-z or depth");
 }
 
+// --field: seed 003's structure replaces the TPMS; --cell tiles it with that cell.
+void apply_field(FillArgs& args, FillOptions& options) {
+  for (const auto& [given, flag] : {std::pair{args.lattice.has_value(), "--lattice"},
+                                    {args.sheet, "--sheet"},
+                                    {args.level.has_value(), "--level"},
+                                    {args.thickness.has_value(), "--thickness"},
+                                    {!args.grade.empty(), "--grade"},
+                                    {!args.rotate.empty(), "--rotate"},
+                                    {!args.origin.empty(), "--origin"}})
+    if (given)
+      throw InputError(std::string(flag) + " describes a TPMS; --field " + args.field +
+                       " replaces it (its thresholds: tpmsfill field mesh --solid/--surface)");
+  LatticeDesign& d = options.design;
+  d.structure = read_itdf(args.field).structure;
+  d.structure_file = args.field;
+  if (!args.cell.empty()) {
+    d.structure->size = args.cell.size() == 1
+                            ? std::array<double, 3>{args.cell[0], args.cell[0], args.cell[0]}
+                            : std::array<double, 3>{args.cell[0], args.cell[1], args.cell[2]};
+    d.structure->placement = Placement::Tile;
+    args.cell.clear();
+  }
+}
+
 // Flags on top of the recipe (or the defaults): what is given on the command line wins.
-void apply_flags(const FillArgs& args, FillOptions& options) {
+void apply_flags(FillArgs& args, FillOptions& options) {
   TpmsOptions& tpms = options.design;
+  if (!args.field.empty()) apply_field(args, options);
   if (args.units) options.units.units = units_from_name(*args.units);
   if (args.scale) options.units.scale = *args.scale;
   if (args.voxel) options.grid.voxel_size = *args.voxel;
@@ -149,7 +175,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-int run_fill(const FillArgs& args) {
+int run_fill(FillArgs args) {
   std::optional<tbb::global_control> threads;
   if (args.threads > 0)
     threads.emplace(tbb::global_control::max_allowed_parallelism,
@@ -163,6 +189,7 @@ int run_fill(const FillArgs& args) {
   std::vector<OutputFile> outputs{{"OUT", args.output}};
   if (!args.report.empty()) outputs.push_back({"--report", args.report});
   std::vector<std::filesystem::path> inputs{args.input};
+  if (!args.field.empty()) inputs.emplace_back(args.field);
   if (!args.recipe.empty()) inputs.emplace_back(args.recipe);
   require_writable_outputs(inputs, outputs);
 
@@ -243,6 +270,11 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("--recipe", args->recipe,
                   "JSON recipe with every setting below and more (blends of several lattices, "
                   "explicit ramps; docs/recipes.md); flags given as well override it")
+      ->check(existing_file());
+  sub->add_option("--field", args->field,
+                  "A porous structure (ITDF, from `tpmsfill field fit`) in place of the TPMS: "
+                  "stretched over the model's box, or tiled with --cell as its cell; --porosity "
+                  "shifts its thresholds")
       ->check(existing_file());
   sub->add_option("--lattice", args->lattice,
                   "primitive, gyroid, diamond, iwp, neovius, frd, lidinoid or splitp (default "

@@ -22,5 +22,6 @@ using Command = std::function<int()>;
 Command add_check_command(CLI::App& app);
 Command add_fill_command(CLI::App& app);
 Command add_repair_command(CLI::App& app);
+Command add_field_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "tpmsfill fills triangle meshes with TPMS lattices and proves that what it writes is a "
       "closed 2-manifold.\n"
-      "Reads STL (ASCII or binary), OBJ, PLY and OFF, also gzip-compressed.\n",
+      "Reads STL (ASCII or binary), OBJ, PLY and OFF, also gzip-compressed; `field` turns a "
+      "scanned distance field or CT into a porous structure (seed 003).\n",
       "tpmsfill"};
   app.set_version_flag("--version", "tpmsfill " TPMSFILL_VERSION);
   app.require_subcommand(1);
@@ -27,12 +28,16 @@ int main(int argc, char** argv) {
   Command check = add_check_command(app);
   Command fill = add_fill_command(app);
   Command repair = add_repair_command(app);
+  Command field = add_field_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
   // (with a did-you-mean) rather than CLI11's.
   app.allow_extras();
-  for (CLI::App* sub : app.get_subcommands({})) sub->allow_extras();
+  for (CLI::App* sub : app.get_subcommands({})) {
+    sub->allow_extras();
+    for (CLI::App* nested : sub->get_subcommands({})) nested->allow_extras();
+  }
   auto usage = [](const std::string& sentence) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", sentence.c_str());
     return kBadInput;
@@ -50,8 +55,11 @@ int main(int argc, char** argv) {
     return usage(usage_error(app, e, argc, argv));
   }
   if (std::string extra = unplaced_arguments(app); !extra.empty()) return usage(extra);
-  for (const CLI::App* sub : app.get_subcommands())
+  for (const CLI::App* sub : app.get_subcommands()) {
     if (std::string extra = unplaced_arguments(*sub); !extra.empty()) return usage(extra);
+    for (const CLI::App* nested : sub->get_subcommands())
+      if (std::string extra = unplaced_arguments(*nested); !extra.empty()) return usage(extra);
+  }
 
   try {
     for (CLI::App* sub : app.get_subcommands())
@@ -61,6 +69,8 @@ int main(int argc, char** argv) {
         return fill();
       else if (sub->get_name() == "repair")
         return repair();
+      else if (sub->get_name() == "field")
+        return field();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

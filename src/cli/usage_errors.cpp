@@ -48,12 +48,26 @@ std::vector<std::string> option_names(const CLI::App& command) {
   return names;
 }
 
-// The command named on the line (the first argument naming one), or null.
+// The command named on the line, or null: the first argument naming one, then, while it has
+// commands of its own ("field fit"), the next argument naming one of those.
 const CLI::App* given_command(const CLI::App& app, int argc, const char* const* argv) {
-  for (int i = 1; i < argc; ++i)
-    for (const CLI::App* sub : app.get_subcommands({}))
-      if (sub->get_name() == argv[i]) return sub;
-  return nullptr;
+  const CLI::App* command = nullptr;
+  const CLI::App* level = &app;
+  for (int i = 1; i < argc && level; ++i) {
+    const CLI::App* next = nullptr;
+    for (const CLI::App* sub : level->get_subcommands({}))
+      if (sub->get_name() == argv[i]) next = sub;
+    if (next) command = next, level = next;
+  }
+  return command;
+}
+
+// "fit" → "field fit": the command as typed after `tpmsfill`.
+std::string full_name(const CLI::App& command) {
+  std::string name = command.get_name();
+  for (const CLI::App* p = command.get_parent(); p && p->get_parent(); p = p->get_parent())
+    name = p->get_name() + " " + name;
+  return name;
 }
 
 // The option of `command` whose name appears in CLI11's message (the longest such), or null.
@@ -78,7 +92,20 @@ std::string commands_list(const CLI::App& app) {
 }
 
 std::string help_for(const CLI::App* command) {
-  return command ? " (tpmsfill " + command->get_name() + " --help)" : " (tpmsfill --help)";
+  return command ? " (tpmsfill " + full_name(*command) + " --help)" : " (tpmsfill --help)";
+}
+
+// A command with commands of its own ("field") given none of them, or an unknown one.
+std::string missing_command(const CLI::App& command, int argc, const char* const* argv) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : command.get_subcommands({})) names.push_back(sub->get_name());
+  for (int i = 1; i + 1 < argc; ++i)
+    if (argv[i] == command.get_name() && argv[i + 1][0] != '-') {
+      const std::string near = nearest(argv[i + 1], names);
+      return "unknown command '" + std::string(argv[i + 1]) + "' for " + full_name(command) +
+             (near.empty() ? help_for(&command) : " (did you mean " + near + "?)");
+    }
+  return full_name(command) + " needs a command: " + commands_list(command) + help_for(&command);
 }
 
 std::string missing_arguments(const CLI::App& app, const CLI::App* command) {
@@ -89,7 +116,7 @@ std::string missing_arguments(const CLI::App& app, const CLI::App* command) {
   std::string names;
   for (std::size_t i = 0; i < required.size(); ++i)
     names += (i == 0 ? "" : i + 1 == required.size() ? " and " : ", ") + required[i];
-  return command->get_name() + " needs " + names + help_for(command);
+  return full_name(*command) + " needs " + names + help_for(command);
 }
 
 std::string count_mismatch(const CLI::Option* o, const CLI::App* command) {
@@ -148,6 +175,8 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& error, int a
   const CLI::App* command = given_command(app, argc, argv);
   const std::string message = error.what();
   const CLI::Option* option = option_in(command, message);
+  if (command && !command->get_subcommands({}).empty())
+    return missing_command(*command, argc, argv);
   if (dynamic_cast<const CLI::RequiredError*>(&error)) return missing_arguments(app, command);
   if (option && dynamic_cast<const CLI::ArgumentMismatch*>(&error))
     return count_mismatch(option, command);
@@ -173,7 +202,7 @@ std::string unplaced_arguments(const CLI::App& command) {
   if (given.size() > 1 && given[0] == '-') {
     given = given.substr(0, given.find('='));
     const std::string near = nearest(given, option_names(command));
-    return "unknown option " + given + " for " + command.get_name() +
+    return "unknown option " + given + " for " + full_name(command) +
            (near.empty() ? help_for(&command) : " (did you mean " + near + "?)");
   }
   return "unexpected argument '" + given + "'" + help_for(&command);

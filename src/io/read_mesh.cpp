@@ -6,18 +6,14 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wrestrict"
 #endif
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 
+#include "detail/file_bytes.hpp"
+#include "detail/inflate.hpp"
 #include "detail/triangulate_polygon.hpp"
 #include "io/formats.hpp"
 
@@ -41,47 +37,6 @@ bool is_exact_binary_stl(std::string_view data) {
   std::uint32_t n = 0;
   for (int i = 3; i >= 0; --i) n = n << 8 | static_cast<unsigned char>(data[80 + i]);
   return data.size() == 84 + 50 * std::uint64_t{n};
-}
-
-std::string gunzip(std::string_view data, const std::string& source, std::uint64_t max_bytes) {
-  z_stream z{};
-  if (inflateInit2(&z, 15 + 16) != Z_OK) throw Error(source + ": cannot start zlib");
-  const std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
-  std::string out;
-  std::vector<unsigned char> chunk(std::size_t{1} << 18);
-  std::uint64_t consumed = 0;  // input handed to zlib so far
-  auto feed = [&] {
-    const std::uint64_t n = std::min<std::uint64_t>(data.size() - consumed, 1u << 30);
-    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data() + consumed));
-    z.avail_in = static_cast<uInt>(n);
-    consumed += n;
-  };
-  feed();
-  while (true) {
-    z.next_out = chunk.data();
-    z.avail_out = static_cast<uInt>(chunk.size());
-    const int rc = inflate(&z, Z_NO_FLUSH);
-    const std::uint64_t offset = consumed - z.avail_in;
-    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR)
-      fail_at_byte(source, offset,
-                   std::string("corrupt gzip data: ") + (z.msg ? z.msg : "zlib error"));
-    out.append(reinterpret_cast<const char*>(chunk.data()), chunk.size() - z.avail_out);
-    if (out.size() > max_bytes)
-      throw InputError(source + " decompresses to more than " + std::to_string(max_bytes) +
-                       " bytes (the limit)");
-    if (z.avail_in == 0 && consumed < data.size()) feed();
-    if (rc == Z_STREAM_END) {
-      // Concatenated gzip members form one stream (gzip(1) and zlib's gzopen agree).
-      if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
-        inflateReset(&z);
-        continue;
-      }
-      break;
-    }
-    if (rc == Z_BUF_ERROR && z.avail_in == 0 && consumed == data.size())
-      fail_at_byte(source, data.size(), "gzip data is truncated");
-  }
-  return out;
 }
 
 // UTF-16 with a byte-order mark -> bytes. Mesh files are ASCII, so anything else is refused
@@ -219,7 +174,7 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
   // size matches its triangle count is never unwrapped.
   if (data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
       static_cast<unsigned char>(data[1]) == 0x8b && !is_exact_binary_stl(data)) {
-    inflated = gunzip(data, source_name, options.max_bytes);
+    inflated = detail::inflate_bytes(data, source_name, options.max_bytes);
     data = inflated;
     mesh.gzip = true;
   }
@@ -253,29 +208,7 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
 }
 
 MeshFile read_mesh_file(const std::filesystem::path& path, const ReadOptions& options) {
-  const std::string name = path.string();
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw IoError("cannot open " + name + ": " + std::strerror(errno));
-  const std::unique_ptr<const int, void (*)(const int*)> closer(&fd,
-                                                                [](const int* f) { ::close(*f); });
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) throw IoError("cannot read " + name + ": " + std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) throw IoError("cannot read " + name + ": it is a folder");
-  const auto size = static_cast<std::uint64_t>(st.st_size);
-  if (size > options.max_bytes)
-    throw InputError(name + " is larger than the limit of " + std::to_string(options.max_bytes) +
-                     " bytes");
-  std::string bytes(size, '\0');
-  std::uint64_t done = 0;
-  while (done < size) {
-    const ssize_t n = ::read(fd, bytes.data() + done, size - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw IoError("cannot read " + name + ": " + std::strerror(errno));
-    if (n == 0) break;  // the file shrank while we read it
-    done += static_cast<std::uint64_t>(n);
-  }
-  bytes.resize(done);
-  return parse_mesh(bytes, name, options);
+  return parse_mesh(detail::read_file_bytes(path, options.max_bytes), path.string(), options);
 }
 
 TriangleSoup read_mesh(const std::filesystem::path& path, const ReadOptions& options) {

@@ -1,0 +1,107 @@
+/// @file volume.hpp
+/// @brief Stage "volume": a discrete scalar field on a uniform grid of cells (a scanned
+/// distance field, a CT, a threshold field) and its files.
+///
+/// Seed 003 (issue 13) starts from "a discrete distance field": w × h × d values, one per cell,
+/// at the cell centres of the unit cube. Scanners and 3D Slicer write the same thing as NRRD
+/// or MetaImage with a voxel spacing in mm; CGAL writes .inr. ScalarVolume holds any of them:
+/// values at cell centres, x fastest, with an optional physical size.
+///
+/// Readers are our own, with the mesh readers' rules: every declared count is checked against
+/// the bytes before anything is allocated, every error names the line or byte offset, values
+/// that are not finite are refused, gzip is unwrapped. Writers are atomic (io.hpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+/// What a field's values mean with respect to the solid it describes.
+enum class FieldSign {
+  Unknown,   ///< the file does not say (a CT's intensities, a threshold field)
+  Signed,    ///< a signed distance, negative in the solid (tpmsfill's convention)
+  Unsigned,  ///< a distance to a scanned surface or point cloud, ≥ 0 everywhere
+};
+
+/// w × h × d values at the centres of a box's cells, x fastest (as Grid's fields).
+struct ScalarVolume {
+  std::array<int, 3> dims{};  ///< cells along x, y, z (each ≥ 1)
+  /// Size of one cell, mm; all zero when the file gives no physical size (the seed's
+  /// unit-cube form): the volume is then the unit cube, unitless.
+  std::array<double, 3> spacing{};
+  /// Centre of the first cell (0, 0, 0), mm (NRRD "space origin", MetaImage "Offset").
+  Vec3 origin{};
+  std::vector<double> values;  ///< dims product, x fastest, all finite
+  FieldSign sign = FieldSign::Unknown;
+
+  std::size_t count() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
+  bool has_physical_size() const { return spacing[0] > 0 && spacing[1] > 0 && spacing[2] > 0; }
+  double at(int i, int j, int k) const {
+    return values[std::size_t(i) +
+                  std::size_t(dims[0]) * (std::size_t(j) + std::size_t(dims[1]) * k)];
+  }
+};
+
+enum class VolumeFormat {
+  Auto,         ///< reading: detect from content, then extension; writing: from the extension
+  FieldText,    ///< the seed's form as text: optional header lines, "w h d", values (.tdf)
+  FieldBinary,  ///< the seed's form as binary: magic, counts, float32/float64 values (.tdfb)
+  Nrrd,         ///< NRRD, attached or detached data, raw or gzip (.nrrd, .nhdr)
+  MetaImage,    ///< MetaImage, local or separate data, raw or zlib (.mha, .mhd)
+  Inr,          ///< CGAL / INRIA image (.inr, .inr.gz)
+};
+
+/// "field-text", "field-binary", "nrrd", "metaimage", "inr".
+std::string_view volume_format_name(VolumeFormat format);
+/// The format an extension names (case-insensitive; ".inr.gz" counts as ".inr"), or Auto.
+VolumeFormat volume_format_from_extension(const std::filesystem::path& path);
+/// "unknown", "signed", "unsigned"; and back (throws InputError listing the names).
+std::string_view field_sign_name(FieldSign sign);
+FieldSign field_sign_from_name(std::string_view name);
+
+struct VolumeReadOptions {
+  VolumeFormat format = VolumeFormat::Auto;
+  std::uint64_t max_bytes = std::uint64_t{4} << 30;  ///< largest file or decompressed data
+};
+
+/// What a reader found, beside the volume.
+struct VolumeFile {
+  ScalarVolume volume;
+  VolumeFormat format = VolumeFormat::Auto;  ///< the format actually parsed
+  std::string element_type;                  ///< as stored: "uint8", "int16", "float32", ...
+  bool compressed = false;                   ///< gzip / zlib data was unwrapped
+  std::vector<std::string> warnings;         ///< read around, not refused (one sentence each)
+};
+
+/// Reads a volume file. Detached data (NRRD "data file", MetaImage "ElementDataFile") is
+/// read relative to the header's folder.
+/// @throws IoError     the file (or its data file) cannot be opened or read
+/// @throws ParseError  malformed bytes: the message names the line or byte offset
+/// @throws InputError  empty, over max_bytes, an unsupported element type or encoding
+VolumeFile read_volume_file(const std::filesystem::path& path,
+                            const VolumeReadOptions& options = {});
+
+/// Parses bytes already in memory (detached data cannot be followed and is refused).
+VolumeFile parse_volume(std::string_view bytes, const std::string& source_name,
+                        const VolumeReadOptions& options = {});
+
+/// Writes atomically (write_file_atomically). FieldText, FieldBinary (float32 unless a value
+/// would lose more than float rounding... always float64 when `exact`), Nrrd (raw, attached).
+/// @throws InputError  Auto with an extension that names no writable format, an invalid
+///                     volume (count mismatch, a dimension < 1, a value not finite)
+/// @throws IoError     the folder is not writable, the disk is full, ...
+void write_volume(const std::filesystem::path& path, const ScalarVolume& volume,
+                  VolumeFormat format = VolumeFormat::Auto, bool exact = false);
+
+/// @throws InputError  a dimension < 1, values.size() != count(), a value not finite, a
+///                     negative or non-finite spacing, spacing partly zero
+void require_valid(const ScalarVolume& volume);
+
+}  // namespace tpmsfill

@@ -1,0 +1,394 @@
+// `tpmsfill field fit|info|mesh`: seed 003's porous structures. A scanned distance field (or
+// CT) is fitted by an implicit B-spline and stored with its structure as a compact ITDF file,
+// described, or meshed. This file only parses, calls the library and prints.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/itdf.hpp>
+#include <tpmsfill/volume.hpp>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/job_files.hpp"
+#include "cli/terminal_progress.hpp"
+#include "cli/validators.hpp"
+
+namespace tpmsfill::cli {
+namespace {
+
+// The structure flags fit and mesh share: --solid T1 T2 | --surface T0, --thickness, --porosity.
+struct StructureArgs {
+  std::vector<std::string> solid;
+  std::optional<double> surface, thickness, porosity;
+  std::vector<double> size;
+  bool tile = false;
+};
+
+struct FieldArgs {
+  std::string input, output, report;
+  StructureArgs structure;
+  std::vector<int> coefficients;
+  std::string method = "direct", coefficient_type = "float32";
+  std::optional<std::string> sign;
+  std::optional<double> iso, voxel;
+  int degree = 3, max_iterations = 200;
+  double smoothing = FitOptions{}.smoothing;
+  bool quiet = false;
+};
+
+double threshold_number(const std::string& text) {
+  if (text == "inf" || text == "+inf") return INFINITY;
+  if (text == "-inf") return -INFINITY;
+  std::size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+  }
+  if (used != text.size() || !std::isfinite(v))
+    throw InputError("--solid: '" + text + "' is not a number, inf or -inf");
+  return v;
+}
+
+std::array<double, 3> box_size(const std::vector<double>& v) {
+  return {v[0], v[1], v[2]};
+}
+
+// The flags over `s` (a fresh fit's defaults, or what a file stores).
+void apply_structure(const StructureArgs& a, PorousStructure& s) {
+  if (!a.solid.empty() && a.surface) throw InputError("give --solid or --surface, not both");
+  if (!a.solid.empty()) {
+    s.type = StructureType::Solid;
+    s.t1 = {threshold_number(a.solid[0])};
+    s.t2 = {threshold_number(a.solid[1])};
+  }
+  if (a.surface) {
+    s.type = StructureType::Surface;
+    s.t0 = {*a.surface};
+  }
+  if (a.thickness) {
+    if (s.type != StructureType::Surface)
+      throw InputError("--thickness is the sheet thickness of a --surface structure");
+    s.sheet_thickness = *a.thickness;
+  }
+  if (!a.size.empty()) s.size = box_size(a.size);
+  if (a.tile) s.placement = Placement::Tile;
+  require_valid(s);
+}
+
+std::string kib(std::uint64_t bytes) {
+  char b[32];
+  std::snprintf(b, sizeof b, bytes < 10 << 20 ? "%.1f KiB" : "%.1f MiB",
+                bytes < 10 << 20 ? bytes / 1024.0 : bytes / 1048576.0);
+  return b;
+}
+
+// The iso-value whose side changes the fit's report counts: --iso, else the structure's first
+// finite threshold.
+double report_iso(const FieldArgs& a, const PorousStructure& s) {
+  if (a.iso) return *a.iso;
+  if (s.type == StructureType::Surface) return s.t0.constant;
+  return std::isfinite(s.t2.constant)   ? s.t2.constant
+         : std::isfinite(s.t1.constant) ? s.t1.constant
+                                        : 0;
+}
+
+int run_fit(const FieldArgs& a) {
+  if (a.output.empty()) throw InputError("field fit needs IN and OUT.itdf");
+  require_writable_outputs({a.input}, {{"OUT", a.output}});
+  const auto t0 = std::chrono::steady_clock::now();
+  const VolumeFile in = read_volume_file(a.input);
+  for (const std::string& w : in.warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  const ScalarVolume& v = in.volume;
+  std::array<int, 3> counts{};
+  for (int ax = 0; ax < 3; ++ax)
+    counts[ax] = a.coefficients.empty()       ? std::max(a.degree + 1, (v.dims[ax] + 1) / 2)
+                 : a.coefficients.size() == 1 ? a.coefficients[0]
+                                              : a.coefficients.at(ax);
+  if (a.coefficients.size() == 2) throw InputError("--coefficients takes one count or three");
+  FitOptions fo;
+  fo.method = a.method == "lspia" ? FitMethod::Lspia : FitMethod::Direct;
+  fo.degree = a.degree;
+  fo.smoothing = a.smoothing;
+  fo.max_iterations = a.max_iterations;
+  const auto t_fit = std::chrono::steady_clock::now();
+  FitResult fit = fit_bspline(v.values, v.dims, counts, fo);
+  const double fit_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fit).count();
+
+  ItdfFile file;
+  PorousStructure& s = file.structure;
+  s.field = std::move(fit.volume);
+  s.sign = a.sign ? field_sign_from_name(*a.sign) : v.sign;
+  if (v.has_physical_size())
+    for (int ax = 0; ax < 3; ++ax) s.size[ax] = v.spacing[ax] * v.dims[ax];
+  // Default structure: the solid the signed field describes (C <= 0); other fields must say.
+  s.t2 = {0};
+  const StructureArgs& st = a.structure;
+  if (st.solid.empty() && !st.surface && s.sign != FieldSign::Signed)
+    throw InputError("an " + std::string(field_sign_name(s.sign)) +
+                     " field needs a structure: --solid T1 T2 (e.g. --solid 0 0.5 thickens a "
+                     "scanned surface; --solid 2.9 inf keeps CT values above 2.9) or --surface T0");
+  apply_structure(st, s);
+  if (st.porosity)
+    s = with_porosity(s, *st.porosity, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1});
+
+  const auto [lo, hi] = std::minmax_element(v.values.begin(), v.values.end());
+  const double iso = report_iso(a, s);
+  const std::vector<double> c = evaluate_bspline_grid(s.field, v.dims);
+  std::size_t flips = 0;
+  for (std::size_t n = 0; n < c.size(); ++n) flips += (c[n] >= iso) != (v.values[n] >= iso);
+  file.fit = FitRecord{.lspia = fo.method == FitMethod::Lspia,
+                       .source_dims = v.dims,
+                       .iterations = fit.report.iterations,
+                       .rms = fit.report.rms,
+                       .max_error = fit.report.max_error,
+                       .value_min = *lo,
+                       .value_max = *hi,
+                       .iso = iso,
+                       .flipped = double(flips) / double(c.size()),
+                       .seconds = fit_seconds};
+  file.encoding[0].type = a.coefficient_type == "float64" ? CoefficientType::Float64
+                          : a.coefficient_type == "int16" ? CoefficientType::Int16
+                                                          : CoefficientType::Float32;
+  file.provenance = "tpmsfill " TPMSFILL_VERSION " field fit of " + a.input + " (sha256 " +
+                    sha256_of_file(a.input) + ")";
+  const std::string bytes = itdf_bytes(file);
+  write_file_atomically(a.output, bytes);
+
+  if (!a.quiet) {
+    const double range = std::max(*hi - *lo, 1e-300);
+    std::printf("%s -> %s\n", a.input.c_str(), a.output.c_str());
+    std::printf("grid         %d x %d x %d %s (%s), %s\n", v.dims[0], v.dims[1], v.dims[2],
+                in.element_type.c_str(), std::string(volume_format_name(in.format)).c_str(),
+                std::string(field_sign_name(s.sign)).c_str());
+    std::printf("spline       %d x %d x %d coefficients, degree %d (%s, %.3g s%s)\n", counts[0],
+                counts[1], counts[2], a.degree, a.method.c_str(), fit_seconds,
+                fo.method == FitMethod::Lspia
+                    ? (", " + std::to_string(fit.report.iterations) + " iterations").c_str()
+                    : "");
+    std::printf("error        RMS %.4g (%.2f %% of the range %.4g), max %.4g\n", fit.report.rms,
+                100 * fit.report.rms / range, *hi - *lo, fit.report.max_error);
+    std::printf("iso %-8.4g %.3f %% of the cells changed side (%zu)\n", iso,
+                100 * file.fit->flipped, flips);
+    std::printf("structure    %s\n", structure_label(s).c_str());
+    std::printf("size         %s (the grid as float32: %s, %.1fx smaller)\n",
+                kib(bytes.size()).c_str(), kib(4 * v.count()).c_str(),
+                4.0 * v.count() / bytes.size());
+    std::printf("time         %.2f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  if (fit.report.rms > 0.05 * (*hi - *lo))
+    std::fprintf(stderr,
+                 "tpmsfill: warning: the fit's RMS error is %.1f %% of the value range: the "
+                 "structure will not follow the scan closely; use more --coefficients\n",
+                 100 * fit.report.rms / (*hi - *lo));
+  return kOk;
+}
+
+int run_info(const FieldArgs& a) {
+  std::FILE* f = std::fopen(a.input.c_str(), "rb");
+  if (!f) throw IoError("cannot open " + a.input);
+  char magic[4] = {};
+  const std::size_t got = std::fread(magic, 1, 4, f);
+  std::fclose(f);
+  if (looks_like_itdf(std::string_view(magic, got))) {
+    const ItdfFile file = read_itdf(a.input);
+    const PorousStructure& s = file.structure;
+    const auto& n = s.field.counts;
+    std::printf("%s: ITDF version 1\n", a.input.c_str());
+    std::printf("structure    %s\n", structure_label(s).c_str());
+    std::printf("sign         %s\n", std::string(field_sign_name(s.sign)).c_str());
+    std::printf("C            %d x %d x %d coefficients, degree %d\n", n[0], n[1], n[2],
+                s.field.degree);
+    if (s.size[0] > 0)
+      std::printf("size         %g x %g x %g mm, %s\n", s.size[0], s.size[1], s.size[2],
+                  std::string(placement_name(s.placement)).c_str());
+    else
+      std::printf("size         none (stretched over the model)\n");
+    if (file.fit)
+      std::printf(
+          "fit          of %d x %d x %d cells (%s): RMS %.4g, max %.4g, %.3f %% changed side of "
+          "%g\n",
+          file.fit->source_dims[0], file.fit->source_dims[1], file.fit->source_dims[2],
+          file.fit->lspia ? "lspia" : "direct", file.fit->rms, file.fit->max_error,
+          100 * file.fit->flipped, file.fit->iso);
+    std::printf("porosity     %.4f of the unit cube\n",
+                1 - porous_solid_share(s, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1}));
+    if (!file.provenance.empty()) std::printf("provenance   %s\n", file.provenance.c_str());
+    return kOk;
+  }
+  const VolumeFile file = read_volume_file(a.input);
+  const ScalarVolume& v = file.volume;
+  const auto [lo, hi] = std::minmax_element(v.values.begin(), v.values.end());
+  std::printf("%s: %s field, %d x %d x %d %s%s\n", a.input.c_str(),
+              std::string(volume_format_name(file.format)).c_str(), v.dims[0], v.dims[1], v.dims[2],
+              file.element_type.c_str(), file.compressed ? " (compressed)" : "");
+  if (v.has_physical_size())
+    std::printf("voxel        %g x %g x %g mm, first centre at (%g, %g, %g)\n", v.spacing[0],
+                v.spacing[1], v.spacing[2], v.origin.x, v.origin.y, v.origin.z);
+  else
+    std::printf("voxel        none (the unit cube)\n");
+  std::printf("values       %.6g to %.6g, %s\n", *lo, *hi,
+              std::string(field_sign_name(v.sign)).c_str());
+  for (const std::string& w : file.warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  return kOk;
+}
+
+TriangleSoup box_soup(const std::array<double, 3>& s) {
+  TriangleSoup box;
+  for (int c = 0; c < 8; ++c)
+    box.points.push_back({c & 1 ? s[0] : 0, c & 2 ? s[1] : 0, c & 4 ? s[2] : 0});
+  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return box;
+}
+
+int run_mesh(const FieldArgs& a) {
+  if (a.output.empty()) throw InputError("field mesh needs IN.itdf and OUT");
+  if (format_from_extension(a.output) == MeshFormat::Auto)
+    throw InputError(a.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+  if (!a.voxel) throw InputError("field mesh needs --voxel (the grid spacing, mm)");
+  require_writable_outputs({a.input}, {{"OUT", a.output}});
+  const ItdfFile file = read_itdf(a.input);
+  PorousStructure s = file.structure;
+  apply_structure(a.structure, s);
+  if (!(s.size[0] > 0))
+    throw InputError(a.input + " has no physical size: give --size X Y Z in mm");
+  const std::array<double, 3> size = s.size;
+  if (s.type == StructureType::Surface && s.sheet_thickness == 0) {
+    if (a.structure.porosity) throw InputError("an open surface has no porosity: give --thickness");
+    const OpenSurface open =
+        porous_surface_mesh(s, Box3{{0, 0, 0}, {size[0], size[1], size[2]}}, *a.voxel);
+    write_mesh(a.output, open.mesh);
+    if (!a.quiet)
+      std::printf(
+          "%s -> %s\nopen surface %zu triangles, %llu components, %llu border edges, area %.4g "
+          "mm^2\n",
+          a.input.c_str(), a.output.c_str(), open.mesh.triangles.size(),
+          static_cast<unsigned long long>(open.components),
+          static_cast<unsigned long long>(open.border_edges), open.area);
+    return kOk;
+  }
+  FillOptions o;
+  o.grid.voxel_size = *a.voxel;
+  o.design.structure = s;
+  o.design.structure_file = a.input;
+  if (a.structure.porosity) o.design.porosity = a.structure.porosity;
+  o.measure = false;
+  std::unique_ptr<TerminalProgress> progress;
+  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  o.progress = progress.get();
+  FillResult r = fill(box_soup(size), o);
+  if (progress) progress->clear();
+  write_mesh(a.output, r.mesh);
+  if (!a.quiet) {
+    const std::uint64_t itdf = itdf_bytes(file).size(), stl = 84 + 50 * r.mesh.triangles.size();
+    std::printf("%s -> %s\n%s", a.input.c_str(), a.output.c_str(), to_text(r.report).c_str());
+    std::printf("storage      ITDF %s, binary STL %s: %.0fx smaller\n", kib(itdf).c_str(),
+                kib(stl).c_str(), double(stl) / double(itdf));
+  }
+  for (const std::string& w : r.report.warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  return kOk;
+}
+
+void add_structure_flags(CLI::App* sub, StructureArgs& s) {
+  sub->add_option("--solid", s.solid,
+                  "Solid type t1 <= C <= t2: T1 T2 (inf and -inf open a side, e.g. --solid -inf "
+                  "0 is the inside of a signed field, --solid 0 0.3 a scanned surface thickened)")
+      ->expected(2);
+  sub->add_option("--surface", s.surface,
+                  "Surface type C = T0 (an open surface, or a sheet with --thickness)");
+  sub->add_option("--thickness", s.thickness, "Sheet thickness of the surface type, mm")
+      ->check(positive());
+  sub->add_option("--porosity", s.porosity,
+                  "Void fraction to reach (0 to 1): shifts the solid's thresholds or sets the "
+                  "sheet's thickness")
+      ->check(between(1e-6, 1 - 1e-6, "between 0 and 1"));
+  sub->add_option("--size", s.size, "Physical size of the unit cube X Y Z, mm")
+      ->expected(3)
+      ->check(positive());
+  sub->add_flag("--tile", s.tile,
+                "Tile the structure with --size as its cell instead of stretching it");
+}
+
+}  // namespace
+
+Command add_field_command(CLI::App& app) {
+  auto a = std::make_shared<FieldArgs>();
+  CLI::App* field = app.add_subcommand(
+      "field", "Porous structures from a scanned distance field (fit, info, mesh)");
+  field->require_subcommand(1);
+  field->footer(
+      "Seed 003: a discrete field (a scanned porous sample's distance field, a CT) is fitted by "
+      "a trivariate implicit B-spline C, and the structure t1 <= C <= t2 (solid) or C = t0 "
+      "(surface) is stored as a compact ITDF file, which `fill --field` and `field mesh` use.\n\n"
+      "Examples:\n"
+      "  tpmsfill field fit skull_2.9.inr bone.itdf --coefficients 32 --solid 2.9 inf\n"
+      "  tpmsfill field info bone.itdf\n"
+      "  tpmsfill field mesh bone.itdf bone.stl --voxel 1 --porosity 0.7\n"
+      "  tpmsfill fill femur.stl femur-bone.stl --field bone.itdf --cell 20 --voxel 0.2");
+
+  CLI::App* fit =
+      field->add_subcommand("fit", "Fit a B-spline to a field file and store the structure (ITDF)");
+  fit->add_option(
+         "IN", a->input,
+         "Field: .tdf/.tdfb (the seed's forms), .nrrd/.nhdr, .mha/.mhd, .inr (gzip allowed)")
+      ->required();
+  fit->add_option("OUT", a->output, "The ITDF file to write")->required();
+  fit->add_option("--coefficients", a->coefficients,
+                  "Coefficients per axis: N, or NX NY NZ (default: half the grid's cells)")
+      ->expected(1, 3);
+  fit->add_option("--method", a->method,
+                  "direct (exact least squares, default) or lspia (the seed's iteration)")
+      ->check(CLI::IsMember({"direct", "lspia"}));
+  fit->add_option("--degree", a->degree, "B-spline degree (default 3)")
+      ->check(between(1, 7, "1 to 7"));
+  fit->add_option("--smoothing", a->smoothing,
+                  "Second-difference penalty of the direct solve (default 1e-6)")
+      ->check(between(0, 1, "0 to 1"));
+  fit->add_option("--max-iterations", a->max_iterations, "LSPIA's iteration limit (default 200)")
+      ->check(between(1, 100000, "1 to 100000"));
+  fit->add_option("--sign", a->sign,
+                  "What the values are: signed (negative in the solid), unsigned or unknown "
+                  "(default: the file's)")
+      ->check(CLI::IsMember({"signed", "unsigned", "unknown"}));
+  fit->add_option(
+      "--iso", a->iso,
+      "Iso-value whose side changes the report counts (default: the structure's threshold)");
+  fit->add_option("--coefficient-type", a->coefficient_type, "float32 (default), float64 or int16")
+      ->check(CLI::IsMember({"float32", "float64", "int16"}));
+  add_structure_flags(fit, a->structure);
+  fit->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
+
+  CLI::App* info = field->add_subcommand("info", "Describe an ITDF file or a field file");
+  info->add_option("FILE", a->input, "ITDF or field file")->required()->check(existing_file());
+
+  CLI::App* mesh = field->add_subcommand("mesh", "Mesh an ITDF structure over its box (or --size)");
+  mesh->add_option("IN", a->input, "ITDF file")->required()->check(existing_file());
+  mesh->add_option("OUT", a->output, "Output mesh (.stl, .obj, .ply, .off)")->required();
+  mesh->add_option("--voxel", a->voxel, "Grid spacing, mm")->required()->check(positive());
+  add_structure_flags(mesh, a->structure);
+  mesh->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
+
+  return [a, fit, info, mesh] {
+    if (fit->parsed()) return run_fit(*a);
+    if (info->parsed()) return run_info(*a);
+    if (mesh->parsed()) return run_mesh(*a);
+    return int(kBadInput);
+  };
+}
+
+}  // namespace tpmsfill::cli

@@ -1,0 +1,56 @@
+#include "detail/inflate.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include "detail/parse_errors.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace tpmsfill::detail {
+
+std::string inflate_bytes(std::string_view data, const std::string& source,
+                          std::uint64_t max_bytes) {
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) throw Error(source + ": cannot start zlib");
+  const std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
+  std::string out;
+  std::vector<unsigned char> chunk(std::size_t{1} << 18);
+  std::uint64_t consumed = 0;  // input handed to zlib so far
+  auto feed = [&] {
+    const std::uint64_t n = std::min<std::uint64_t>(data.size() - consumed, 1u << 30);
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data() + consumed));
+    z.avail_in = static_cast<uInt>(n);
+    consumed += n;
+  };
+  feed();
+  while (true) {
+    z.next_out = chunk.data();
+    z.avail_out = static_cast<uInt>(chunk.size());
+    const int rc = inflate(&z, Z_NO_FLUSH);
+    const std::uint64_t offset = consumed - z.avail_in;
+    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR)
+      fail_at_byte(source, offset,
+                   std::string("corrupt compressed data: ") + (z.msg ? z.msg : "zlib error"));
+    out.append(reinterpret_cast<const char*>(chunk.data()), chunk.size() - z.avail_out);
+    if (out.size() > max_bytes)
+      throw InputError(source + " decompresses to more than " + std::to_string(max_bytes) +
+                       " bytes (the limit)");
+    if (z.avail_in == 0 && consumed < data.size()) feed();
+    if (rc == Z_STREAM_END) {
+      // Concatenated gzip members form one stream (gzip(1) and zlib's gzopen agree).
+      if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
+        inflateReset(&z);
+        continue;
+      }
+      break;
+    }
+    if (rc == Z_BUF_ERROR && z.avail_in == 0 && consumed == data.size())
+      fail_at_byte(source, data.size(), "compressed data is truncated");
+  }
+  return out;
+}
+
+}  // namespace tpmsfill::detail

@@ -1,0 +1,40 @@
+// The open surface C = t0 of a porous structure: marching cubes and validation, kept apart
+// from porous.cpp so that the ITDF reader's fuzzer builds without CGAL.
+#include <cmath>
+
+#include "tpmsfill/error.hpp"
+#include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/porous.hpp"
+#include "tpmsfill/validate.hpp"
+
+namespace tpmsfill {
+
+OpenSurface porous_surface_mesh(const PorousStructure& s, const Box3& box, double voxel) {
+  if (s.type != StructureType::Surface) throw InputError("an open surface needs a surface type");
+  if (!(voxel > 0) || !std::isfinite(voxel)) throw InputError("the voxel size must be > 0");
+  PorousStructure open = s;
+  open.sheet_thickness = 0;
+  Grid grid;
+  grid.origin = box.min;
+  grid.spacing = voxel;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = box.max[a] - box.min[a];
+    if (!(extent > 0)) throw InputError("the box to mesh the surface in is empty");
+    const double cells = std::ceil(extent / voxel - 1e-9);
+    if (cells > 1 << 15) throw InputError("the voxel size is too small for the box");
+    grid.dims[a] = static_cast<int>(cells) + 1;
+  }
+  const FieldSource source = porous_source(open, unit_cube_map(open, box));
+  OpenSurface out;
+  out.mesh = marching_cubes(source, grid);
+  const ValidationReport v = validate_mesh(out.mesh, {.cell_grid = grid});
+  if (!v.manifold() || v.inconsistent_edges || v.degenerate_triangles ||
+      v.self_intersecting_pairs.value_or(0))
+    throw ValidationError("the open surface is not a valid 2-manifold with boundary");
+  out.border_edges = v.border_edges;
+  out.components = v.components;
+  out.area = v.area;
+  return out;
+}
+
+}  // namespace tpmsfill

@@ -1,0 +1,134 @@
+// `tpmsfill field fit|info|mesh` and `fill --field` (issue 13), end to end through the program.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/itdf.hpp>
+#include <tpmsfill/validate.hpp>
+#include <tpmsfill/volume.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+
+namespace {
+
+int run(const std::string& args, std::string* out = nullptr) {
+  return test::run_command(std::string(TPMSFILL_CLI) + " " + args + " 2>&1", out);
+}
+
+// A signed sponge field on 24³ cells of a 12 mm cube: distance to the nearest of a few pore
+// centres minus 2 mm (negative in the pores), written in the seed's binary form.
+std::filesystem::path sponge_field(const std::filesystem::path& dir) {
+  ScalarVolume v;
+  v.dims = {24, 24, 24};
+  v.spacing = {0.5, 0.5, 0.5};
+  v.origin = {0.25, 0.25, 0.25};
+  v.sign = FieldSign::Signed;
+  const double c[5][3] = {{3, 3, 3}, {9, 4, 6}, {5, 9, 9}, {2, 10, 3}, {10, 10, 11}};
+  for (int k = 0; k < 24; ++k)
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        double best = 1e9;
+        for (const auto& p : c)
+          best = std::min(best, std::hypot(0.5 * i + 0.25 - p[0], 0.5 * j + 0.25 - p[1],
+                                           0.5 * k + 0.25 - p[2]));
+        v.values.push_back(best - 2);
+      }
+  write_volume(dir / "sponge.tdfb", v);
+  return dir / "sponge.tdfb";
+}
+
+}  // namespace
+
+TEST(FieldCli, FitInfoMeshAndFill) {
+  const auto dir = test::scratch_dir();
+  const auto field = sponge_field(dir);
+  std::string out;
+  // The pores are where C < 0: the solid is C >= 0 (--solid 0 inf).
+  ASSERT_EQ(run("field fit " + field.string() + " " + (dir / "s.itdf").string() +
+                    " --coefficients 16 --solid 0 inf",
+                &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("16 x 16 x 16 coefficients"), std::string::npos) << out;
+  const ItdfFile f = read_itdf(dir / "s.itdf");
+  ASSERT_TRUE(f.fit);
+  EXPECT_LT(f.fit->rms, 0.05);
+  EXPECT_EQ(f.structure.size, (std::array<double, 3>{12, 12, 12}));
+  ASSERT_EQ(run("field info " + (dir / "s.itdf").string(), &out), 0) << out;
+  EXPECT_NE(out.find("12 x 12 x 12 mm"), std::string::npos) << out;
+
+  // Meshed over its own box at a porosity of 0.6: closed, valid, porosity within one point.
+  ASSERT_EQ(run("field mesh " + (dir / "s.itdf").string() + " " + (dir / "s.stl").string() +
+                    " --voxel 0.2 --porosity 0.6",
+                &out),
+            0)
+      << out;
+  const TriangleSoup solid = read_mesh(dir / "s.stl");
+  const double volume = test::signed_volume(solid);
+  EXPECT_NEAR(1 - volume / (12.0 * 12 * 12), 0.6, 0.01) << out;
+  EXPECT_NE(out.find("smaller"), std::string::npos) << out;
+
+  // The surface type without thickness: an open 2-manifold with a boundary on the box.
+  ASSERT_EQ(run("field mesh " + (dir / "s.itdf").string() + " " + (dir / "open.ply").string() +
+                    " --voxel 0.3 --surface 0",
+                &out),
+            0)
+      << out;
+  const ValidationReport open = validate_mesh(read_mesh(dir / "open.ply"));
+  EXPECT_TRUE(open.manifold());
+  EXPECT_GT(open.border_edges, 0u);
+  EXPECT_EQ(open.inconsistent_edges, 0u);
+
+  // fill --field: a sphere filled with the tiled sponge; TPMS flags are refused with it.
+  write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 10, 3));
+  ASSERT_EQ(run("fill " + (dir / "ball.stl").string() + " " + (dir / "ball-out.ply").string() +
+                    " --field " + (dir / "s.itdf").string() + " --cell 6 --voxel 0.25 --quiet",
+                &out),
+            0)
+      << out;
+  EXPECT_TRUE(validate_mesh(read_mesh(dir / "ball-out.ply")).valid());
+  EXPECT_EQ(run("fill " + (dir / "ball.stl").string() + " " + (dir / "x.stl").string() +
+                    " --field " + (dir / "s.itdf").string() + " --lattice diamond",
+                &out),
+            2);
+  EXPECT_NE(out.find("--lattice describes a TPMS"), std::string::npos) << out;
+}
+
+TEST(FieldCli, BadInputsSayWhatAndWhere) {
+  const auto dir = test::scratch_dir();
+  test::write_file(dir / "bad.tdf", "4 4 4\n1 2 3\n");
+  std::string out;
+  EXPECT_EQ(run("field fit " + (dir / "bad.tdf").string() + " " + (dir / "o.itdf").string() +
+                    " --solid 0 1",
+                &out),
+            2);
+  EXPECT_NE(out.find("bad.tdf:1: 64 values declared, more than the file holds"), std::string::npos)
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.itdf"));
+  // An unsigned field needs a structure; an ITDF without a size needs --size to be meshed.
+  test::write_file(dir / "u.tdf",
+                   "sign unsigned\n4 4 4\n" + std::string(64 * 2, ' ').replace(0, 0, [] {
+                     std::string s;
+                     for (int n = 0; n < 64; ++n) s += std::to_string(n % 5) + " ";
+                     return s;
+                   }()));
+  EXPECT_EQ(run("field fit " + (dir / "u.tdf").string() + " " + (dir / "u.itdf").string(), &out),
+            2);
+  EXPECT_NE(out.find("needs a structure"), std::string::npos) << out;
+  ASSERT_EQ(run("field fit " + (dir / "u.tdf").string() + " " + (dir / "u.itdf").string() +
+                    " --solid 0 1 --quiet",
+                &out),
+            0)
+      << out;
+  EXPECT_EQ(run("field mesh " + (dir / "u.itdf").string() + " " + (dir / "u.stl").string() +
+                    " --voxel 0.1",
+                &out),
+            2);
+  EXPECT_NE(out.find("--size"), std::string::npos) << out;
+  test::write_file(dir / "cut.itdf", test::read_file(dir / "u.itdf").substr(0, 60));
+  EXPECT_EQ(run("field info " + (dir / "cut.itdf").string(), &out), 2);
+  EXPECT_NE(out.find("byte"), std::string::npos) << out;
+}
