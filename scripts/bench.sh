@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -19,13 +19,17 @@
 #  9. porosity asked vs measured for all 8 types, network and sheet, in a cube of whole cells
 #     at two voxel sizes
 # 10. the femur filled with each lattice-design feature: wall time, compose time, porosity
+#  field:
+# 14. seed 003: the skull CT fitted at 16³, 32³, 48³ (direct and LSPIA), fit time 128³ → 32³ and
+#     256³ → 64³, grid evaluation rate, ground-truth Hausdorff distances (bench_fit), ITDF
+#     against binary STL sizes, porosity asked vs measured with `field mesh`
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -227,4 +231,68 @@ PY
   design "gyroid/primitive hybrid (recipe, Beta, 3 mm)" --recipe "$tmp/hybrid.json"
   design "gyroid, --skin 0.5" --skin 0.5
   design "gyroid, --skin 0.5 --skin-windows" --skin 0.5 --skin-windows
+fi
+
+if [[ "$section" == all || "$section" == field ]]; then
+  echo "## 14. Seed 003: fitting a scanned field, ITDF sizes, porosity"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 \
+    data/images/skull_2.9.inr
+  echo "| coefficients | method | fit s | RMS / range | max error | cells across 2.9 | ITDF bytes |"
+  echo "|---|---|---:|---:|---:|---:|---:|"
+  for n in 16 32 48; do
+    for method in direct lspia; do
+      ./build/tpmsfill field fit "$tmp/skull_2.9.inr" "$tmp/s.itdf" --coefficients "$n" \
+        --solid 2.9 inf --method "$method" --max-iterations 100 >"$tmp/fit.txt"
+      python3 - "$tmp/fit.txt" "$n" "$method" "$(stat -c %s "$tmp/s.itdf")" <<'PY'
+import re, sys
+t = open(sys.argv[1]).read()
+fit_s = re.search(r"\((?:direct|lspia), ([0-9.e+-]+) s", t).group(1)
+rms = re.search(r"RMS [0-9.e+-]+ \(([0-9.]+) %", t).group(1)
+mx = re.search(r"max ([0-9.e+-]+)", t).group(1)
+fl = re.search(r"([0-9.]+) % of the cells changed side \((\d+)\)", t)
+print(f"| {sys.argv[2]}³ | {sys.argv[3]} | {fit_s} | {rms} % | {mx} | {fl.group(1)} % ({fl.group(2)}) | {sys.argv[4]} |")
+PY
+    done
+  done
+  echo
+  ./build/tests/bench_fit
+  echo
+  echo "| structure | voxel mm | triangles | binary STL bytes | ITDF bytes | STL / ITDF |"
+  echo "|---|---:|---:|---:|---:|---:|"
+  ./build/tpmsfill field fit "$tmp/skull_2.9.inr" "$tmp/skull.itdf" --coefficients 32 --solid 2.9 inf --quiet
+  for voxel in 2 1; do
+    ./build/tpmsfill field mesh "$tmp/skull.itdf" "$tmp/skull.stl" --voxel "$voxel" --quiet
+    stl=$(stat -c %s "$tmp/skull.stl") itdf=$(stat -c %s "$tmp/skull.itdf")
+    echo "| skull bone (32³, float32) | $voxel | $(((stl - 84) / 50)) | $stl | $itdf | $((stl / itdf)) |"
+  done
+  ./build/tpmsfill field fit "$tmp/skull_2.9.inr" "$tmp/skull16.itdf" --coefficients 32 --solid 2.9 inf \
+    --coefficient-type int16 --quiet
+  stl=$(stat -c %s "$tmp/skull.stl") itdf=$(stat -c %s "$tmp/skull16.itdf")
+  echo "| skull bone (32³, int16) | 1 | $(((stl - 84) / 50)) | $stl | $itdf | $((stl / itdf)) |"
+  echo
+  echo "| porosity asked | measured (field mesh, skull bone) | measured (sponge) |"
+  echo "|---:|---:|---:|"
+  python3 - "$tmp/sponge.tdf" <<'PY'
+import math, random, sys
+random.seed(7)
+pores = [(random.random(), random.random(), random.random()) for _ in range(40)]
+n = 48
+with open(sys.argv[1], "w") as f:
+    f.write("tpmsfill-field 1\nsize 20 20 20\nsign signed\n%d %d %d\n" % (n, n, n))
+    for k in range(n):
+        for j in range(n):
+            p = [((i + .5) / n, (j + .5) / n, (k + .5) / n) for i in range(n)]
+            f.write(" ".join("%.5f" % (min(math.dist(q, c) for c in pores) - 0.11) for q in p) + "\n")
+PY
+  ./build/tpmsfill field fit "$tmp/sponge.tdf" "$tmp/sponge.itdf" --coefficients 24 --solid 0 inf --quiet
+  for p in 0.5 0.7 0.85; do
+    row="| $p"
+    for f in skull sponge; do
+      voxel=$([[ $f == skull ]] && echo 1 || echo 0.1)
+      ./build/tpmsfill field mesh "$tmp/$f.itdf" "$tmp/p.stl" --voxel "$voxel" --porosity "$p" \
+        --keep-islands >"$tmp/p.txt" 2>/dev/null
+      row+=" | $(grep -oE 'porosity +[0-9.]+ %' "$tmp/p.txt" | grep -oE '[0-9.]+ %')"
+    done
+    echo "$row |"
+  done
 fi

@@ -104,6 +104,31 @@ if [[ -f "$femur_tarball" ]]; then
   tar -xzf "$femur_tarball" -C "$work" --strip-components=2 data/meshes/femur.off && have_femur=1
 fi
 
+# Seed 003's structures (issue 13), as ITDF files made by `tpmsfill field fit`: the skull CT
+# libcgal-demo ships (bone above 2.9), and a sponge: 48³ cells, distance to the nearest of 40
+# random pore centres minus 0.11 (the unit cube), the solid outside the pores.
+have_skull=0
+if [[ -f "$femur_tarball" ]] && tar -xzf "$femur_tarball" -C "$work" --strip-components=2 \
+  data/images/skull_2.9.inr 2>/dev/null; then
+  "$tpmsfill" field fit "$work/skull_2.9.inr" "$work/skull.itdf" --coefficients 32 \
+    --solid 2.9 inf --quiet && have_skull=1
+fi
+python3 - "$work/sponge.tdf" <<'PY'
+import math, random, sys
+random.seed(7)
+pores = [(random.random(), random.random(), random.random()) for _ in range(40)]
+n = 48
+with open(sys.argv[1], "w") as f:
+    f.write("tpmsfill-field 1\nsign signed\n%d %d %d\n" % (n, n, n))
+    for k in range(n):
+        for j in range(n):
+            p = [((i + .5) / n, (j + .5) / n, (k + .5) / n) for i in range(n)]
+            f.write(" ".join("%.5f" % (min(math.dist(q, c) for c in pores) - 0.11) for q in p) + "\n")
+PY
+"$tpmsfill" field fit "$work/sponge.tdf" "$work/sponge.itdf" --coefficients 24 --solid 0 inf --quiet
+"$tpmsfill" field fit "$work/sponge.tdf" "$work/sponge-sheet.itdf" --coefficients 24 \
+  --surface 0.05 --thickness 0.5 --size 20 20 20 --quiet
+
 # --- one image ---------------------------------------------------------------------------------
 
 names=() fill_commands=() render_commands=() notes=() statuses=()
@@ -205,6 +230,17 @@ image_porosity() {
   done
 }
 
+image_field() {
+  if ((have_skull)); then
+    shot field-skull cube20.off "--clip x 10" "--field skull.itdf --voxel 0.1" \
+      "the skull CT's bone (values above 2.9, fitted with 32³ coefficients) stretched over the 20 mm cube and cut open at x = 10 mm: the cranium's wall, the orbits and the jaw, from 128 KiB of coefficients"
+  fi
+  shot field-sponge cube20.off "" "--field sponge.itdf --porosity 0.6 --voxel 0.1" \
+    "a sponge: solid outside 40 random overlapping spherical pores, t1 <= C with t1 set for a porosity of 0.6"
+  shot field-sponge-sheet cube20.off "" "--field sponge-sheet.itdf --voxel 0.1" \
+    "the same field as a surface type: a 0.5 mm sheet along C = 0.05, the boundary of the pores grown until most of them meet, open to both sides"
+}
+
 image_rotation() {
   shot rotation cube10.off "" "--lattice gyroid --cell 5 --voxel 0.1 --rotate 0 0 45" \
     "the same gyroid turned 45° about z: the channels now run diagonally across the faces"
@@ -263,7 +299,7 @@ image_recipes() {
 # <<< HYBRID RECIPES SLOT
 
 features=(image_types image_porosity image_rotation image_grade_linear image_grade_radial
-  image_grade_depth image_grade_cell image_skin image_femur_gyroid image_recipes)
+  image_grade_depth image_grade_cell image_skin image_femur_gyroid image_field image_recipes)
 for feature in "${features[@]}"; do "$feature"; done
 
 # --- the page ----------------------------------------------------------------------------------
@@ -361,6 +397,25 @@ EOF
   section "Grading: cell size" grade-cell
   section "Skin" skin
   section "The femur" femur-gyroid
+  cat <<'TEXT'
+## Porous structures from a scanned field (seed 003)
+
+A discrete field fitted by an implicit B-spline and stored as ITDF (`tpmsfill field fit`), then
+put into the model by `fill --field`: solid type t1 ≤ C ≤ t2 on the left two, surface type on
+the right. The ITDF files are made in the script from Debian's skull CT and a generated sponge
+field: `tpmsfill field fit skull_2.9.inr skull.itdf --coefficients 32 --solid 2.9 inf`.
+
+TEXT
+  printf '| skull CT, solid | sponge, solid | sponge, sheet |\n|:---:|:---:|:---:|\n'
+  printf '| %s | %s | %s |\n\n' "$(picture field-skull)" "$(picture field-sponge)" \
+    "$(picture field-sponge-sheet)"
+  for name in field-skull field-sponge field-sponge-sheet; do
+    if [[ " ${names[*]} " == *" $name "* ]]; then
+      commands "$name"
+      i=$(index_of "$name")
+      printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
+    fi
+  done
   hybrids=()
   for i in "${!names[@]}"; do
     [[ "${fill_commands[$i]}" == *--recipe* ]] && hybrids+=("${names[$i]}")

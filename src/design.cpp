@@ -259,6 +259,33 @@ void require_valid(const LatticeDesign& d) {
   }
 }
 
+Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int counts) {
+  if (ramp.shape == RampShape::Depth)
+    throw InputError(
+        "a threshold cannot follow depth: a structure has no surface to be deep "
+        "below (use x, y, z or radial)");
+  if (counts < 2 || counts > 16) throw InputError("a threshold ramp takes 2 to 16 coefficients");
+  for (double l : size)
+    if (!(l > 0) || !std::isfinite(l)) throw InputError("a threshold ramp needs a positive size");
+  LatticeDesign d;
+  d.grading = {{Graded::Level, ramp}};
+  const RampEval e(resolve_design(d, Box3{{0, 0, 0}, {size[0], size[1], size[2]}}).grading[0].ramp);
+  constexpr int kSamples = 16;
+  std::vector<double> values;
+  for (int k = 0; k < kSamples; ++k)
+    for (int j = 0; j < kSamples; ++j)
+      for (int i = 0; i < kSamples; ++i) {
+        const Vec3 p{(i + 0.5) / kSamples * size[0], (j + 0.5) / kSamples * size[1],
+                     (k + 0.5) / kSamples * size[2]};
+        values.push_back(e.value(e.coordinate(p)));
+      }
+  const int degree = std::min(3, counts - 1);
+  FitOptions o;
+  o.degree = degree;
+  return {0,
+          fit_bspline(values, {kSamples, kSamples, kSamples}, {counts, counts, counts}, o).volume};
+}
+
 LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
   require_valid(design);
   LatticeDesign r = design;

@@ -151,13 +151,13 @@ std::vector<detail::PlannedStage> plan_stages(const FillOptions& o) {
 }
 
 // Islands: lattice components that are not the largest piece within their part of the model
-// (a 26-connected region of inside nodes). A component's part is found from a corner with
-// φ < 0 of the cell holding its first triangle (φ < 0 implies the node is inside).
-std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Field& phi,
-                              const Regions& regions) {
+// (a 26-connected region of inside nodes). A component is located by a corner with φ < 0 of
+// the cell holding its first triangle (φ < 0 implies the node is inside): `solid_node` gives
+// that node's index, or none.
+std::vector<std::uint64_t> solid_nodes(const TriangleSoup& mesh, const Components& comps,
+                                       const Field& phi) {
   const Grid& g = phi.grid;
-  const std::uint32_t none = detail::kNoIndex;
-  std::vector<std::uint32_t> part(comps.info.size(), none);
+  std::vector<std::uint64_t> node(comps.info.size(), UINT64_MAX);
   for (std::size_t c = 0; c < comps.info.size(); ++c) {
     const Triangle& t = mesh.triangles[comps.info[c].first_triangle];
     const Vec3 centroid = (1.0 / 3.0) * (mesh.points[t[0]] + mesh.points[t[1]] + mesh.points[t[2]]);
@@ -166,12 +166,28 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
       cell[axis] =
           std::clamp(static_cast<int>(std::floor((centroid[axis] - g.origin[axis]) / g.spacing)), 0,
                      g.dims[axis] - 2);
-    for (int corner = 0; corner < 8 && part[c] == none; ++corner) {
+    for (int corner = 0; corner < 8 && node[c] == UINT64_MAX; ++corner) {
       const int i = cell[0] + (corner & 1), j = cell[1] + (corner >> 1 & 1),
                 k = cell[2] + (corner >> 2 & 1);
-      if (phi.values[g.index(i, j, k)] < 0) part[c] = regions.region_at(i, j, k);
+      if (phi.values[g.index(i, j, k)] < 0) node[c] = g.index(i, j, k);
     }
   }
+  return node;
+}
+
+std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Field& phi,
+                              const Regions& regions) {
+  const Grid& g = phi.grid;
+  const std::uint32_t none = detail::kNoIndex;
+  const std::vector<std::uint64_t> node = solid_nodes(mesh, comps, phi);
+  auto region_of = [&](const Regions& r, std::size_t c) {
+    if (node[c] == UINT64_MAX) return none;
+    const std::uint64_t n = node[c], nx = g.dims[0], ny = g.dims[1];
+    return r.region_at(static_cast<int>(n % nx), static_cast<int>(n / nx % ny),
+                       static_cast<int>(n / (nx * ny)));
+  };
+  std::vector<std::uint32_t> part(comps.info.size(), none);
+  for (std::size_t c = 0; c < comps.info.size(); ++c) part[c] = region_of(regions, c);
   std::vector<std::size_t> largest(regions.count, std::numeric_limits<std::size_t>::max());
   for (std::size_t c = 0; c < comps.info.size(); ++c) {
     if (part[c] == none || comps.info[c].volume < 0) continue;
@@ -180,11 +196,28 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
         std::fabs(comps.info[c].volume) > std::fabs(comps.info[best].volume))
       best = c;
   }
-  // A component of negative volume bounds a cavity (a void a skin encloses): it belongs to
-  // the shell around it, never an island.
   std::vector<bool> keep(comps.info.size(), false);
-  for (std::size_t c = 0; c < comps.info.size(); ++c)
+  bool cavity = false, removed = false;
+  for (std::size_t c = 0; c < comps.info.size(); ++c) {
+    cavity = cavity || comps.info[c].volume < 0;
     keep[c] = part[c] == none || largest[part[c]] == c || comps.info[c].volume < 0;
+    removed = removed || !keep[c];
+  }
+  if (!cavity || !removed) return keep;
+  // A component of negative volume bounds a cavity (the pore inside a shell, a void a skin
+  // encloses): it goes with the solid around it, which the shell's outer surface bounds too.
+  // It stays only if a kept positive component bounds the same solid (6-connected φ < 0).
+  Mask solid{g, std::vector<std::uint8_t>(g.node_count())};
+  for (std::size_t n = 0; n < solid.values.size(); ++n) solid.values[n] = phi.values[n] < 0;
+  const Regions pieces = label_regions(solid, Connectivity::Face);
+  std::vector<bool> kept_piece(pieces.count, false);
+  for (std::size_t c = 0; c < comps.info.size(); ++c)
+    if (const std::uint32_t p = region_of(pieces, c);
+        keep[c] && comps.info[c].volume > 0 && p != none)
+      kept_piece[p] = true;
+  for (std::size_t c = 0; c < comps.info.size(); ++c)
+    if (const std::uint32_t p = region_of(pieces, c); comps.info[c].volume < 0 && p != none)
+      keep[c] = kept_piece[p];
   return keep;
 }
 
@@ -341,11 +374,13 @@ void compose(Job& job) {
 
 // Sealed voids hold unfused powder or resin: say how many, whatever sealed them. Voids
 // smaller than a voxel are marching cubes' specks between nearly touching surfaces, not pores.
-void warn_cavities(const FillOptions& o, const Components& comps, double voxel, FillReport& r) {
+void warn_cavities(const FillOptions& o, const Components& comps, const std::vector<bool>& keep,
+                   double voxel, FillReport& r) {
   std::uint64_t count = 0;
   double volume = 0;
-  for (const auto& c : comps.info)
-    if (-c.volume >= voxel * voxel * voxel) ++count, volume -= c.volume;
+  for (std::size_t c = 0; c < comps.info.size(); ++c)
+    if (keep[c] && -comps.info[c].volume >= voxel * voxel * voxel)
+      ++count, volume -= comps.info[c].volume;
   if (!count) return;
   char figures[96];
   std::snprintf(figures, sizeof figures, "%llu void(s) (%.3g mm3)",
@@ -378,10 +413,21 @@ void warn_islands(const FillOptions& o, double lattice_before, FillReport& r) {
                 100 * fraction, largest, s.x, s.y, s.z);
   // Over half: the lattice itself falls apart (a level near its limit); else the islands
   // are parts of the model too thin for the lattice to join.
+  const std::string apart =
+      o.design.structure
+          ? ": the structure falls apart into pieces at these thresholds; widen them (a lower "
+            "--porosity) or --keep-islands keeps them"
+          : ": the lattice falls apart into pieces at this level or thickness; move it towards "
+            "0 (or --porosity nearer 0.5)";
+  if (o.design.structure && fraction <= 0.5) {
+    r.warnings.push_back(std::string(text) +
+                         ": they are pieces of the structure that touch no larger piece "
+                         "within the model; --keep-islands keeps them");
+    return;
+  }
   r.warnings.push_back(
       std::string(text) +
-      (fraction > 0.5 ? ": the lattice falls apart into pieces at this level or thickness; "
-                        "move it towards 0 (or --porosity nearer 0.5)"
+      (fraction > 0.5 ? apart
                       : std::string(": they are features of the model too thin for the lattice "
                                     "to join; a smaller --cell") +
                             (o.skin > 0 ? "" : ", a --skin") + " or --keep-islands keeps them"));
@@ -394,23 +440,26 @@ void remove_islands(Job& job) {
   FillReport& r = job.report;
   const Components comps = mesh_components(job.mesh);
   double lattice_before = 0;
-  for (const auto& c : comps.info) {
-    lattice_before += c.volume;
-    if (c.volume < 0) ++r.cavities, r.cavities_volume -= c.volume;
-  }
-  warn_cavities(o, comps, job.grid.spacing, r);
-  if (o.keep_islands || comps.info.size() < 2) return;
-  const std::vector<bool> keep =
-      main_bodies(job.mesh, comps, job.phi, label_regions(job.occupancy.inside));
+  for (const auto& c : comps.info) lattice_before += c.volume;
+  std::vector<bool> keep(comps.info.size(), true);
+  if (!o.keep_islands && comps.info.size() >= 2)
+    keep = main_bodies(job.mesh, comps, job.phi, label_regions(job.occupancy.inside));
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    if (keep[c] && comps.info[c].volume < 0)
+      ++r.cavities, r.cavities_volume -= comps.info[c].volume;
+  warn_cavities(o, comps, keep, job.grid.spacing, r);
+  // An island is a removed piece of positive volume; the cavities it enclosed go with it, so
+  // the volume removed is the signed sum.
   std::vector<RemovedIsland> removed(comps.info.size());
   for (std::size_t t = 0; t < job.mesh.triangles.size(); ++t)
     if (const std::uint32_t c = comps.triangle_component[t]; !keep[c])
       for (std::uint32_t v : job.mesh.triangles[t]) removed[c].bbox.extend(job.mesh.points[v]);
   for (std::size_t c = 0; c < keep.size(); ++c)
     if (!keep[c]) {
+      r.islands_volume += comps.info[c].volume;
+      if (comps.info[c].volume < 0) continue;
       ++r.islands_removed;
-      removed[c].volume = std::fabs(comps.info[c].volume);
-      r.islands_volume += removed[c].volume;
+      removed[c].volume = comps.info[c].volume;
       r.largest_islands.push_back(removed[c]);
     }
   // Largest first; equal volumes keep component order, so the list is deterministic.
@@ -418,9 +467,9 @@ void remove_islands(Job& job) {
       r.largest_islands.begin(), r.largest_islands.end(),
       [](const RemovedIsland& a, const RemovedIsland& b) { return a.volume > b.volume; });
   if (r.largest_islands.size() > 10) r.largest_islands.resize(10);
-  if (r.islands_removed) {
+  if (std::find(keep.begin(), keep.end(), false) != keep.end()) {
     job.mesh = keep_components(job.mesh, comps, keep);
-    warn_islands(o, lattice_before, r);
+    if (r.islands_removed) warn_islands(o, lattice_before, r);
   }
 }
 

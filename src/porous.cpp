@@ -95,6 +95,15 @@ std::vector<std::array<double, 4>> cube_samples(const PorousStructure& s,
 
 }  // namespace
 
+Threshold fitted_threshold(const ScalarVolume& grid, std::array<int, 3> counts) {
+  require_valid(grid);
+  FitOptions o;
+  o.degree = std::min({3, counts[0] - 1, counts[1] - 1, counts[2] - 1});
+  if (o.degree < 1) throw InputError("a threshold field needs at least 2 coefficients per axis");
+  for (int a = 0; a < 3; ++a) counts[a] = std::min(counts[a], grid.dims[a]);
+  return {0, fit_bspline(grid.values, grid.dims, counts, o).volume};
+}
+
 double threshold_value(const Threshold& t, double u, double v, double w) {
   return t.spline ? bspline_value(*t.spline, u, v, w) : t.constant;
 }

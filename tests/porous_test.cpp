@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/itdf.hpp>
@@ -201,4 +202,66 @@ TEST(Itdf, DamageIsNamedWithItsByteOffset) {
   newer[4] = 2;
   EXPECT_THROW(parse_itdf(newer, "v2.itdf"), InputError);
   EXPECT_THROW(parse_itdf("STL solid", "x.itdf"), ParseError);
+}
+
+TEST(Porous, ThresholdsFollowRampsAndTheirOwnGrids) {
+  // A linear ramp is reproduced between its ends; a threshold grid of its own is fitted.
+  Ramp ramp;
+  ramp.axis = {0, 0, 1};
+  ramp.start = -0.1, ramp.end = 0.3;
+  const Threshold t = ramp_threshold(ramp, {10, 10, 20});
+  ASSERT_TRUE(t.spline);
+  for (double w : {0.0, 0.25, 0.5, 1.0})
+    EXPECT_NEAR(threshold_value(t, 0.3, 0.7, w), -0.1 + 0.4 * w, 1e-6) << w;
+  ramp.shape = RampShape::Depth;
+  EXPECT_THROW(ramp_threshold(ramp, {1, 1, 1}), InputError);
+  ScalarVolume grid;
+  grid.dims = {5, 4, 3};
+  grid.values.assign(60, 0.25);
+  EXPECT_NEAR(threshold_value(fitted_threshold(grid, {3, 3, 3}), 0.1, 0.5, 0.9), 0.25, 1e-9);
+
+  // Graded pores: the sponge's t1 from 0.08 at the bottom to -0.04 at the top leaves more
+  // solid at the top.
+  PorousStructure s = sponge_structure();
+  ramp.shape = RampShape::Linear;
+  ramp.start = 0.08, ramp.end = -0.04;
+  s.t1 = ramp_threshold(ramp, {1, 1, 1});
+  const FieldSource source = porous_source(s, {});
+  Grid g;
+  g.origin = {0.5 / 32, 0.5 / 32, 0.5 / 32};
+  g.spacing = 1.0 / 32;
+  g.dims = {32, 32, 32};
+  const Field f = sample_field(source, g);
+  std::size_t low = 0, high = 0;
+  for (std::size_t n = 0; n < f.values.size(); ++n)
+    (n < f.values.size() / 2 ? low : high) += f.values[n] <= 0;
+  EXPECT_LT(double(low), 0.8 * double(high)) << low << " " << high;
+}
+
+TEST(Porous, AnIslandShellGoesWithTheCavityItEncloses) {
+  // Two separate balls' distance as a sheet: two closed spherical shells, each an outer
+  // surface and an inner (cavity) surface. The small shell is an island: removing it must
+  // remove its cavity surface too, or the output would be inside out there.
+  const std::array<int, 3> d{40, 40, 40};
+  std::vector<double> x;
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i) {
+        const double u = (i + 0.5) / d[0], v = (j + 0.5) / d[1], w = (k + 0.5) / d[2];
+        x.push_back(std::min(std::hypot(u - 0.35, v - 0.5, w - 0.5) - 0.22,
+                             std::hypot(u - 0.8, v - 0.5, w - 0.5) - 0.08));
+      }
+  PorousStructure s;
+  s.field = fit_bspline(x, d, {24, 24, 24}).volume;
+  s.type = StructureType::Surface;
+  s.sheet_thickness = 1.0;
+  FillOptions o;
+  o.grid.voxel_size = 0.2;
+  o.design.structure = s;
+  const FillResult r = fill(make_box({0, 0, 0}, {20, 20, 20}), o);
+  EXPECT_EQ(r.report.islands_removed, 1u);
+  EXPECT_EQ(r.report.cavities, 1u);  // the big shell's sealed inside
+  // What is left is the big shell: 4/3 π ((R + t/2)³ − (R − t/2)³), R = 4.4 mm, t = 1 mm.
+  const double shell = 4.0 / 3 * std::numbers::pi * (std::pow(4.9, 3) - std::pow(3.9, 3));
+  EXPECT_NEAR(signed_volume(r.mesh), shell, 0.05 * shell);
 }

@@ -127,6 +127,14 @@ LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model);
 ///                     ramp without `depth` or a `depth` on another grid
 FieldSource design_source(const LatticeDesign& design, const Field* depth = nullptr);
 
+/// A porous structure's threshold (porous.hpp) that follows `ramp` across its unit cube placed
+/// with `size` (mm; positions unset span the cube as resolve_design spans a model's box):
+/// sampled at 16³ cell centres and fitted with `counts`³ coefficients (a linear ramp is
+/// reproduced exactly between its ends).
+/// @throws InputError  a depth ramp (a structure has no surface to be deep below), counts
+///                     outside 2 to 16, a size not positive
+Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int counts = 6);
+
 /// Names used by the CLI and recipes: "porosity", "level", "thickness", "cell"; "linear",
 /// "radial", "depth"; "half-space", "slab", "sphere", "cylinder"; "sigmoid", "beta".
 std::string_view graded_name(Graded what);

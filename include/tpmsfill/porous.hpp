@@ -62,6 +62,12 @@ struct PorousStructure {
   Placement placement = Placement::Stretch;
 };
 
+/// A threshold from its own discrete grid (seed claim 6: a w1 × h1 × d1 field of the unit
+/// cube, independent of C's grid), fitted as C is with `counts` coefficients per axis (at
+/// most the grid's cells; thresholds vary slowly, so a few suffice).
+/// @throws InputError  as fit_bspline
+Threshold fitted_threshold(const ScalarVolume& grid, std::array<int, 3> counts);
+
 /// A threshold's value at (u, v, w) of the unit cube.
 double threshold_value(const Threshold& t, double u, double v, double w);
 

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
@@ -19,6 +20,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
 
@@ -27,7 +29,8 @@ namespace {
 
 // The structure flags fit and mesh share: --solid T1 T2 | --surface T0, --thickness, --porosity.
 struct StructureArgs {
-  std::vector<std::string> solid;
+  std::vector<std::string> solid, threshold_file, threshold_ramp;
+  int threshold_coefficients = 6;
   std::optional<double> surface, thickness, porosity;
   std::vector<double> size;
   bool tile = false;
@@ -42,7 +45,7 @@ struct FieldArgs {
   std::optional<double> iso, voxel;
   int degree = 3, max_iterations = 200;
   double smoothing = FitOptions{}.smoothing;
-  bool quiet = false;
+  bool quiet = false, keep_islands = false;
 };
 
 double threshold_number(const std::string& text) {
@@ -82,6 +85,28 @@ void apply_structure(const StructureArgs& a, PorousStructure& s) {
   }
   if (!a.size.empty()) s.size = box_size(a.size);
   if (a.tile) s.placement = Placement::Tile;
+  // Thresholds of their own: a discrete grid (seed claim 6) or a ramp, each fitted small.
+  auto slot = [&](const std::string& name, const char* flag) -> Threshold& {
+    if (name == "t0" || name == "t1" || name == "t2")
+      return name == "t0" ? s.t0 : name == "t1" ? s.t1 : s.t2;
+    throw InputError(std::string(flag) + ": '" + name + "' is not t0, t1 or t2");
+  };
+  const int n = a.threshold_coefficients;
+  for (std::size_t i = 0; i + 1 < a.threshold_file.size(); i += 2)
+    slot(a.threshold_file[i], "--threshold-file") =
+        fitted_threshold(read_volume_file(a.threshold_file[i + 1]).volume, {n, n, n});
+  for (std::size_t i = 0; i + 3 < a.threshold_ramp.size(); i += 4) {
+    Ramp ramp = ramp_along(a.threshold_ramp[i + 3], "--threshold-ramp");
+    try {
+      ramp.start = std::stod(a.threshold_ramp[i + 1]);
+      ramp.end = std::stod(a.threshold_ramp[i + 2]);
+    } catch (const std::exception&) {
+      throw InputError("--threshold-ramp " + a.threshold_ramp[i] + ": '" + a.threshold_ramp[i + 1] +
+                       " " + a.threshold_ramp[i + 2] + "' are not two numbers");
+    }
+    slot(a.threshold_ramp[i], "--threshold-ramp") =
+        ramp_threshold(ramp, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1}, n);
+  }
   require_valid(s);
 }
 
@@ -287,6 +312,7 @@ int run_mesh(const FieldArgs& a) {
   o.design.structure_file = a.input;
   if (a.structure.porosity) o.design.porosity = a.structure.porosity;
   o.measure = false;
+  o.keep_islands = a.keep_islands;
   std::unique_ptr<TerminalProgress> progress;
   if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
@@ -322,6 +348,20 @@ void add_structure_flags(CLI::App* sub, StructureArgs& s) {
       ->check(positive());
   sub->add_flag("--tile", s.tile,
                 "Tile the structure with --size as its cell instead of stretching it");
+  sub->add_option("--threshold-file", s.threshold_file,
+                  "NAME FILE: threshold t0, t1 or t2 from its own field file (any grid of the "
+                  "unit cube), fitted with --threshold-coefficients (repeatable)")
+      ->expected(2)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sub->add_option("--threshold-ramp", s.threshold_ramp,
+                  "NAME FROM TO WHERE: threshold t0, t1 or t2 going from FROM to TO across the "
+                  "cube along x, y, z, radial or radial-x/-y/-z (repeatable), e.g. "
+                  "--threshold-ramp t1 -0.1 0.3 z for pores that grow upward")
+      ->expected(4)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sub->add_option("--threshold-coefficients", s.threshold_coefficients,
+                  "Coefficients per axis of a threshold's spline (default 6)")
+      ->check(between(2, 16, "2 to 16"));
 }
 
 }  // namespace
@@ -381,6 +421,8 @@ Command add_field_command(CLI::App& app) {
   mesh->add_option("OUT", a->output, "Output mesh (.stl, .obj, .ply, .off)")->required();
   mesh->add_option("--voxel", a->voxel, "Grid spacing, mm")->required()->check(positive());
   add_structure_flags(mesh, a->structure);
+  mesh->add_flag("--keep-islands", a->keep_islands,
+                 "Keep pieces that touch no larger piece (removed by default, as fill does)");
   mesh->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
 
   return [a, fit, info, mesh] {

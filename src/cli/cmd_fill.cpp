@@ -19,6 +19,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
 
@@ -66,23 +67,6 @@ std::uint64_t parse_bytes(const std::string& text) {
 
 Vec3 three(const std::vector<double>& v) {
   return {v[0], v[1], v[2]};
-}
-
-// --grade-along: a direction (x, y, z), radial from the model's centre (radial) or from an
-// axis through it (radial-x, ...), or depth below the surface.
-Ramp ramp_along(const std::string& along) {
-  static const char* axes = "xyz";
-  for (int a = 0; a < 3; ++a) {
-    Vec3 axis{};
-    (a == 0 ? axis.x : a == 1 ? axis.y : axis.z) = 1;
-    if (along == std::string(1, axes[a])) return {.shape = RampShape::Linear, .axis = axis};
-    if (along == std::string("radial-") + axes[a])
-      return {.shape = RampShape::Radial, .axis = axis};
-  }
-  if (along == "radial") return {.shape = RampShape::Radial, .axis = {0, 0, 0}};
-  if (along == "depth") return {.shape = RampShape::Depth};
-  throw InputError("--grade-along: '" + along +
-                   "' is not x, y, z, radial, radial-x, radial-y, radial-z or depth");
 }
 
 // --field: seed 003's structure replaces the TPMS; --cell tiles it with that cell.
