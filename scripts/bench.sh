@@ -291,7 +291,7 @@ PY
       voxel=$([[ $f == skull ]] && echo 1 || echo 0.1)
       ./build/tpmsfill field mesh "$tmp/$f.itdf" "$tmp/p.stl" --voxel "$voxel" --porosity "$p" \
         --keep-islands >"$tmp/p.txt" 2>/dev/null
-      row+=" | $(grep -oE 'porosity +[0-9.]+ %' "$tmp/p.txt" | grep -oE '[0-9.]+ %')"
+      row+=" | $(grep -E '^porosity +[0-9.]+ %' "$tmp/p.txt" | grep -oE '[0-9.]+ %' | head -n 1)"
     done
     echo "$row |"
   done
