@@ -378,8 +378,12 @@ Header parse_header(std::string_view data, const std::string& source, char separ
       continue;
     }
     if (line->text[0] == '#') continue;
-    std::size_t sep = line->text.find(separator == ':' ? ":=" : "");
-    if (separator == ':' && sep != std::string_view::npos) continue;  // NRRD key/value pair
+    std::size_t sep = separator == ':' ? line->text.find(":=") : std::string_view::npos;
+    if (sep != std::string_view::npos) {  // an NRRD key/value pair: kept as "key:="
+      h.fields[trim(line->text.substr(0, sep)) + ":="] = {trim(line->text.substr(sep + 2)),
+                                                          line->number};
+      continue;
+    }
     sep = line->text.find(separator == ':' ? ": " : "=");
     if (sep == std::string_view::npos)
       fail_at_line(source, line->number,
@@ -500,6 +504,13 @@ VolumeFile parse_nrrd(std::string_view data, const std::string& source,
   } else if (h.get("spacings")) {
     const std::vector<double> s = h.numbers("spacings", 3);
     f.volume.spacing = {s[0], s[1], s[2]};
+  }
+  if (const std::string* sign = h.get("tpmsfill_sign:=")) {  // what write_volume records
+    try {
+      f.volume.sign = field_sign_from_name(*sign);
+    } catch (const InputError& e) {
+      h.fail("tpmsfill_sign:=", e.what());
+    }
   }
   if (h.get("space origin")) {
     const std::vector<double> o = h.numbers("space origin", 3);
@@ -792,7 +803,8 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& v, Volu
       out = "NRRD0004\n# written by tpmsfill\ntype: " + std::string(f64 ? "double" : "float") +
             "\ndimension: 3\nsizes: " + std::to_string(v.dims[0]) + " " +
             std::to_string(v.dims[1]) + " " + std::to_string(v.dims[2]) +
-            "\nendian: little\nencoding: raw\n";
+            "\nendian: little\nencoding: raw\ntpmsfill_sign:=" +
+            std::string(field_sign_name(v.sign)) + "\n";
       if (v.has_physical_size())
         out += "space: left-posterior-superior\nspace directions: (" + number_text(v.spacing[0]) +
                ",0,0) (0," + number_text(v.spacing[1]) + ",0) (0,0," + number_text(v.spacing[2]) +

@@ -123,7 +123,8 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
       test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
   for (const std::string command :
-       {"", "check", "fill", "repair", "field", "field fit", "field info", "field mesh"}) {
+       {"", "check", "fill", "repair", "field", "field fit", "field info", "field mesh",
+        "field from-mesh", "field from-points", "field from-ct"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
     // Every "--word" in the help text (no std::regex: GCC 12 warns inside it under ASan).
@@ -284,7 +285,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
       {"", "a command is needed: check, fill, repair or field"},
-      {"field", "field needs a command: fit, info or mesh"},
+      {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},
       {"field fit a b --methd lspia",

@@ -132,3 +132,49 @@ TEST(FieldCli, BadInputsSayWhatAndWhere) {
   EXPECT_EQ(run("field info " + (dir / "cut.itdf").string(), &out), 2);
   EXPECT_NE(out.find("byte"), std::string::npos) << out;
 }
+
+TEST(FieldCli, FromMeshPointsAndCtFeedTheFit) {
+  // A sphere of radius 5 mm: from-mesh writes its signed distance; fitted, the stored
+  // structure C <= 0 is the ball again (volume within 3 %).
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "ball.off", test::make_sphere({0, 0, 0}, 5, 4));
+  std::string out;
+  ASSERT_EQ(run("field from-mesh " + (dir / "ball.off").string() + " " +
+                    (dir / "ball.tdfb").string() + " --voxel 0.5",
+                &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("signed"), std::string::npos) << out;
+  ASSERT_EQ(run("field fit " + (dir / "ball.tdfb").string() + " " + (dir / "ball.itdf").string() +
+                    " --quiet",
+                &out),
+            0)
+      << out;
+  ASSERT_EQ(run("field mesh " + (dir / "ball.itdf").string() + " " + (dir / "ball.ply").string() +
+                    " --voxel 0.2 --quiet",
+                &out),
+            0)
+      << out;
+  const TriangleSoup ball = read_mesh(dir / "ball.ply");
+  EXPECT_TRUE(validate_mesh(ball).valid());
+  const double sphere = 4.0 / 3 * M_PI * 125;
+  EXPECT_NEAR(test::signed_volume(ball), sphere, 0.03 * sphere);
+  // from-points and from-ct write fields that read back with their sign.
+  test::write_file(dir / "p.xyz", "0 0 0\n1 0 0\n0 1 0\n0 0 1\n");
+  ASSERT_EQ(run("field from-points " + (dir / "p.xyz").string() + " " + (dir / "p.nrrd").string() +
+                    " --voxel 0.25 --quiet",
+                &out),
+            0)
+      << out;
+  EXPECT_EQ(read_volume_file(dir / "p.nrrd").volume.sign, FieldSign::Unsigned);
+  ASSERT_EQ(run("field from-ct " + (dir / "ball.tdfb").string() + " " + (dir / "ct.tdf").string() +
+                    " --iso 0 --below --quiet",
+                &out),
+            0)
+      << out;
+  EXPECT_EQ(read_volume_file(dir / "ct.tdf").volume.sign, FieldSign::Signed);
+  EXPECT_EQ(
+      run("field from-ct " + (dir / "ball.tdfb").string() + " " + (dir / "ct2.tdf").string(), &out),
+      2);
+  EXPECT_NE(out.find("--iso"), std::string::npos) << out;
+}

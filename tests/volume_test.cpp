@@ -66,9 +66,7 @@ TEST(Volume, WrittenFilesReadBackExactly) {
     EXPECT_EQ(back.volume.values, v.values) << name;  // bit for bit
     for (int a = 0; a < 3; ++a) EXPECT_DOUBLE_EQ(back.volume.spacing[a], v.spacing[a]) << name;
     EXPECT_DOUBLE_EQ(back.volume.origin.y, v.origin.y) << name;
-    if (back.format != VolumeFormat::Nrrd) {
-      EXPECT_EQ(back.volume.sign, FieldSign::Signed);
-    }
+    EXPECT_EQ(back.volume.sign, FieldSign::Signed) << name;
   }
   EXPECT_THROW(write_volume(dir / "f.stl", v), InputError);
 }

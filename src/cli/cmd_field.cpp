@@ -15,6 +15,7 @@
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/itdf.hpp>
+#include <tpmsfill/scanned_field.hpp>
 #include <tpmsfill/volume.hpp>
 #include <vector>
 
@@ -45,7 +46,8 @@ struct FieldArgs {
   std::optional<double> iso, voxel;
   int degree = 3, max_iterations = 200;
   double smoothing = FitOptions{}.smoothing;
-  bool quiet = false, keep_islands = false;
+  bool quiet = false, keep_islands = false, below = false;
+  int padding = 2;
 };
 
 double threshold_number(const std::string& text) {
@@ -330,6 +332,50 @@ int run_mesh(const FieldArgs& a) {
   return kOk;
 }
 
+// from-mesh, from-points, from-ct: a field file from data a user has.
+int run_from(const FieldArgs& a, const std::string& kind) {
+  if (volume_format_from_extension(a.output) == VolumeFormat::Auto ||
+      volume_format_from_extension(a.output) == VolumeFormat::MetaImage ||
+      volume_format_from_extension(a.output) == VolumeFormat::Inr)
+    throw InputError(a.output + ": fields are written as .tdf (text), .tdfb (binary) or .nrrd");
+  require_writable_outputs({a.input}, {{"OUT", a.output}});
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<TerminalProgress> progress;
+  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  const ScannedFieldOptions o{
+      .voxel = a.voxel.value_or(0), .padding = a.padding, .progress = progress.get()};
+  ScalarVolume v;
+  std::string what;
+  if (kind == "from-mesh") {
+    const MeshFile mesh = read_mesh_file(a.input);
+    v = field_from_mesh(mesh.soup, o);
+    what = std::to_string(mesh.soup.triangles.size()) + " triangles";
+  } else if (kind == "from-points") {
+    const std::vector<Vec3> points = read_points(a.input);
+    v = field_from_points(points, o);
+    what = std::to_string(points.size()) + " points";
+  } else {
+    if (!a.iso) throw InputError("field from-ct needs --iso (the value at the solid's surface)");
+    const VolumeFile ct = read_volume_file(a.input);
+    v = field_from_ct(ct.volume, *a.iso, a.below);
+    what = "a " + std::to_string(ct.volume.dims[0]) + " x " + std::to_string(ct.volume.dims[1]) +
+           " x " + std::to_string(ct.volume.dims[2]) + " CT";
+  }
+  if (progress) progress->clear();
+  write_volume(a.output, v);
+  if (!a.quiet) {
+    const auto [lo, hi] = std::minmax_element(v.values.begin(), v.values.end());
+    std::printf("%s -> %s\n", a.input.c_str(), a.output.c_str());
+    std::printf("field        %d x %d x %d cells of %g x %g x %g mm from %s, %s\n", v.dims[0],
+                v.dims[1], v.dims[2], v.spacing[0], v.spacing[1], v.spacing[2], what.c_str(),
+                std::string(field_sign_name(v.sign)).c_str());
+    std::printf("values       %.4g to %.4g mm\n", *lo, *hi);
+    std::printf("time         %.2f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return kOk;
+}
+
 void add_structure_flags(CLI::App* sub, StructureArgs& s) {
   sub->add_option("--solid", s.solid,
                   "Solid type t1 <= C <= t2: T1 T2 (inf and -inf open a side, e.g. --solid -inf "
@@ -376,6 +422,8 @@ Command add_field_command(CLI::App& app) {
       "a trivariate implicit B-spline C, and the structure t1 <= C <= t2 (solid) or C = t0 "
       "(surface) is stored as a compact ITDF file, which `fill --field` and `field mesh` use.\n\n"
       "Examples:\n"
+      "  tpmsfill field from-mesh femur.stl femur.tdfb --voxel 0.5\n"
+      "  tpmsfill field from-ct skull_2.9.inr skull-distance.nrrd --iso 2.9\n"
       "  tpmsfill field fit skull_2.9.inr bone.itdf --coefficients 32 --solid 2.9 inf\n"
       "  tpmsfill field info bone.itdf\n"
       "  tpmsfill field mesh bone.itdf bone.stl --voxel 1 --porosity 0.7\n"
@@ -425,10 +473,40 @@ Command add_field_command(CLI::App& app) {
                  "Keep pieces that touch no larger piece (removed by default, as fill does)");
   mesh->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
 
-  return [a, fit, info, mesh] {
+  std::vector<CLI::App*> from;
+  for (const char* kind : {"from-mesh", "from-points", "from-ct"}) {
+    const std::string k = kind;
+    CLI::App* sub = field->add_subcommand(
+        kind, k == "from-mesh"     ? "A signed distance field from a mesh (messy ones too)"
+              : k == "from-points" ? "An unsigned distance field from a point cloud (PLY, XYZ)"
+                                   : "A signed distance field from a CT thresholded at --iso");
+    sub->add_option("IN", a->input,
+                    k == "from-mesh"     ? "Mesh: STL, OBJ, PLY or OFF (gzip allowed), mm"
+                    : k == "from-points" ? "Points: PLY vertices or XYZ text (x y z per line), mm"
+                                         : "CT: .nrrd/.nhdr, .mha/.mhd, .inr, .tdf/.tdfb")
+        ->required()
+        ->check(existing_file());
+    sub->add_option("OUT", a->output, "Field file to write: .tdf (text), .tdfb (binary), .nrrd")
+        ->required();
+    if (k == "from-ct") {
+      sub->add_option("--iso", a->iso, "The CT value at the solid's surface (required)");
+      sub->add_flag("--below", a->below, "The solid is at or below --iso (default: at or above)");
+    } else {
+      sub->add_option("--voxel", a->voxel, "Cell size, mm")->required()->check(positive());
+      sub->add_option("--padding", a->padding,
+                      "Cells beyond the data's box on every side (default 2)")
+          ->check(between(2, 1000, "2 to 1000"));
+    }
+    sub->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
+    from.push_back(sub);
+  }
+
+  return [a, fit, info, mesh, from] {
     if (fit->parsed()) return run_fit(*a);
     if (info->parsed()) return run_info(*a);
     if (mesh->parsed()) return run_mesh(*a);
+    for (CLI::App* sub : from)
+      if (sub->parsed()) return run_from(*a, sub->get_name());
     return int(kBadInput);
   };
 }

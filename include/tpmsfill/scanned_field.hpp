@@ -1,0 +1,55 @@
+/// @file scanned_field.hpp
+/// @brief Stage "scanned field": the discrete distance fields seed 003 starts from, made from
+/// data a user has (volume.hpp's ScalarVolume, values at cell centres, mm):
+///
+///  - a mesh, messy or not: the signed distance, negative inside. Inside is the generalized
+///    winding number of the cleaned, capped mesh (classify.hpp, as `fill --inside winding`),
+///    and every value is the exact distance to the nearest triangle (distance.hpp), so the
+///    zero level is the mesh's surface (across holes: their caps);
+///  - a point cloud (a scan): the unsigned distance from each cell centre to the nearest
+///    point, exact (a uniform bucket grid searched in growing shells);
+///  - a CT volume: thresholded at an iso-value, then the signed distance in mm between the
+///    centres of solid and empty cells (an exact separable transform with each axis's own
+///    spacing), less half the largest spacing, so the zero level lies between the two sides.
+///    Its error against the iso-surface the CT would give is at most one (largest) voxel.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/types.hpp"
+#include "tpmsfill/volume.hpp"
+
+namespace tpmsfill {
+
+struct ScannedFieldOptions {
+  double voxel = 0;  ///< cell size, mm (> 0)
+  int padding = 2;   ///< cells added beyond the data's bounding box on every side (>= 0)
+  /// Largest field made, in cells: a larger one is refused, naming the voxel that fits.
+  std::uint64_t max_cells = std::uint64_t{256} * 256 * 256 * 4;
+  Progress* progress = nullptr;
+};
+
+/// Signed distance to a mesh (see the file comment); sign = Signed.
+/// @throws InputError     voxel <= 0, padding < 0, a mesh with no triangle or no volume
+/// @throws ResourceError  more than max_cells cells
+ScalarVolume field_from_mesh(const TriangleSoup& mesh, const ScannedFieldOptions& options);
+
+/// Unsigned distance to the nearest point; sign = Unsigned.
+/// @throws InputError     no point, a point not finite, voxel <= 0, padding < 0
+/// @throws ResourceError  more than max_cells cells
+ScalarVolume field_from_points(const std::vector<Vec3>& points, const ScannedFieldOptions& options);
+
+/// Signed distance of the CT's solid (values >= iso, or <= iso with `solid_below`), in mm;
+/// sign = Signed. A CT without a physical size is read as the unit cube.
+/// @throws InputError  an invalid volume, iso not finite, no solid or no empty cell
+ScalarVolume field_from_ct(const ScalarVolume& ct, double iso, bool solid_below = false);
+
+/// The points of a point cloud: PLY (its vertices; faces, if any, are ignored) or XYZ text
+/// (x y z per line, further columns such as normals ignored, '#' comments); gzip allowed.
+/// @throws IoError, ParseError (line or byte), InputError (no point)
+std::vector<Vec3> read_points(const std::filesystem::path& path);
+
+}  // namespace tpmsfill

@@ -1,0 +1,286 @@
+// Distance fields from a mesh, a point cloud or a CT (scanned_field.hpp).
+#include "tpmsfill/scanned_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "detail/file_bytes.hpp"
+#include "detail/inflate.hpp"
+#include "detail/parallel.hpp"
+#include "detail/parse_errors.hpp"
+#include "io/formats.hpp"
+#include "tpmsfill/classify.hpp"
+#include "tpmsfill/clean.hpp"
+#include "tpmsfill/distance.hpp"
+#include "tpmsfill/error.hpp"
+#include "tpmsfill/grid.hpp"
+#include "tpmsfill/spatial.hpp"
+
+namespace tpmsfill {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The grid of cell centres over `box`, refused with the voxel that fits when too large.
+Grid field_grid(const Box3& box, const ScannedFieldOptions& o) {
+  if (!(o.voxel > 0) || !std::isfinite(o.voxel)) throw InputError("the voxel size must be > 0");
+  if (o.padding < 2) throw InputError("the padding must be at least 2 cells");
+  const GridOptions g{.voxel_size = o.voxel, .padding = o.padding};
+  const std::uint64_t cells = grid_node_count(box, g);
+  if (cells > o.max_cells) {
+    char fit[64];
+    std::snprintf(fit, sizeof fit, "%.4g mm",
+                  o.voxel * std::cbrt(static_cast<double>(cells) / o.max_cells) * 1.01);
+    throw ResourceError("the field would have " + std::to_string(cells) + " cells, over the " +
+                        "limit of " + std::to_string(o.max_cells) + "; a voxel of " + fit +
+                        " or more fits");
+  }
+  return make_grid(box, g);
+}
+
+ScalarVolume volume_on(const Grid& grid, FieldSign sign) {
+  ScalarVolume v;
+  v.dims = grid.dims;
+  v.spacing = {grid.spacing, grid.spacing, grid.spacing};
+  v.origin = grid.origin;
+  v.sign = sign;
+  v.values.resize(grid.node_count());
+  return v;
+}
+
+// Squared distance transform of one line, f(q) = min_v (s (q − v))² + g(v) (Felzenszwalb &
+// Huttenlocher's lower envelope of parabolas, in doubles for an axis's own spacing s).
+void envelope(const double* g, int n, std::size_t stride, double s, double* out,
+              std::vector<int>& v, std::vector<double>& z) {
+  v.assign(n, 0);
+  z.assign(n + 1, 0);
+  int k = -1;
+  for (int q = 0; q < n; ++q) {
+    const double gq = g[q * stride];
+    if (!std::isfinite(gq)) continue;
+    double cut = -kInf;
+    while (k >= 0) {
+      const int p = v[k];
+      const double sp = s * p, sq = s * q;
+      cut = ((gq + sq * sq) - (g[p * stride] + sp * sp)) / (2 * (sq - sp));
+      if (cut > z[k]) break;
+      --k;
+    }
+    ++k;
+    v[k] = q;
+    z[k] = k == 0 ? -kInf : cut;
+    z[k + 1] = kInf;
+  }
+  if (k < 0) {
+    for (int q = 0; q < n; ++q) out[q * stride] = kInf;
+    return;
+  }
+  for (int q = 0, j = 0; q < n; ++q) {
+    while (z[j + 1] < s * q) ++j;
+    const double d = s * (q - v[j]);
+    out[q * stride] = d * d + g[v[j] * stride];
+  }
+}
+
+// Squared distance (mm²) from every cell centre to the nearest cell with feature[n] set.
+std::vector<double> squared_distance(const std::vector<std::uint8_t>& feature,
+                                     std::array<int, 3> dims, std::array<double, 3> spacing) {
+  std::vector<double> d(feature.size());
+  for (std::size_t n = 0; n < d.size(); ++n) d[n] = feature[n] ? 0 : kInf;
+  const std::array<std::size_t, 3> stride{1, std::size_t(dims[0]), std::size_t(dims[0]) * dims[1]};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
+    detail::parallel_for(std::size_t(dims[o2]), 1, [&](std::size_t begin, std::size_t end) {
+      std::vector<int> v;
+      std::vector<double> z, line(dims[axis]), out(dims[axis]);
+      for (std::size_t i2 = begin; i2 < end; ++i2)
+        for (int i1 = 0; i1 < dims[o1]; ++i1) {
+          const std::size_t base = i1 * stride[o1] + i2 * stride[o2];
+          for (int q = 0; q < dims[axis]; ++q) line[q] = d[base + q * stride[axis]];
+          envelope(line.data(), dims[axis], 1, spacing[axis], out.data(), v, z);
+          for (int q = 0; q < dims[axis]; ++q) d[base + q * stride[axis]] = out[q];
+        }
+    });
+  }
+  return d;
+}
+
+// Points sorted into cubic buckets of side `size`, for exact nearest-point queries.
+struct Buckets {
+  Vec3 origin;
+  double size = 1;
+  std::array<int, 3> dims{};
+  std::vector<std::uint32_t> start;  // bucket b holds order[start[b] .. start[b + 1])
+  std::vector<Vec3> points;          // sorted by bucket
+
+  Buckets(const std::vector<Vec3>& p, const Box3& box) {
+    origin = box.min;
+    const Vec3 e = box.size();
+    const double volume = std::max(e.x, 1e-9) * std::max(e.y, 1e-9) * std::max(e.z, 1e-9);
+    size = std::max(std::cbrt(volume / static_cast<double>(p.size())) * 2,
+                    1e-6 * std::max({e.x, e.y, e.z, 1e-9}));
+    for (int a = 0; a < 3; ++a) dims[a] = std::clamp(static_cast<int>(e[a] / size) + 1, 1, 1024);
+    std::vector<std::uint32_t> bucket(p.size());
+    start.assign(std::size_t(dims[0]) * dims[1] * dims[2] + 1, 0);
+    for (std::size_t n = 0; n < p.size(); ++n) {
+      const std::array<int, 3> c = cell(p[n]);
+      bucket[n] = static_cast<std::uint32_t>(c[0] + dims[0] * (c[1] + std::size_t(dims[1]) * c[2]));
+      ++start[bucket[n] + 1];
+    }
+    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    points.resize(p.size());
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (std::size_t n = 0; n < p.size(); ++n) points[next[bucket[n]]++] = p[n];
+  }
+  std::array<int, 3> cell(Vec3 p) const {
+    std::array<int, 3> c{};
+    for (int a = 0; a < 3; ++a)
+      c[a] = std::clamp(static_cast<int>(std::floor((p[a] - origin[a]) / size)), 0, dims[a] - 1);
+    return c;
+  }
+  // Distance to the nearest point: shells of buckets around p's, until no nearer can remain.
+  double nearest(Vec3 p) const {
+    const std::array<int, 3> c = cell(p);
+    double best = kInf;
+    const int most = std::max({dims[0], dims[1], dims[2]});
+    for (int r = 0; r <= most; ++r) {
+      for (int k = c[2] - r; k <= c[2] + r; ++k)
+        for (int j = c[1] - r; j <= c[1] + r; ++j)
+          for (int i = c[0] - r; i <= c[0] + r; ++i) {
+            if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) != r ||
+                i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] || k >= dims[2])
+              continue;
+            const std::size_t b = i + dims[0] * (j + std::size_t(dims[1]) * k);
+            for (std::uint32_t n = start[b]; n < start[b + 1]; ++n) {
+              const Vec3 d = points[n] - p;
+              best = std::min(best, dot(d, d));
+            }
+          }
+      // Every point not yet seen lies outside the cube of buckets [c − r, c + r].
+      double margin = kInf;
+      for (int a = 0; a < 3; ++a)
+        margin = std::min({margin, p[a] - (origin[a] + (c[a] - r) * size),
+                           origin[a] + (c[a] + r + 1) * size - p[a]});
+      if (margin > 0 && best <= margin * margin) break;
+    }
+    return std::sqrt(best);
+  }
+};
+
+std::vector<Vec3> parse_xyz(std::string_view data, const std::string& source) {
+  std::vector<Vec3> points;
+  std::uint64_t line = 0;
+  for (std::size_t at = 0; at < data.size();) {
+    const std::size_t eol = std::min(data.find('\n', at), data.size());
+    std::string text(data.substr(at, eol - at));
+    at = eol + 1;
+    ++line;
+    if (const std::size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
+    for (char& ch : text)
+      if (ch == ',' || ch == ';' || ch == '\t' || ch == '\r') ch = ' ';
+    if (text.find_first_not_of(' ') == std::string::npos) continue;
+    double xyz[3];
+    int used = 0;
+    if (std::sscanf(text.c_str(), "%lf %lf %lf%n", &xyz[0], &xyz[1], &xyz[2], &used) != 3)
+      detail::fail_at_line(source, line, "expected three coordinates x y z");
+    if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+      detail::fail_at_line(source, line, "a coordinate is not finite");
+    points.push_back({xyz[0], xyz[1], xyz[2]});
+  }
+  return points;
+}
+
+}  // namespace
+
+ScalarVolume field_from_mesh(const TriangleSoup& mesh, const ScannedFieldOptions& o) {
+  if (mesh.triangles.empty()) throw InputError("the mesh has no triangles");
+  const Grid grid = field_grid(bounding_box(mesh), o);
+  const CleanResult cleaned = clean_soup(mesh, {.progress = o.progress});
+  if (cleaned.soup.triangles.empty())
+    throw InputError("the mesh encloses no volume: no triangle has three distinct corners");
+  const MeshIndex index = build_index(cleaned.soup, {.hole_caps = &cleaned.caps});
+  const Occupancy occupancy =
+      classify_grid(index, grid, {.rule = InsideRule::Winding, .progress = o.progress});
+  if (std::find(occupancy.inside.values.begin(), occupancy.inside.values.end(), 1) ==
+      occupancy.inside.values.end())
+    throw InputError("the mesh encloses no cell at a voxel of " + std::to_string(o.voxel) +
+                     " mm (an open sheet, or a voxel larger than the part)");
+  const Field f = signed_distance_field(index, occupancy.inside, {.progress = o.progress});
+  ScalarVolume v = volume_on(grid, FieldSign::Signed);
+  std::copy(f.values.begin(), f.values.end(), v.values.begin());
+  return v;
+}
+
+ScalarVolume field_from_points(const std::vector<Vec3>& points, const ScannedFieldOptions& o) {
+  if (points.empty()) throw InputError("the point cloud has no points");
+  Box3 box;
+  for (const Vec3& p : points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError("the point cloud holds a point that is not finite");
+    box.extend(p);
+  }
+  const Grid grid = field_grid(box, o);
+  const Buckets buckets(points, box);
+  ScalarVolume v = volume_on(grid, FieldSign::Unsigned);
+  const std::size_t nx = grid.dims[0];
+  detail::parallel_for(grid.row_count(), 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t row = begin; row < end; ++row) {
+      const int j = static_cast<int>(row % grid.dims[1]), k = static_cast<int>(row / grid.dims[1]);
+      for (std::size_t i = 0; i < nx; ++i)
+        v.values[row * nx + i] = buckets.nearest(grid.node(static_cast<int>(i), j, k));
+    }
+  });
+  return v;
+}
+
+ScalarVolume field_from_ct(const ScalarVolume& ct, double iso, bool solid_below) {
+  require_valid(ct);
+  if (!std::isfinite(iso)) throw InputError("the iso-value must be a finite number");
+  std::array<double, 3> s = ct.spacing;
+  if (!ct.has_physical_size())
+    for (int a = 0; a < 3; ++a) s[a] = 1.0 / ct.dims[a];
+  std::vector<std::uint8_t> solid(ct.count()), empty(ct.count());
+  std::size_t solids = 0;
+  for (std::size_t n = 0; n < solid.size(); ++n) {
+    solid[n] = solid_below ? ct.values[n] <= iso : ct.values[n] >= iso;
+    empty[n] = !solid[n];
+    solids += solid[n];
+  }
+  if (solids == 0 || solids == solid.size())
+    throw InputError(std::string(solids == 0 ? "no" : "every") + " cell of the CT is " +
+                     (solid_below ? "at or below " : "at or above ") + std::to_string(iso) +
+                     ": there is no surface to measure from");
+  const std::vector<double> to_empty = squared_distance(empty, ct.dims, s);
+  const std::vector<double> to_solid = squared_distance(solid, ct.dims, s);
+  // Neighbours across the surface get ±(their distance − h/2): the zero level lies between.
+  const double h = std::min({s[0], s[1], s[2]});
+  ScalarVolume v = ct;
+  v.spacing = ct.has_physical_size() ? ct.spacing : std::array<double, 3>{};
+  v.sign = FieldSign::Signed;
+  for (std::size_t n = 0; n < v.values.size(); ++n)
+    v.values[n] = solid[n] ? -(std::sqrt(to_empty[n]) - 0.5 * h) : std::sqrt(to_solid[n]) - 0.5 * h;
+  return v;
+}
+
+std::vector<Vec3> read_points(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::string bytes = detail::read_file_bytes(path, std::uint64_t{4} << 30);
+  if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+      static_cast<unsigned char>(bytes[1]) == 0x8b)
+    bytes = detail::inflate_bytes(bytes, name, std::uint64_t{4} << 30);
+  std::vector<Vec3> points;
+  if (bytes.rfind("ply", 0) == 0) {
+    MeshFile mesh;
+    io::read_ply(bytes, name, mesh);
+    points = std::move(mesh.soup.points);
+  } else {
+    points = parse_xyz(bytes, name);
+  }
+  if (points.empty()) throw InputError(name + " holds no points");
+  return points;
+}
+
+}  // namespace tpmsfill
