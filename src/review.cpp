@@ -298,10 +298,32 @@ LayerSizes layer_sizes(const TpmsOptions& tpms) {
   return sizes;
 }
 
+// A porous structure's finest detail is its knot span (what one coefficient shapes), in mm
+// where it is placed: under two voxels, marching cubes cannot follow it.
+void review_structure(const LatticeDesign& design, const Box3& model, const ReviewOptions& o,
+                      std::vector<std::string>& warnings) {
+  if (!design.structure) return;
+  const PorousStructure& s = *design.structure;
+  const UnitCubeMap map = unit_cube_map(s, model);
+  double span = INFINITY;
+  for (int a = 0; a < 3; ++a)
+    span = std::min(span, map.extent[a] / (s.field.counts[a] - s.field.degree));
+  if (o.voxel > 0.5 * span) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the structure's finest detail (a knot span of %.3g mm over the %s) is under "
+                  "two voxels of %.3g mm; a voxel of %.3g mm or less follows it",
+                  span, s.placement == Placement::Tile ? "tile" : "model's box", o.voxel,
+                  0.5 * span);
+    warnings.push_back(text);
+  }
+}
+
 std::vector<std::string> review_design(const LatticeDesign& design, const Box3& model,
                                        const ReviewOptions& options) {
   std::vector<std::string> warnings;
   if (model.empty()) return warnings;
+  review_structure(design, model, options, warnings);
   const std::vector<Layer> layers = layers_of(design);
   review_size(layers, model, options, warnings);
   review_voxel(layers, options, warnings);

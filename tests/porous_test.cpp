@@ -265,3 +265,18 @@ TEST(Porous, AnIslandShellGoesWithTheCavityItEncloses) {
   const double shell = 4.0 / 3 * std::numbers::pi * (std::pow(4.9, 3) - std::pow(3.9, 3));
   EXPECT_NEAR(signed_volume(r.mesh), shell, 0.05 * shell);
 }
+
+TEST(Porous, AVoxelCoarserThanTheStructuresDetailIsWarned) {
+  // The sponge's 24 coefficients span 21 knot intervals: 0.95 mm over a 20 mm box.
+  FillOptions o;
+  o.grid.voxel_size = 0.6;
+  o.design.structure = sponge_structure();
+  const FillResult r = fill(make_box({0, 0, 0}, {20, 20, 20}), o);
+  bool warned = false;
+  for (const std::string& w : r.report.warnings)
+    warned = warned || w.find("knot span of 0.952 mm") != std::string::npos;
+  EXPECT_TRUE(warned);
+  o.grid.voxel_size = 0.4;
+  for (const std::string& w : fill(make_box({0, 0, 0}, {20, 20, 20}), o).report.warnings)
+    EXPECT_EQ(w.find("knot span"), std::string::npos) << w;
+}
