@@ -245,6 +245,7 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
     std::filesystem::path file = o.design.structure_file;
     if (file.is_relative()) file = std::filesystem::path(source).parent_path() / file;
     o.design.structure = read_itdf(file).structure;
+    o.design.structure_file = file.string();  // so the job's echo finds it from anywhere
   }
   if (const json* v = r.get("lattice")) {
     Reader l = r.object("lattice", *v);

@@ -10,6 +10,7 @@
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/itdf.hpp>
 #include <tpmsfill/porous.hpp>
+#include <tpmsfill/recipe.hpp>
 
 #include "test_util.hpp"
 
@@ -279,4 +280,23 @@ TEST(Porous, AVoxelCoarserThanTheStructuresDetailIsWarned) {
   o.grid.voxel_size = 0.4;
   for (const std::string& w : fill(make_box({0, 0, 0}, {20, 20, 20}), o).report.warnings)
     EXPECT_EQ(w.find("knot span"), std::string::npos) << w;
+}
+
+TEST(Porous, RecipesNameAStructureByItsFile) {
+  const auto dir = scratch_dir();
+  ItdfFile f;
+  f.structure = sponge_structure();
+  f.encoding[0].type = CoefficientType::Float64;  // stored exactly, to compare below
+  write_itdf(dir / "sponge.itdf", f);
+  write_file(dir / "r.json",
+             R"({"voxel": 0.25, "field": "sponge.itdf", "lattice": {"porosity": 0.6}})");
+  const FillOptions o = read_recipe_file((dir / "r.json").string());
+  ASSERT_TRUE(o.design.structure);
+  EXPECT_EQ(o.design.structure->field.coefficients, f.structure.field.coefficients);
+  const FillResult r = fill(make_box({0, 0, 0}, {20, 20, 20}), o);
+  EXPECT_NEAR(r.report.porosity(), 0.6, 0.01);
+  // The echo names the file again (resolved against the folder it is read from).
+  EXPECT_NE(recipe_json(r.resolved).find("sponge.itdf"), std::string::npos);
+  write_file(dir / "bad.json", R"({"field": "missing.itdf"})");
+  EXPECT_THROW(read_recipe_file((dir / "bad.json").string()), IoError);
 }
