@@ -319,10 +319,11 @@ commands() {  # the commands behind NAME, as a shell block
   printf '```\n%s\n%s\n```\n' "${fill_commands[$i]}" "${render_commands[$i]}"
 }
 section() {  # section TITLE NAME: picture, commands, what to look for
-  local i
+  local i note
   i=$(index_of "$2")
+  note=${notes[$i]%.}  # one full stop, whether or not the note brought its own
   printf '## %s\n\n%s\n\n%s\n\n%s.\n\n' "$1" "$(picture "$2")" "$(commands "$2")" \
-    "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
+    "$(tr '[:lower:]' '[:upper:]' <<<"${note:0:1}")${note:1}"
 }
 types_table() {  # types_table TYPE...: one column per type, network row and sheet row
   local t

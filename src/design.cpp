@@ -10,6 +10,7 @@
 #include <string>
 
 #include "detail/names.hpp"
+#include "detail/region_distance.hpp"
 #include "detail/tpms_kernel.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -25,7 +26,10 @@ constexpr detail::Named<RampShape> kRamps[] = {
 constexpr detail::Named<RegionShape> kRegions[] = {{RegionShape::HalfSpace, "half-space"},
                                                    {RegionShape::Slab, "slab"},
                                                    {RegionShape::Sphere, "sphere"},
-                                                   {RegionShape::Cylinder, "cylinder"}};
+                                                   {RegionShape::Cylinder, "cylinder"},
+                                                   {RegionShape::Polygon, "polygon"}};
+constexpr detail::Named<RingJoin> kJoins[] = {{RingJoin::Round, "round"},
+                                              {RingJoin::Miter, "miter"}};
 constexpr detail::Named<Transition> kTransitions[] = {{Transition::Sigmoid, "sigmoid"},
                                                       {Transition::Beta, "beta"}};
 
@@ -96,31 +100,23 @@ struct RampEval {
 
 // ---- regions and transitions ---------------------------------------------------------------
 
-double region_distance(const Region& r, Vec3 p) {  // signed, negative inside
-  const Vec3 n = unit(r.axis);
-  const Vec3 d = p - r.point;
-  switch (r.shape) {
-    case RegionShape::HalfSpace:
-      return -dot(d, n);
-    case RegionShape::Slab:
-      return std::fabs(dot(d, n)) - 0.5 * r.size;
-    case RegionShape::Sphere:
-      return norm(d) - r.size;
-    case RegionShape::Cylinder:
-      return norm(d - dot(d, n) * n) - r.size;
-  }
-  return 0;
-}
-
-double blend_weight(const Blend& b, Vec3 p) {
-  const double t = std::clamp(0.5 - region_distance(b.region, p) / b.width, 0.0, 1.0);
+// μ, the blended lattice's weight, from the transition coordinate t (0 at the outer edge, 1
+// at the inner one). A polygon's Beta peak is measured from its inner ring (seed 004), so its
+// growth runs the other way: μ = 1 − g(1 − t).
+double blend_weight(const Blend& b, const detail::RegionDistance& region, Vec3 p) {
+  const double t = region.transition(p, b.width);
   if (t <= 0 || t >= 1) return t;
+  const bool from_inner = b.region.shape == RegionShape::Polygon;
+  const double x = from_inner ? 1 - t : t;
+  double g = 0;
   if (b.transition == Transition::Beta) {
     const double e = 1.0 / (1.0 - b.peak);
-    return (1.0 + (1.0 - t) * e) * std::pow(t, e);
+    g = (1.0 + (1.0 - x) * e) * std::pow(x, e);
+  } else {
+    auto sigma = [](double y) { return 1.0 / (1.0 + std::exp(-10.0 * (y - 0.5))); };
+    g = (sigma(x) - sigma(0)) / (sigma(1) - sigma(0));
   }
-  auto sigma = [](double x) { return 1.0 / (1.0 + std::exp(-10.0 * (x - 0.5))); };
-  return (sigma(t) - sigma(0)) / (sigma(1) - sigma(0));
+  return from_inner ? 1 - g : g;
 }
 
 }  // namespace
@@ -158,6 +154,12 @@ std::string_view graded_name(Graded what) {
 std::string_view ramp_name(RampShape shape) {
   return detail::name_of(kRamps, shape);
 }
+std::string_view ring_join_name(RingJoin join) {
+  return detail::name_of(kJoins, join);
+}
+RingJoin ring_join_from_name(std::string_view name) {
+  return detail::from_name(kJoins, name, "ring join");
+}
 std::string_view region_name(RegionShape shape) {
   return detail::name_of(kRegions, shape);
 }
@@ -189,6 +191,34 @@ std::string porosity_and(const std::string& graded) {
 }
 }  // namespace
 
+// A polygon region: at least 3 finite corners, a plane, rings that make a band, and for
+// mitered rings a convex outline.
+void require_valid_polygon(const Region& r) {
+  if (r.loop.size() < 3) throw InputError("a polygon region needs at least 3 corners");
+  for (const auto& q : r.loop)
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]))
+      throw InputError("a polygon region's corners must be finite");
+  if (!finite(r.u) || !finite(r.v) || norm(r.u) == 0 ||
+      norm(cross(r.u, r.v)) <= 1e-12 * norm(r.u) * norm(r.v))
+    throw InputError("a polygon region's u and v must be two non-parallel directions");
+  if (!std::isfinite(r.inner) || !std::isfinite(r.outer) || !(r.inner + r.outer > 0))
+    throw InputError("a polygon region's rings must make a band: inner + outer > 0 mm");
+  double area = 0;
+  int turns = 0;
+  const std::size_t n = r.loop.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto a = r.loop[i], b = r.loop[(i + 1) % n], c = r.loop[(i + 2) % n];
+    area += a[0] * b[1] - a[1] * b[0];
+    const double turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+    turns += turn > 0 ? 1 : turn < 0 ? -1 : 0;
+  }
+  if (area == 0) throw InputError("a polygon region's outline encloses no area");
+  if (r.join == RingJoin::Miter && std::abs(turns) != static_cast<int>(n))
+    throw InputError(
+        "mitered rings need a convex outline in this version (round joins take "
+        "any outline)");
+}
+
 void require_valid(const LatticeDesign& d) {
   require_valid(static_cast<const TpmsOptions&>(d));
   if (d.structure) {
@@ -210,6 +240,10 @@ void require_valid(const LatticeDesign& d) {
     const Region& r = b.region;
     if (!finite(r.point) || !finite(r.axis) || !std::isfinite(r.size))
       throw InputError("a blend region's point, axis and size must be finite");
+    if (r.shape == RegionShape::Polygon) {
+      require_valid_polygon(r);
+      continue;
+    }
     if (r.shape != RegionShape::Sphere && norm(r.axis) == 0)
       throw InputError(std::string("a ") + std::string(region_name(r.shape)) +
                        " region needs a non-zero axis");
@@ -417,7 +451,8 @@ class DesignRows {
   Grid grid_;
   const Field* depth_ = nullptr;
   std::vector<Blend> blends_;
-  RowFunction custom_;  // the base, when the design has a custom source
+  std::vector<detail::RegionDistance> regions_;  // per blend
+  RowFunction custom_;                           // the base, when the design has a custom source
   Warp warp_;
   std::vector<Layer> layers_;  // base first (absent with a custom source), then the blends
   std::optional<RampEval> porosity_, level_, thickness_;
@@ -428,6 +463,7 @@ class DesignRows {
 
 DesignRows::DesignRows(const LatticeDesign& design, const Grid& grid, const Field* depth)
     : grid_(grid), depth_(depth), blends_(design.blends) {
+  for (const Blend& b : blends_) regions_.emplace_back(b.region);
   if (depth && (!(depth->grid == grid) || depth->values.size() != grid.node_count()))
     throw InputError("design_source: the depth field does not match the grid");
   if (const Grading* g = find_grading(design, Graded::Cell)) {
@@ -548,7 +584,7 @@ void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* value
     const Frame f = frame(i, j, k);
     double phi = custom_ ? values[n] : layer_value(layers_[0], f, i, j, k);
     for (std::size_t b = 0; b < blends_.size(); ++b) {
-      const double mu = blend_weight(blends_[b], f.p);
+      const double mu = blend_weight(blends_[b], regions_[b], f.p);
       if (mu <= 0) continue;
       const double other = layer_value(layers_[first_blend + b], f, i, j, k);
       phi = mu >= 1 ? other : (1 - mu) * phi + mu * other;

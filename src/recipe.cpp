@@ -86,6 +86,17 @@ class Reader {
       fail(key, scalar ? "must be a number or [x, y, z]" : "must be [x, y, z]");
     out = {as_number(key, (*v)[0]), as_number(key, (*v)[1]), as_number(key, (*v)[2])};
   }
+  // [[x, y], ...]: a polygon's corners.
+  void points2(const std::string& key, std::vector<std::array<double, 2>>& out) {
+    const json* v = get(key);
+    if (!v) return;
+    if (!v->is_array()) fail(key, "must be a list of [x, y] corners");
+    out.clear();
+    for (const json& q : *v) {
+      if (!q.is_array() || q.size() != 2) fail(key, "must be a list of [x, y] corners");
+      out.push_back({as_number(key, q[0]), as_number(key, q[1])});
+    }
+  }
   void optional_number(const std::string& key, std::optional<double>& out) {
     if (const json* v = get(key)) out = as_number(key, *v);
   }
@@ -278,9 +289,17 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
       g.vec3("point", b.region.point);
       g.vec3("axis", b.region.axis);
       g.number("size", b.region.size);
+      if (b.region.shape == RegionShape::Polygon) {
+        g.points2("loop", b.region.loop);
+        g.vec3("u", b.region.u);
+        g.vec3("v", b.region.v);
+        g.number("inner", b.region.inner);
+        g.number("outer", b.region.outer);
+        g.name("join", b.region.join, ring_join_from_name);
+      }
       g.finish();
     } else {
-      item.fail("region", "missing (a half-space, slab, sphere or cylinder)");
+      item.fail("region", "missing (a half-space, slab, sphere, cylinder or polygon)");
     }
     item.number("width", b.width);
     item.name("transition", b.transition, transition_from_name);
@@ -346,6 +365,16 @@ std::string recipe_json(const FillOptions& o) {
                    {"point", vec(b.region.point)},
                    {"axis", vec(b.region.axis)},
                    {"size", b.region.size}};
+    if (b.region.shape == RegionShape::Polygon) {
+      json loop = json::array();
+      for (const auto& q : b.region.loop) loop.push_back({q[0], q[1]});
+      e["region"]["loop"] = loop;
+      e["region"]["u"] = vec(b.region.u);
+      e["region"]["v"] = vec(b.region.v);
+      e["region"]["inner"] = b.region.inner;
+      e["region"]["outer"] = b.region.outer;
+      e["region"]["join"] = ring_join_name(b.region.join);
+    }
     e["width"] = b.width;
     e["transition"] = transition_name(b.transition);
     if (b.transition == Transition::Beta) e["peak"] = b.peak;

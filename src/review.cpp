@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "detail/region_distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/field.hpp"
 #include "tpmsfill/voxel.hpp"
@@ -176,22 +177,6 @@ void for_each_box_sample(const Box3& box, int n, F&& f) {
       for (int i = 0; i <= n; ++i) f(box.min + Vec3{s.x * i / n, s.y * j / n, s.z * k / n});
 }
 
-bool in_region(const Region& r, Vec3 p) {
-  const Vec3 n = (1 / std::max(norm(r.axis), 1e-300)) * r.axis;
-  const Vec3 d = p - r.point;
-  switch (r.shape) {
-    case RegionShape::HalfSpace:
-      return dot(d, n) > 0;
-    case RegionShape::Slab:
-      return std::fabs(dot(d, n)) < r.size / 2;
-    case RegionShape::Sphere:
-      return norm(d) < r.size;
-    case RegionShape::Cylinder:
-      return norm(d - dot(d, n) * n) < r.size;
-  }
-  return false;
-}
-
 // Refuses a blend whose region misses the model's box; warns when what it covers of the box
 // holds fewer than 8 of the blended lattice's cells (2 per side: the lattice barely shows).
 void review_blends(const LatticeDesign& design, const Box3& model,
@@ -200,7 +185,8 @@ void review_blends(const LatticeDesign& design, const Box3& model,
   for (std::size_t b = 0; b < design.blends.size(); ++b) {
     const Region& r = design.blends[b].region;
     std::size_t in = 0;
-    for_each_box_sample(model, n, [&](Vec3 p) { in += in_region(r, p); });
+    const detail::RegionDistance distance(r);
+    for_each_box_sample(model, n, [&](Vec3 p) { in += distance(p) < 0; });
     const double fraction = static_cast<double>(in) / ((n + 1) * (n + 1) * (n + 1));
     const std::string what =
         "blend " + std::to_string(b + 1) + "'s " + std::string(region_name(r.shape)) + " region";

@@ -15,6 +15,7 @@
 ///  - A custom source replaces the base TPMS; blends still apply on top of it.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -66,6 +67,14 @@ enum class RegionShape {
   Slab,       ///< within size/2 of the plane through `point` normal to `axis`
   Sphere,     ///< within `size` (radius) of `point`
   Cylinder,   ///< within `size` (radius) of the line through `point` along `axis`
+  Polygon,    ///< seed 004's ring region: inside `loop`, drawn in the plane of `u` and `v`
+};
+
+/// How a polygon region's rings follow its outline (seed 004's "tangent-connected" offsets
+/// are mitered).
+enum class RingJoin {
+  Round,  ///< the Euclidean distance to the outline: rounded corners, C1 off the medial axis
+  Miter,  ///< mitered offsets, straight lines meeting on the corners' bisectors (convex only)
 };
 
 struct Region {
@@ -73,6 +82,15 @@ struct Region {
   Vec3 point = {0, 0, 0};
   Vec3 axis = {0, 0, 1};
   double size = 0;  ///< slab thickness or radius, mm
+  /// Polygon: the outline's corners (at least 3, a simple polygon) in mm along `u` and `v`
+  /// from `point`; the region is the prism over it along u × v. The transition runs from the
+  /// outer ring, `outer` mm outside the outline, to the inner ring, `inner` mm inside it (both
+  /// signed, so the band need not straddle the outline; inner + outer > 0); the blend's
+  /// width is not used, and a Beta peak is measured from the inner ring (seed 004).
+  std::vector<std::array<double, 2>> loop = {};
+  Vec3 u = {1, 0, 0}, v = {0, 1, 0};  ///< the outline's plane (v is made orthogonal to u)
+  double inner = 1, outer = 1;
+  RingJoin join = RingJoin::Round;
 };
 
 /// How μ rises across the transition band (t = 0 at its outer edge, 1 at its inner edge).
@@ -143,10 +161,12 @@ std::string grading_label(const Grading& grading);
 std::string_view ramp_name(RampShape shape);
 std::string_view region_name(RegionShape shape);
 std::string_view transition_name(Transition transition);
+std::string_view ring_join_name(RingJoin join);  ///< "round", "miter"
 /// @throws InputError  unknown name (the message lists the known ones)
 Graded graded_from_name(std::string_view name);
 RampShape ramp_from_name(std::string_view name);
 RegionShape region_from_name(std::string_view name);
 Transition transition_from_name(std::string_view name);
+RingJoin ring_join_from_name(std::string_view name);
 
 }  // namespace tpmsfill
