@@ -105,12 +105,18 @@ int parse_dim(std::string_view word, const std::string& source, std::uint64_t li
   return v;
 }
 
+// A finite decimal number (from_chars: no hex, no locale; a leading '+' is accepted).
 double parse_number(std::string_view word, const std::string& source, std::uint64_t line) {
-  const std::string w(word);
-  char* end = nullptr;
-  const double v = std::strtod(w.c_str(), &end);
-  if (w.empty() || end != w.c_str() + w.size())
-    fail_at_line(source, line, "'" + w + "' is not a number");
+  std::string_view t = word;
+  if (t.size() > 1 && t[0] == '+' && t[1] != '-' && t[1] != '+') t.remove_prefix(1);
+  double v = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec == std::errc::result_out_of_range)
+    fail_at_line(source, line, "'" + std::string(word) + "' is out of range for a double");
+  if (t.empty() || ec != std::errc() || end != t.data() + t.size())
+    fail_at_line(source, line, "'" + std::string(word) + "' is not a number");
+  if (!std::isfinite(v))
+    fail_at_line(source, line, "'" + std::string(word) + "' is not a finite number");
   return v;
 }
 
@@ -174,7 +180,9 @@ VolumeFile parse_field_text(std::string_view data, const std::string& source) {
       text = text.substr(0, hash);
     const std::vector<std::string_view> w = words(text);
     if (w.empty()) continue;
+    std::size_t from = 0;  // the first word that is a value
     if (!dims) {
+      from = w.size();
       if (w[0] == kTextMagic) {
         if (w.size() != 2 || w[1] != "1")
           fail_at_line(source, line->number, "this tpmsfill reads tpmsfill-field version 1");
@@ -200,23 +208,22 @@ VolumeFile parse_field_text(std::string_view data, const std::string& source) {
                                   parse_dim(w[1], source, line->number),
                                   parse_dim(w[2], source, line->number)};
         expected = checked_count(*dims);
-        // Each value needs at least two characters ("0 "): refuse counts the text cannot hold.
-        if (expected > (data.size() - line->end) / 2 + 1)
+        // Each value needs at least two characters ("0 "): refuse counts the text cannot hold
+        // (values may follow the counts on their line).
+        const auto rest =
+            static_cast<std::uint64_t>(data.data() + data.size() - (w[2].data() + w[2].size()));
+        if (expected > rest / 2 + 1)
           fail_at_line(source, line->number,
                        std::to_string(expected) + " values declared, more than the file holds");
         values.reserve(expected);
-        for (std::size_t i = 3; i < w.size(); ++i)
-          values.push_back(parse_number(w[i], source, line->number));
+        from = 3;
       }
-      continue;
     }
-    for (std::string_view word : w) {
+    for (std::size_t i = from; dims && i < w.size(); ++i) {
       if (values.size() == expected)
         fail_at_line(source, line->number,
                      "more values than the " + std::to_string(expected) + " the counts declare");
-      const double v = parse_number(word, source, line->number);
-      if (!std::isfinite(v)) fail_at_line(source, line->number, "a value is not finite");
-      values.push_back(v);
+      values.push_back(parse_number(w[i], source, line->number));
     }
   }
   if (!dims) fail_at_line(source, std::max<std::uint64_t>(last_line, 1), "no counts 'w h d' found");
@@ -289,6 +296,7 @@ VolumeFile parse_field_binary(std::string_view data, const std::string& source) 
 struct Header {
   std::map<std::string, std::pair<std::string, std::uint64_t>> fields;  // value, line
   std::uint64_t data_offset = 0;
+  std::uint64_t data_line = 1;  // the line the data starts on (for ascii data)
   const std::string* source = nullptr;
 
   const std::string* get(const std::string& key) const {
@@ -338,15 +346,21 @@ std::array<int, 3> header_dims(const Header& h, const std::string& key) {
           parse_dim(w[2], *h.source, h.line(key))};
 }
 
-// The data of a header: attached after it, or in a file beside it.
-std::string_view header_data(std::string_view data, const Header& h, const std::string& file_key,
-                             const std::filesystem::path* folder, std::string& storage,
-                             std::uint64_t max_bytes, std::uint64_t& base) {
+// Where a header's data is: the bytes, and what errors in them name (the file, the byte
+// offset of bytes[0] in it, the line bytes[0] is on).
+struct DataRef {
+  std::string_view bytes;
+  std::string source;
+  std::uint64_t base = 0, first_line = 1;
+};
+
+// The data of a header: attached after it, or in a file beside it (read into `storage`).
+DataRef header_data(std::string_view data, const Header& h, const std::string& file_key,
+                    const std::filesystem::path* folder, std::string& storage,
+                    std::uint64_t max_bytes) {
   const std::string* file = h.get(file_key);
-  if (!file || lower(*file) == "local") {
-    base = h.data_offset;
-    return data.substr(h.data_offset);
-  }
+  if (!file || lower(*file) == "local")
+    return {data.substr(h.data_offset), *h.source, h.data_offset, h.data_line};
   if (!folder)
     h.fail(file_key,
            "the data is in another file ('" + *file + "'), which cannot be followed here");
@@ -354,8 +368,49 @@ std::string_view header_data(std::string_view data, const Header& h, const std::
     h.fail(file_key, "lists of data files are not supported; join them into one file");
   const std::filesystem::path path = *folder / *file;
   storage = detail::read_file_bytes(path, max_bytes);
-  base = 0;
-  return storage;
+  return {storage, path.string(), 0, 1};
+}
+
+// NRRD "line skip" / MetaImage-style skips: drops whole lines from the data's start.
+void skip_lines(DataRef& d, std::uint64_t lines, const Header& h, const std::string& key) {
+  for (std::uint64_t n = 0; n < lines; ++n) {
+    const std::size_t eol = d.bytes.find('\n');
+    if (eol == std::string_view::npos)
+      h.fail(key, "'" + key + "' skips " + std::to_string(lines) + " lines; the data has " +
+                      std::to_string(n));
+    d.bytes.remove_prefix(eol + 1);
+    d.base += eol + 1;
+    ++d.first_line;
+  }
+}
+
+// Drops `skip` bytes from the data's start; -1 (where allowed): all but the last `need` bytes.
+void skip_bytes(DataRef& d, std::int64_t skip, std::uint64_t need, const Header& h,
+                const std::string& key) {
+  if (skip == -1) {
+    if (need > d.bytes.size())
+      fail_at_byte(d.source, d.base + d.bytes.size(),
+                   "the data holds " + std::to_string(d.bytes.size()) + " bytes where " +
+                       std::to_string(need) + " are needed");
+    skip = static_cast<std::int64_t>(d.bytes.size() - need);
+  }
+  if (skip < 0 || static_cast<std::uint64_t>(skip) > d.bytes.size())
+    h.fail(key, "'" + key + "' " + std::to_string(skip) + " is not 0 to the data's size (" +
+                    std::to_string(d.bytes.size()) + " bytes)");
+  for (std::int64_t n = 0; n < skip; ++n)
+    if (d.bytes[static_cast<std::size_t>(n)] == '\n') ++d.first_line;
+  d.bytes.remove_prefix(static_cast<std::size_t>(skip));
+  d.base += static_cast<std::uint64_t>(skip);
+}
+
+// A whole number in a header (a skip, a count).
+std::int64_t header_integer(const Header& h, const std::string& key) {
+  const std::string text = trim(*h.get(key));
+  std::int64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size())
+    h.fail(key, "'" + key + "' must be a whole number, not '" + text + "'");
+  return v;
 }
 
 Header parse_header(std::string_view data, const std::string& source, char separator,
@@ -373,6 +428,7 @@ Header parse_header(std::string_view data, const std::string& source, char separ
     if (line->text.empty() || trim(line->text).empty()) {
       if (ends_at_blank) {
         h.data_offset = line->end;
+        h.data_line = line->number + 1;
         return h;
       }
       continue;
@@ -394,10 +450,12 @@ Header parse_header(std::string_view data, const std::string& source, char separ
     h.fields[key] = {value, line->number};
     if (!ends_at_blank && key == data_key) {  // MetaImage: the data file line ends the header
       h.data_offset = line->end;
+      h.data_line = line->number + 1;
       return h;
     }
   }
   h.data_offset = data.size();
+  h.data_line = number + 1;
   return h;
 }
 
@@ -445,6 +503,90 @@ Element nrrd_element(const Header& h) {
   return *element_named(it->second);
 }
 
+// Inflates a header's data in place; errors name the data's file and offset within it.
+void inflate_data(DataRef& d, std::string& storage, std::uint64_t max_bytes) {
+  try {
+    storage = detail::inflate_bytes(d.bytes, d.source, max_bytes);
+  } catch (const ParseError& e) {
+    fail_at_byte(d.source, d.base + e.byte_offset().value_or(0), e.reason());
+  }
+  d.bytes = storage;
+  d.base = 0;
+  d.first_line = 1;
+}
+
+// `count` whitespace-separated numbers (NRRD's ascii encoding); errors name the data's line.
+std::vector<double> decode_text(const DataRef& d, std::uint64_t count, const Header& h) {
+  if (count > d.bytes.size() / 2 + 1)
+    h.fail("sizes", std::to_string(count) + " values declared, more than the " +
+                        std::to_string(d.bytes.size()) + " bytes of text can hold");
+  std::vector<double> out;
+  out.reserve(count);
+  std::uint64_t at = 0, number = d.first_line - 1, last = d.first_line;
+  while (const std::optional<Line> line = next_line(d.bytes, at, number)) {
+    last = line->number;
+    for (std::string_view w : words(line->text)) {
+      if (out.size() == count)
+        fail_at_line(d.source, line->number,
+                     "more values than the " + std::to_string(count) + " 'sizes' declares");
+      out.push_back(parse_number(w, d.source, line->number));
+    }
+  }
+  if (out.size() != count)
+    fail_at_line(d.source, last,
+                 "the data ends after " + std::to_string(out.size()) + " of " +
+                     std::to_string(count) + " values");
+  return out;
+}
+
+// NRRD's data: attached or detached, line skip, then byte skip (after decompressing, as teem
+// does), then decoded by its encoding.
+std::vector<double> nrrd_values(std::string_view data, const Header& h, const Element& e,
+                                std::uint64_t count, const std::filesystem::path* folder,
+                                std::uint64_t max_bytes, VolumeFile& f) {
+  const std::string encoding = h.get("encoding") ? lower(*h.get("encoding")) : "raw";
+  const bool gzip = encoding == "gzip" || encoding == "gz";
+  const bool text = encoding == "ascii" || encoding == "text" || encoding == "txt";
+  if (!gzip && !text && encoding != "raw")
+    h.fail("encoding",
+           "unsupported NRRD encoding '" + encoding + "' (raw, gzip and ascii are read)");
+  const bool big = h.get("endian") && lower(*h.get("endian")) == "big";
+  std::string storage, inflated;
+  DataRef d = header_data(data, h, h.get("datafile") ? "datafile" : "data file", folder, storage,
+                          max_bytes);
+  for (const char* key : {"line skip", "lineskip"})
+    if (h.get(key)) {
+      const std::int64_t n = header_integer(h, key);
+      if (n < 0) h.fail(key, "'line skip' must be 0 or more");
+      skip_lines(d, static_cast<std::uint64_t>(n), h, key);
+    }
+  const char* skip_key = h.get("byteskip") ? "byteskip" : "byte skip";
+  const std::int64_t skip = h.get(skip_key) ? header_integer(h, skip_key) : 0;
+  if (skip == -1 && (gzip || text)) h.fail(skip_key, "'byte skip: -1' is only read with raw data");
+  if (gzip) {
+    inflate_data(d, inflated, max_bytes);
+    f.compressed = true;
+  }
+  skip_bytes(d, skip, count * std::uint64_t(e.size), h, skip_key);
+  if (text) return decode_text(d, count, h);
+  return decode(d.bytes, count, e, big, d.source, d.base);
+}
+
+// An axis stored backwards (a negative NRRD step): its values reversed and the origin moved
+// to the cell that is now first, so every axis increases and the geometry is unchanged.
+void reverse_axis(ScalarVolume& v, int axis) {
+  const std::size_t n = std::size_t(v.dims[axis]);
+  const std::size_t stride = axis == 0   ? 1
+                             : axis == 1 ? std::size_t(v.dims[0])
+                                         : std::size_t(v.dims[0]) * v.dims[1];
+  for (std::size_t at = 0; at < v.values.size(); ++at) {
+    const std::size_t i = at / stride % n;
+    if (i < n - 1 - i) std::swap(v.values[at], v.values[at + (n - 1 - 2 * i) * stride]);
+  }
+  const double shift = -v.spacing[axis] * double(n - 1);
+  (axis == 0 ? v.origin.x : axis == 1 ? v.origin.y : v.origin.z) += shift;
+}
+
 VolumeFile parse_nrrd(std::string_view data, const std::string& source,
                       const std::filesystem::path* folder, std::uint64_t max_bytes) {
   const Header h = parse_header(data, source, ':', true, "");
@@ -456,43 +598,8 @@ VolumeFile parse_nrrd(std::string_view data, const std::string& source,
   const Element e = nrrd_element(h);
   f.element_type = e.name;
   f.volume = unit_volume(header_dims(h, "sizes"));
-  const std::string encoding = h.get("encoding") ? lower(*h.get("encoding")) : "raw";
-  const bool big = h.get("endian") && lower(*h.get("endian")) == "big";
-  std::string storage;
-  std::uint64_t base = 0;
-  std::string_view bytes = header_data(data, h, "data file", folder, storage, max_bytes, base);
-  if (h.get("datafile")) bytes = header_data(data, h, "datafile", folder, storage, max_bytes, base);
-  if (const std::string* skip = h.get("byte skip")) {
-    const double s = parse_number(*skip, source, h.line("byte skip"));
-    if (!(s >= 0) || s > double(bytes.size()) || s != std::floor(s))
-      h.fail("byte skip", "'byte skip' must be 0 to the data's size (-1 is not supported)");
-    bytes.remove_prefix(static_cast<std::size_t>(s)), base += static_cast<std::uint64_t>(s);
-  }
-  const std::uint64_t count = f.volume.count();
-  std::string inflated;
-  if (encoding == "gzip" || encoding == "gz") {
-    inflated = detail::inflate_bytes(bytes, source, max_bytes);
-    bytes = inflated, base = 0, f.compressed = true;
-  } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
-    if (count > bytes.size() / 2 + 1)
-      h.fail("sizes", std::to_string(count) + " values declared, more than the text holds");
-    std::uint64_t line = h.line("encoding");
-    for (std::string_view w : words(bytes)) {
-      if (f.volume.values.size() == count)
-        fail_at_line(source, line, "more values than 'sizes' declares");
-      const double v = parse_number(w, source, line);
-      if (!std::isfinite(v)) fail_at_line(source, line, "a value is not finite");
-      f.volume.values.push_back(v);
-    }
-    if (f.volume.values.size() != count)
-      fail_at_byte(source, data.size(),
-                   "the data ends after " + std::to_string(f.volume.values.size()) + " of " +
-                       std::to_string(count) + " values");
-  } else if (encoding != "raw") {
-    h.fail("encoding",
-           "unsupported NRRD encoding '" + encoding + "' (raw, gzip and ascii are read)");
-  }
-  if (f.volume.values.empty()) f.volume.values = decode(bytes, count, e, big, source, base);
+  f.volume.values = nrrd_values(data, h, e, f.volume.count(), folder, max_bytes, f);
+  std::array<double, 3> step{};  // signed: a negative step runs the axis backwards
   if (h.get("space directions")) {
     std::vector<double> m = h.numbers("space directions", 9);
     for (int r = 0; r < 3; ++r)
@@ -500,10 +607,10 @@ VolumeFile parse_nrrd(std::string_view data, const std::string& source,
         if (r != c && m[3 * r + c] != 0)
           h.fail("space directions",
                  "rotated axes are not supported (the directions must be along x, y, z)");
-    f.volume.spacing = {std::fabs(m[0]), std::fabs(m[4]), std::fabs(m[8])};
+    step = {m[0], m[4], m[8]};
   } else if (h.get("spacings")) {
     const std::vector<double> s = h.numbers("spacings", 3);
-    f.volume.spacing = {s[0], s[1], s[2]};
+    step = {s[0], s[1], s[2]};
   }
   if (const std::string* sign = h.get("tpmsfill_sign:=")) {  // what write_volume records
     try {
@@ -516,6 +623,10 @@ VolumeFile parse_nrrd(std::string_view data, const std::string& source,
     const std::vector<double> o = h.numbers("space origin", 3);
     f.volume.origin = {o[0], o[1], o[2]};
   }
+  for (int a = 0; a < 3; ++a) {
+    f.volume.spacing[a] = std::fabs(step[a]);
+    if (step[a] < 0) reverse_axis(f.volume, a);
+  }
   return f;
 }
 
@@ -526,12 +637,10 @@ VolumeFile parse_metaimage(std::string_view data, const std::string& source,
     h.fail("NDims", "a field is 3-dimensional: NDims must be 3");
   if (h.get("ElementNumberOfChannels") && trim(*h.get("ElementNumberOfChannels")) != "1")
     h.fail("ElementNumberOfChannels", "only one channel per element is supported");
-  if (h.get("TransformMatrix")) {
-    const std::vector<double> m = h.numbers("TransformMatrix", 9);
-    if (m != std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 1})
-      h.fail("TransformMatrix",
-             "rotated volumes are not supported (TransformMatrix must be the identity)");
-  }
+  for (const char* key : {"TransformMatrix", "Rotation", "Orientation"})  // synonyms
+    if (h.get(key) && h.numbers(key, 9) != std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 1})
+      h.fail(key,
+             std::string("rotated volumes are not supported (") + key + " must be the identity)");
   if (!h.get("ElementDataFile")) h.fail("ElementDataFile", "the header has no 'ElementDataFile'");
   if (!h.get("ElementType")) h.fail("ElementType", "the header has no 'ElementType'");
   static const std::map<std::string, std::string> types = {
@@ -552,14 +661,19 @@ VolumeFile parse_metaimage(std::string_view data, const std::string& source,
   if (h.get("BinaryData") && lower(*h.get("BinaryData")) != "true")
     h.fail("BinaryData", "text MetaImage data is not supported (BinaryData = False)");
   std::string storage, inflated;
-  std::uint64_t base = 0;
-  std::string_view bytes =
-      header_data(data, h, "ElementDataFile", folder, storage, max_bytes, base);
-  if (flag("CompressedData")) {
-    inflated = detail::inflate_bytes(bytes, source, max_bytes);
-    bytes = inflated, base = 0, f.compressed = true;
+  DataRef d = header_data(data, h, "ElementDataFile", folder, storage, max_bytes);
+  const std::uint64_t need = f.volume.count() * std::uint64_t(e.size);
+  if (h.get("HeaderSize")) {  // bytes before the data; -1: the data is the file's end
+    const std::int64_t skip = header_integer(h, "HeaderSize");
+    if (skip == -1 && flag("CompressedData"))
+      h.fail("HeaderSize", "'HeaderSize = -1' is not read with compressed data");
+    skip_bytes(d, skip, need, h, "HeaderSize");
   }
-  f.volume.values = decode(bytes, f.volume.count(), e, big, source, base);
+  if (flag("CompressedData")) {
+    inflate_data(d, inflated, max_bytes);
+    f.compressed = true;
+  }
+  f.volume.values = decode(d.bytes, f.volume.count(), e, big, d.source, d.base);
   for (const char* key : {"ElementSpacing", "ElementSize"})
     if (h.get(key)) {
       const std::vector<double> s = h.numbers(key, 3);
@@ -578,14 +692,13 @@ VolumeFile parse_metaimage(std::string_view data, const std::string& source,
 // ---- INR ----------------------------------------------------------------------------------
 
 VolumeFile parse_inr(std::string_view data, const std::string& source) {
-  const std::size_t end = data.find("##}");
-  if (end == std::string_view::npos || end > (1 << 20))
-    fail_at_byte(source, 0, "the INR header has no end ('##}')");
-  std::size_t header = end + 3;
+  // The header ends at a line "##}". INRIA's format pads it to a multiple of 256 bytes, but
+  // CGAL reads up to that line whatever its length (libcgal-demo's small-scalar.inr has 240).
+  const std::size_t end = data.substr(0, std::size_t{1} << 20).find("\n##}");
+  if (end == std::string_view::npos)
+    fail_at_byte(source, 0, "the INR header has no end (a line '##}' in its first MiB)");
+  std::size_t header = end + 4;
   if (header < data.size() && data[header] == '\n') ++header;
-  if (header % 256 != 0)
-    fail_at_byte(source, end,
-                 "the INR header is " + std::to_string(header) + " bytes, not a multiple of 256");
   Header h;
   h.source = &source;
   std::uint64_t at = 0, number = 0;
@@ -613,13 +726,18 @@ VolumeFile parse_inr(std::string_view data, const std::string& source) {
   else
     h.fail("TYPE", "unsupported INR TYPE '" + type + "' with PIXSIZE " + std::to_string(bits));
   const Element e = *element_named(name);
-  const std::string cpu = h.get("CPU") ? *h.get("CPU") : "decm";
+  const std::string cpu = h.get("CPU") ? lower(*h.get("CPU")) : "decm";
   const bool big = cpu == "sun" || cpu == "sgi";
+  if (!big && cpu != "decm" && cpu != "alpha" && cpu != "pc")
+    h.fail("CPU", "unknown INR CPU '" + cpu + "' (decm, alpha, pc: little-endian; sun, sgi: big)");
   VolumeFile f;
   f.format = VolumeFormat::Inr;
   f.element_type = e.name;
   f.volume = unit_volume(dims);
   f.volume.values = decode(data.substr(header), f.volume.count(), e, big, source, header);
+  if (header % 256 != 0)
+    f.warnings.push_back(source + ": the INR header is " + std::to_string(header) +
+                         " bytes, not a multiple of 256 (read up to its '##}' line, as CGAL does)");
   const char* sk[3] = {"VX", "VY", "VZ"};
   const char* tk[3] = {"TX", "TY", "TZ"};
   std::array<double, 3> o{};
@@ -645,6 +763,9 @@ VolumeFormat detect(std::string_view data, const std::string& source) {
 VolumeFile parse_any(std::string_view bytes, const std::string& source, const VolumeReadOptions& o,
                      const std::filesystem::path* folder) {
   if (bytes.empty()) throw InputError(source + " is empty");
+  if (bytes.size() > o.max_bytes)
+    throw InputError(source + " is larger than the limit of " + std::to_string(o.max_bytes) +
+                     " bytes");
   std::string inflated;
   bool gz = false;
   if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&

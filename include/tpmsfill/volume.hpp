@@ -83,8 +83,9 @@ struct VolumeFile {
 /// Reads a volume file. Detached data (NRRD "data file", MetaImage "ElementDataFile") is
 /// read relative to the header's folder.
 /// @throws IoError     the file (or its data file) cannot be opened or read
-/// @throws ParseError  malformed bytes: the message names the line or byte offset
-/// @throws InputError  empty, over max_bytes, an unsupported element type or encoding
+/// @throws ParseError  malformed bytes, or a header asking for what is not read (an element
+///                     type, encoding or rotation): the message names the line or byte offset
+/// @throws InputError  empty, over max_bytes, a negative spacing
 VolumeFile read_volume_file(const std::filesystem::path& path,
                             const VolumeReadOptions& options = {});
 
