@@ -296,7 +296,7 @@ PY
     echo "$row |"
   done
   # fill --field on every development mesh (holes, flips, several shells), at a voxel of
-  # 1/120 of each one's diagonal, the skull structure stretched over it at porosity 0.7.
+  # 1/120 of each one's diagonal, the sponge structure stretched over it at porosity 0.7.
   meshes=../shared/meshes
   if [[ -d "$meshes" ]]; then
     echo
@@ -304,20 +304,20 @@ PY
     echo "|---|---:|---:|---:|---:|---|---|"
     for f in "$meshes"/*.{off,stl,STL,obj,ply}; do
       [[ -f "$f" ]] || continue
-      voxel=$(./build/tpmsfill check "$f" --json 2>/dev/null | python3 -c "
+      voxel=$( (./build/tpmsfill check "$f" --json 2>/dev/null || true) | python3 -c "
 import json, sys, math
 b = json.load(sys.stdin)['bbox']
 print('%.4g' % (math.dist(b['min'], b['max']) / 120))" 2>/dev/null) || voxel=1
       start=$(date +%s.%N)
       code=0
-      ./build/tpmsfill fill "$f" "$tmp/ff.stl" --field "$tmp/skull.itdf" --porosity 0.7 \
+      ./build/tpmsfill fill "$f" "$tmp/ff.stl" --field "$tmp/sponge.itdf" --porosity 0.7 \
         --voxel "$voxel" --report "$tmp/ff.json" --quiet 2>"$tmp/ff.err" || code=$?
-      secs=$(echo "$(date +%s.%N) - $start" | bc)
+      secs=$(printf '%.2f' "$(echo "$(date +%s.%N) - $start" | bc)")
       if ((code == 0)); then
         python3 - "$tmp/ff.json" "$(basename "$f")" "$secs" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
-w = "; ".join(x[:70] for x in r.get("warnings", [])) or "-"
+w = "; ".join(x[:x.find(":")] if ":" in x else x[:60] for x in r.get("warnings", [])) or "-"
 print(f"| {sys.argv[2]} | 0 | {float(sys.argv[3]):.2f} | {r['output']['triangles']} | "
       f"{100 * r['porosity']:.1f} % | {r['valid']} | {w} |")
 PY

@@ -494,6 +494,23 @@ void validate(Job& job) {
   }
 }
 
+// A structure's porosity is solved over its whole unit cube; the part sees only what the
+// model covers of it, which may be mostly void or mostly solid. Say so with the numbers.
+void warn_structure_porosity(const LatticeDesign& d, FillReport& r) {
+  if (!d.structure || !r.porosity_target) return;
+  const double asked = *r.porosity_target, got = r.porosity();
+  if (std::fabs(got - asked) <= 0.05) return;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the part's porosity is %.1f %%, not the %.1f %% asked: the structure's porosity "
+                "is solved over its whole cube, and the model covers parts of the cube that are "
+                "%s; tile it (--cell) or ask for %s",
+                100 * got, 100 * asked,
+                got > asked ? "more void than the rest" : "more solid than the rest",
+                got > asked ? "a lower porosity" : "a higher porosity");
+  r.warnings.push_back(text);
+}
+
 }  // namespace
 
 std::uint64_t default_memory_budget() {
@@ -531,6 +548,7 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   job.occupancy = Occupancy{};
   job.depth.reset();
   validate(job);
+  warn_structure_porosity(result.resolved.design, result.report);
   job.job_progress.finish();
   result.mesh = std::move(job.mesh);
   return result;

@@ -300,3 +300,26 @@ TEST(Porous, RecipesNameAStructureByItsFile) {
   write_file(dir / "bad.json", R"({"field": "missing.itdf"})");
   EXPECT_THROW(read_recipe_file((dir / "bad.json").string()), IoError);
 }
+
+TEST(Porous, APartThatMissesTheStructuresSolidIsWarned) {
+  // A ball structure at porosity 0.3 fills most of its cube, but a model of two corner boxes
+  // sees only the cube's corners, which stay mostly void: the part's porosity is far from 30 %
+  // and the report says so with both numbers.
+  FillOptions o;
+  o.grid.voxel_size = 0.2;
+  o.design.structure = ball_structure(0.3);
+  o.design.porosity = 0.3;
+  const TriangleSoup model =
+      concat(make_box({0, 0, 0}, {5, 5, 5}), make_box({15, 15, 15}, {20, 20, 20}));
+  const FillResult r = fill(model, o);
+  ASSERT_GT(r.report.porosity(), 0.35);
+  bool warned = false;
+  for (const std::string& w : r.report.warnings)
+    warned = warned || w.find("not the 30.0 % asked") != std::string::npos;
+  EXPECT_TRUE(warned);
+  // A model that fills its box gets the porosity asked, and no such warning.
+  const FillResult whole = fill(make_box({0, 0, 0}, {20, 20, 20}), o);
+  EXPECT_NEAR(whole.report.porosity(), 0.3, 0.02);
+  for (const std::string& w : whole.report.warnings)
+    EXPECT_EQ(w.find("% asked"), std::string::npos);
+}
