@@ -198,10 +198,8 @@ json tpms_json(const TpmsOptions& o, bool full) {
   j["type"] = tpms_type_name(o.type);
   j["style"] = tpms_style_name(o.style);
   j["cell"] = o.cell.x == o.cell.y && o.cell.y == o.cell.z ? json(o.cell.x) : vec(o.cell);
-  if (o.style == TpmsStyle::Network)
-    j["level"] = o.level;
-  else
-    j["thickness"] = o.thickness;
+  if (o.style == TpmsStyle::Network || o.level != 0) j["level"] = o.level;
+  if (o.style == TpmsStyle::Sheet) j["thickness"] = o.thickness;
   if (o.porosity) j["porosity"] = *o.porosity;
   j["origin"] = vec(o.origin);
   if (full || !o.rotation.is_identity()) j["rotation_matrix"] = o.rotation.m;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -55,7 +56,15 @@ TpmsStyle tpms_style_from_name(std::string_view name) {
 }
 
 std::string tpms_label(const TpmsOptions& o) {
-  return std::string(tpms_type_name(o.type)) + " " + std::string(tpms_style_name(o.style));
+  std::string label =
+      std::string(tpms_type_name(o.type)) + " " + std::string(tpms_style_name(o.style));
+  if (o.style == TpmsStyle::Sheet && o.level != 0) {  // walls between two levels
+    char b[96];
+    std::snprintf(b, sizeof b, " between levels %.4g and %.4g mm", -o.level - 0.5 * o.thickness,
+                  -o.level + 0.5 * o.thickness);
+    label += b;
+  }
+  return label;
 }
 
 Mat3 rotation_from_euler(Vec3 degrees) {
@@ -89,6 +98,10 @@ void require_valid(const TpmsOptions& o) {
   if (!std::isfinite(o.level)) throw InputError("the level must be a finite number of millimetres");
   if (o.style == TpmsStyle::Sheet && (!(o.thickness > 0) || !std::isfinite(o.thickness)))
     throw InputError("the sheet thickness must be a positive number of millimetres");
+  if (o.style == TpmsStyle::Sheet && o.level != 0 && o.porosity)
+    throw InputError(
+        "a porosity target solves a centred sheet's thickness; a sheet between two "
+        "levels has its thickness already (C2 - C1)");
   if (!std::isfinite(o.origin.x) || !std::isfinite(o.origin.y) || !std::isfinite(o.origin.z))
     throw InputError("the lattice origin must be finite");
   const Mat3 rrt = o.rotation * o.rotation.transposed();
@@ -262,10 +275,10 @@ double tpms_solid_fraction(const TpmsOptions& options, int samples) {
   const TpmsOptions o = resolve_porosity(options);
   const std::vector<float> values = cell_values(o, samples);
   const bool network = o.style == TpmsStyle::Network;
-  const float threshold = static_cast<float>(network ? -o.level : 0.5 * o.thickness);
+  const double threshold = network ? -o.level : 0.5 * o.thickness;
   const std::size_t solid =
       static_cast<std::size_t>(std::count_if(values.begin(), values.end(), [&](float v) {
-        return (network ? v : std::fabs(v)) < threshold;
+        return (network ? v : std::fabs(v + o.level)) < threshold;
       }));
   return static_cast<double>(solid) / static_cast<double>(values.size());
 }

@@ -330,3 +330,25 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   EXPECT_EQ(test::run_command(cli() + " --version", &help), 0);
   EXPECT_NE(help.find("tpmsfill "), std::string::npos);
 }
+
+TEST(Cli, FillTakesASheetBetweenTwoLevels) {
+  // --levels C1 C2: walls where C1 <= f̃ <= C2, named in the summary; the echoed recipe keeps
+  // the level and rebuilds the same lattice.
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "box.off", test::make_box({0, 0, 0}, {8, 8, 8}));
+  const std::string job = "fill '" + (dir / "box.off").string() + "' '" + (dir / "o.stl").string() +
+                          "' --cell 4 --voxel 0.2 ";
+  std::string out;
+  ASSERT_EQ(test::run_command(cli() + " " + job + "--levels 0.2 0.8 --report '" +
+                                  (dir / "r.json").string() + "' 2>&1",
+                              &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("gyroid sheet between levels 0.2 and 0.8 mm"), std::string::npos) << out;
+  const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_DOUBLE_EQ(report["recipe"]["lattice"]["level"].get<double>(), -0.5);
+  EXPECT_EQ(test::run_command(cli() + " " + job + "--levels 0.8 0.2 2>&1", &out), 2);
+  EXPECT_NE(out.find("--levels C1 C2 needs C1 < C2"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(cli() + " " + job + "--levels 0 0.4 --porosity 0.7 2>&1", &out), 2);
+  EXPECT_NE(out.find("--levels sets the sheet's walls"), std::string::npos) << out;
+}

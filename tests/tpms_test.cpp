@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
 #include <tpmsfill/tpms.hpp>
 
 #include "test_util.hpp"
@@ -171,4 +172,33 @@ TEST(Tpms, NamesAndValidation) {
   EXPECT_THROW(require_valid(TpmsOptions{.cell = {0, 1, 1}}), InputError);
   EXPECT_THROW(require_valid(TpmsOptions{.style = TpmsStyle::Sheet, .thickness = -1}), InputError);
   EXPECT_THROW(require_valid(TpmsOptions{.level = std::nan("")}), InputError);
+}
+
+TEST(Tpms, SheetBetweenTwoLevels) {
+  // Seed 004's "nesting TPMS of different C": walls where C1 <= f̃ <= C2, here 0.2 to 0.8 mm
+  // off a gyroid's minimal surface (4 mm cells). Level −(C1 + C2)/2 and thickness C2 − C1.
+  TpmsOptions o;
+  o.style = TpmsStyle::Sheet;
+  o.cell = {4, 4, 4};
+  o.level = -0.5, o.thickness = 0.6;
+  // The gyroid is odd under a half-cell shift (f → −f): the mirrored levels hold as much solid.
+  TpmsOptions mirrored = o;
+  mirrored.level = 0.5;
+  const double solid = tpms_solid_fraction(o);
+  EXPECT_NEAR(tpms_solid_fraction(mirrored), solid, 0.01);
+  // ... but not as much as the centred wall of the same thickness.
+  TpmsOptions centred = o;
+  centred.level = 0;
+  EXPECT_GT(std::fabs(tpms_solid_fraction(centred) - solid), 0.02);
+  EXPECT_NE(tpms_label(o).find("between levels 0.2 and 0.8 mm"), std::string::npos);
+  // Filled: a cube of whole cells, valid, with the solid fraction the cell's samples predict.
+  FillOptions f;
+  f.grid.voxel_size = 0.1;
+  static_cast<TpmsOptions&>(f.design) = o;
+  const FillResult r = fill(test::make_box({0, 0, 0}, {8, 8, 8}), f);
+  EXPECT_TRUE(r.report.validation.valid());
+  EXPECT_NEAR(1 - r.report.porosity(), solid, 0.02);
+  // A porosity target has no thickness left to solve.
+  o.porosity = 0.7;
+  EXPECT_THROW(require_valid(o), InputError);
 }

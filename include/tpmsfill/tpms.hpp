@@ -8,7 +8,7 @@
 /// f̃ = f/|∇f|, a first-order distance in mm, clamped to ±max(T) where |∇f| vanishes away from
 /// the surface. Then:
 ///   network:  φ_TPMS = f̃ + level          (solid where φ < 0; level in mm, 0 = the surface)
-///   sheet:    φ_TPMS = |f̃| − thickness/2  (solid within thickness/2 of the surface)
+///   sheet:    φ_TPMS = |f̃ + level| − thickness/2  (solid within thickness/2 of f̃ = −level)
 /// Without rotation the evaluation is separable: the per-axis sines and cosines are computed
 /// once per grid line, so a sample costs a few multiply-adds, a square root and a division.
 ///
@@ -36,8 +36,11 @@ enum class TpmsStyle { Network, Sheet };
 struct TpmsOptions {
   TpmsType type = TpmsType::Gyroid;
   TpmsStyle style = TpmsStyle::Network;
-  Vec3 cell = {2, 2, 2};    ///< cell size T per axis, mm (> 0)
-  double level = 0;         ///< network: offset of the solid's boundary, mm (+ = thinner)
+  Vec3 cell = {2, 2, 2};  ///< cell size T per axis, mm (> 0)
+  /// Network: offset of the solid's boundary, mm (+ = thinner). Sheet: the wall's centre lies
+  /// at f̃ = −level, so a sheet between two levels C1 ≤ f̃ ≤ C2 (seed 004's "nesting TPMS of
+  /// different C", an asymmetric sheet) has level −(C1 + C2)/2 and thickness C2 − C1.
+  double level = 0;
   double thickness = 0.3;   ///< sheet: wall thickness, mm (> 0)
   Vec3 origin = {0, 0, 0};  ///< where the phase is zero, mm (shifts the lattice)
   /// Orientation: the lattice's axes are R's columns (rotation_from_euler makes one).

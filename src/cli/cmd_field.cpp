@@ -415,7 +415,9 @@ void add_structure_flags(CLI::App* sub, StructureArgs& s) {
 Command add_field_command(CLI::App& app) {
   auto a = std::make_shared<FieldArgs>();
   CLI::App* field = app.add_subcommand(
-      "field", "Porous structures from a scanned distance field (fit, info, mesh)");
+      "field",
+      "Porous structures from a scanned distance field (fit, info, mesh, from-mesh, "
+      "from-points, from-ct)");
   field->require_subcommand(1);
   field->footer(
       "Seed 003: a discrete field (a scanned porous sample's distance field, a CT) is fitted by "

@@ -30,7 +30,7 @@ struct FillArgs {
   std::string input, output, report, recipe, field;
   std::optional<std::string> lattice, inside;
   bool sheet = false;
-  std::vector<double> cell, rotate, origin, grade_range;
+  std::vector<double> cell, rotate, origin, grade_range, levels;
   std::optional<double> level, thickness, porosity, voxel, skin;
   std::vector<std::string> grade;
   std::string grade_along = "z";
@@ -73,6 +73,7 @@ Vec3 three(const std::vector<double>& v) {
 void apply_field(FillArgs& args, FillOptions& options) {
   for (const auto& [given, flag] : {std::pair{args.lattice.has_value(), "--lattice"},
                                     {args.sheet, "--sheet"},
+                                    {!args.levels.empty(), "--levels"},
                                     {args.level.has_value(), "--level"},
                                     {args.thickness.has_value(), "--thickness"},
                                     {!args.grade.empty(), "--grade"},
@@ -101,7 +102,19 @@ void apply_flags(FillArgs& args, FillOptions& options) {
   if (args.scale) options.units.scale = *args.scale;
   if (args.voxel) options.grid.voxel_size = *args.voxel;
   if (args.lattice) tpms.type = tpms_type_from_name(*args.lattice);
-  if (args.sheet) tpms.style = TpmsStyle::Sheet;
+  if (args.sheet || !args.levels.empty()) tpms.style = TpmsStyle::Sheet;
+  if (!args.levels.empty()) {  // walls between two levels: a sheet off the minimal surface
+    if (args.level || args.thickness || args.porosity)
+      throw InputError(
+          "--levels sets the sheet's walls; it takes no --level, --thickness or "
+          "--porosity");
+    if (!(args.levels[1] > args.levels[0]))
+      throw InputError("--levels C1 C2 needs C1 < C2 (mm), not " + std::to_string(args.levels[0]) +
+                       " and " + std::to_string(args.levels[1]));
+    tpms.thickness = args.levels[1] - args.levels[0];
+    tpms.level = -0.5 * (args.levels[0] + args.levels[1]);
+    tpms.porosity.reset();
+  }
   if (!args.cell.empty()) {
     if (args.cell.size() != 1 && args.cell.size() != 3)
       throw InputError("--cell takes one size or three (x y z), in mm");
@@ -264,6 +277,10 @@ Command add_fill_command(CLI::App& app) {
                   "primitive, gyroid, diamond, iwp, neovius, frd, lidinoid or splitp (default "
                   "gyroid)");
   sub->add_flag("--sheet", args->sheet, "Sheet (shell) lattice instead of a network");
+  sub->add_option("--levels", args->levels,
+                  "A sheet between two levels C1 C2 in mm (C1 <= f/|grad f| <= C2): walls of "
+                  "thickness C2 - C1 off the minimal surface, e.g. --levels 0 0.4")
+      ->expected(2);
   sub->add_option("--cell", args->cell,
                   "Cell size in mm: one value, or three for x y z (default 2)")
       ->expected(1, 3);

@@ -206,7 +206,7 @@ struct TpmsLayer {
 
   /// φ from f̃ = d and the level (network) or thickness (sheet) v, mm.
   double phi(double d, double v) const {
-    return o.style == TpmsStyle::Network ? d + v : std::fabs(d) - 0.5 * v;
+    return o.style == TpmsStyle::Network ? d + v : std::fabs(d + o.level) - 0.5 * v;
   }
 };
 
