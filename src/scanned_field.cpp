@@ -108,66 +108,91 @@ std::vector<double> squared_distance(const std::vector<std::uint8_t>& feature,
   return d;
 }
 
-// Points sorted into cubic buckets of side `size`, for exact nearest-point queries.
-struct Buckets {
-  Vec3 origin;
-  double size = 1;
-  std::array<int, 3> dims{};
-  std::vector<std::uint32_t> start;  // bucket b holds order[start[b] .. start[b + 1])
-  std::vector<Vec3> points;          // sorted by bucket
+// Points in a k-d tree of our own, for exact nearest-point queries: each node splits its
+// points at the median along the widest axis of their bounding box, down to leaves of at most
+// kLeaf points, stored contiguously. A query visits nodes nearest-first and skips every node
+// whose box is no nearer than the best point so far, so its cost depends on the points near
+// the answer, not on how far away they are (a uniform bucket grid searched in growing shells
+// scans every empty bucket up to the answer) nor on the cloud's shape (flat, collinear).
+class PointTree {
+ public:
+  explicit PointTree(const std::vector<Vec3>& p) : points_(p) {
+    nodes_.reserve(2 * (p.size() / kLeaf + 1));
+    nodes_.push_back({});
+    build(0, 0, static_cast<std::uint32_t>(p.size()));
+  }
 
-  Buckets(const std::vector<Vec3>& p, const Box3& box) {
-    origin = box.min;
+  // Squared distance to the nearest point, and that point in *nearest; `hint` is a point of
+  // the cloud (the neighbouring cell's answer) whose distance bounds the search from the start.
+  // The result is the least of the same dot products whatever the order of the visits.
+  double nearest(Vec3 q, Vec3 hint, Vec3* nearest) const {
+    double best = dot(hint - q, hint - q);
+    *nearest = hint;
+    struct Visit {
+      std::uint32_t node;
+      double bound;
+    };
+    Visit stack[2 * 64];  // depth < 64: every split halves the points
+    int top = 0;
+    stack[top++] = {0, box_distance(nodes_[0].box, q)};
+    while (top > 0) {
+      const Visit v = stack[--top];
+      if (v.bound >= best) continue;
+      const Node& node = nodes_[v.node];
+      if (node.left == 0) {
+        for (std::uint32_t n = node.begin; n < node.end; ++n)
+          if (const double d = dot(points_[n] - q, points_[n] - q); d < best)
+            best = d, *nearest = points_[n];
+        continue;
+      }
+      const double a = box_distance(nodes_[node.left].box, q);
+      const double b = box_distance(nodes_[node.left + 1].box, q);
+      const bool left_first = a <= b;  // the nearer child is popped first
+      stack[top++] = {node.left + (left_first ? 1u : 0u), left_first ? b : a};
+      stack[top++] = {node.left + (left_first ? 0u : 1u), left_first ? a : b};
+    }
+    return best;
+  }
+  const Vec3& first() const { return points_.front(); }
+
+ private:
+  static constexpr std::uint32_t kLeaf = 8;
+  struct Node {
+    Box3 box;  // of the node's points
+    std::uint32_t begin = 0, end = 0;
+    std::uint32_t left = 0;  // children left and left + 1; 0 for a leaf
+  };
+
+  static double box_distance(const Box3& box, Vec3 q) {
+    double d = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double out = std::max({box.min[a] - q[a], q[a] - box.max[a], 0.0});
+      d += out * out;
+    }
+    return d;
+  }
+
+  void build(std::uint32_t at, std::uint32_t begin, std::uint32_t end) {
+    Box3 box;
+    for (std::uint32_t n = begin; n < end; ++n) box.extend(points_[n]);
+    nodes_[at].box = box;
+    nodes_[at].begin = begin;
+    nodes_[at].end = end;
+    if (end - begin <= kLeaf) return;
     const Vec3 e = box.size();
-    const double volume = std::max(e.x, 1e-9) * std::max(e.y, 1e-9) * std::max(e.z, 1e-9);
-    size = std::max(std::cbrt(volume / static_cast<double>(p.size())) * 2,
-                    1e-6 * std::max({e.x, e.y, e.z, 1e-9}));
-    for (int a = 0; a < 3; ++a) dims[a] = std::clamp(static_cast<int>(e[a] / size) + 1, 1, 1024);
-    std::vector<std::uint32_t> bucket(p.size());
-    start.assign(std::size_t(dims[0]) * dims[1] * dims[2] + 1, 0);
-    for (std::size_t n = 0; n < p.size(); ++n) {
-      const std::array<int, 3> c = cell(p[n]);
-      bucket[n] = static_cast<std::uint32_t>(c[0] + dims[0] * (c[1] + std::size_t(dims[1]) * c[2]));
-      ++start[bucket[n] + 1];
-    }
-    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-    points.resize(p.size());
-    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-    for (std::size_t n = 0; n < p.size(); ++n) points[next[bucket[n]]++] = p[n];
+    const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(points_.begin() + begin, points_.begin() + mid, points_.begin() + end,
+                     [axis](const Vec3& a, const Vec3& b) { return a[axis] < b[axis]; });
+    const auto left = static_cast<std::uint32_t>(nodes_.size());
+    nodes_[at].left = left;
+    nodes_.resize(nodes_.size() + 2);
+    build(left, begin, mid);
+    build(left + 1, mid, end);
   }
-  std::array<int, 3> cell(Vec3 p) const {
-    std::array<int, 3> c{};
-    for (int a = 0; a < 3; ++a)
-      c[a] = std::clamp(static_cast<int>(std::floor((p[a] - origin[a]) / size)), 0, dims[a] - 1);
-    return c;
-  }
-  // Distance to the nearest point: shells of buckets around p's, until no nearer can remain.
-  double nearest(Vec3 p) const {
-    const std::array<int, 3> c = cell(p);
-    double best = kInf;
-    const int most = std::max({dims[0], dims[1], dims[2]});
-    for (int r = 0; r <= most; ++r) {
-      for (int k = c[2] - r; k <= c[2] + r; ++k)
-        for (int j = c[1] - r; j <= c[1] + r; ++j)
-          for (int i = c[0] - r; i <= c[0] + r; ++i) {
-            if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) != r ||
-                i < 0 || j < 0 || k < 0 || i >= dims[0] || j >= dims[1] || k >= dims[2])
-              continue;
-            const std::size_t b = i + dims[0] * (j + std::size_t(dims[1]) * k);
-            for (std::uint32_t n = start[b]; n < start[b + 1]; ++n) {
-              const Vec3 d = points[n] - p;
-              best = std::min(best, dot(d, d));
-            }
-          }
-      // Every point not yet seen lies outside the cube of buckets [c − r, c + r].
-      double margin = kInf;
-      for (int a = 0; a < 3; ++a)
-        margin = std::min({margin, p[a] - (origin[a] + (c[a] - r) * size),
-                           origin[a] + (c[a] + r + 1) * size - p[a]});
-      if (margin > 0 && best <= margin * margin) break;
-    }
-    return std::sqrt(best);
-  }
+
+  std::vector<Node> nodes_;
+  std::vector<Vec3> points_;
 };
 
 std::vector<Vec3> parse_xyz(std::string_view data, const std::string& source) {
@@ -223,14 +248,20 @@ ScalarVolume field_from_points(const std::vector<Vec3>& points, const ScannedFie
     box.extend(p);
   }
   const Grid grid = field_grid(box, o);
-  const Buckets buckets(points, box);
+  if (points.size() >= std::numeric_limits<std::uint32_t>::max())
+    throw InputError("the point cloud has more than 2^32 - 1 points");
+  const PointTree tree(points);
   ScalarVolume v = volume_on(grid, FieldSign::Unsigned);
   const std::size_t nx = grid.dims[0];
+  // Along a row, the previous cell's nearest point starts the search (it is at most a voxel
+  // farther from this cell than from that one), so most nodes are skipped at once.
   detail::parallel_for(grid.row_count(), 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t row = begin; row < end; ++row) {
       const int j = static_cast<int>(row % grid.dims[1]), k = static_cast<int>(row / grid.dims[1]);
+      Vec3 hint = tree.first();
       for (std::size_t i = 0; i < nx; ++i)
-        v.values[row * nx + i] = buckets.nearest(grid.node(static_cast<int>(i), j, k));
+        v.values[row * nx + i] =
+            std::sqrt(tree.nearest(grid.node(static_cast<int>(i), j, k), hint, &hint));
     }
   });
   return v;

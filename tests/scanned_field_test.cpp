@@ -73,6 +73,26 @@ TEST(ScannedField, PointsGiveTheExactDistanceToTheNearest) {
   EXPECT_THROW(field_from_points({}, {.voxel = 1}), InputError);
 }
 
+TEST(ScannedField, FlatAndCollinearCloudsAreExactToo) {
+  // A plate scanned from one side (every z = 0) and points along a line: boxes without volume,
+  // on which a search in growing shells of buckets never stopped.
+  std::vector<Vec3> plate, line;
+  for (int i = 0; i < 30; ++i) {
+    for (int j = 0; j < 30; ++j) plate.push_back({i / 3.0, j / 3.0, 0});
+    line.push_back({0.5 * i, 0, 0});
+  }
+  for (const std::vector<Vec3>* cloud : {&plate, &line}) {
+    const ScalarVolume v = field_from_points(*cloud, {.voxel = 0.5});
+    EXPECT_LT(worst(v,
+                    [&](Vec3 p) {
+                      double best = INFINITY;
+                      for (const Vec3& q : *cloud) best = std::min(best, norm(p - q));
+                      return best;
+                    }),
+              1e-9);
+  }
+}
+
 TEST(ScannedField, CtGivesASignedDistanceWithinAVoxel) {
   // A ball of radius 6 mm in a CT with anisotropic voxels (0.5 × 0.5 × 0.8 mm).
   ScalarVolume ct;

@@ -7,10 +7,10 @@
 ///    and every value is the exact distance to the nearest triangle (distance.hpp), so the
 ///    zero level is the mesh's surface (across holes: their caps);
 ///  - a point cloud (a scan): the unsigned distance from each cell centre to the nearest
-///    point, exact (a uniform bucket grid searched in growing shells);
+///    point, exact (a k-d tree of our own, searched nearest-first);
 ///  - a CT volume: thresholded at an iso-value, then the signed distance in mm between the
 ///    centres of solid and empty cells (an exact separable transform with each axis's own
-///    spacing), less half the largest spacing, so the zero level lies between the two sides.
+///    spacing), less half the smallest spacing, so the zero level lies between the two sides.
 ///    Its error against the iso-surface the CT would give is at most one (largest) voxel.
 #pragma once
 
@@ -26,19 +26,19 @@ namespace tpmsfill {
 
 struct ScannedFieldOptions {
   double voxel = 0;  ///< cell size, mm (> 0)
-  int padding = 2;   ///< cells added beyond the data's bounding box on every side (>= 0)
+  int padding = 2;   ///< cells added beyond the data's bounding box on every side (>= 2)
   /// Largest field made, in cells: a larger one is refused, naming the voxel that fits.
   std::uint64_t max_cells = std::uint64_t{256} * 256 * 256 * 4;
   Progress* progress = nullptr;
 };
 
 /// Signed distance to a mesh (see the file comment); sign = Signed.
-/// @throws InputError     voxel <= 0, padding < 0, a mesh with no triangle or no volume
+/// @throws InputError     voxel <= 0, padding < 2, a mesh with no triangle or no volume
 /// @throws ResourceError  more than max_cells cells
 ScalarVolume field_from_mesh(const TriangleSoup& mesh, const ScannedFieldOptions& options);
 
 /// Unsigned distance to the nearest point; sign = Unsigned.
-/// @throws InputError     no point, a point not finite, voxel <= 0, padding < 0
+/// @throws InputError     no point, a point not finite, voxel <= 0, padding < 2
 /// @throws ResourceError  more than max_cells cells
 ScalarVolume field_from_points(const std::vector<Vec3>& points, const ScannedFieldOptions& options);
 
