@@ -108,6 +108,12 @@ TEST(FieldCli, BadInputsSayWhatAndWhere) {
   EXPECT_NE(out.find("bad.tdf:1: 64 values declared, more than the file holds"), std::string::npos)
       << out;
   EXPECT_FALSE(std::filesystem::exists(dir / "o.itdf"));
+  // Two counts are neither one nor three: a sentence before any work, not a crash.
+  EXPECT_EQ(run("field fit " + (dir / "bad.tdf").string() + " " + (dir / "o.itdf").string() +
+                    " --coefficients 8 9 --solid 0 1",
+                &out),
+            2);
+  EXPECT_NE(out.find("--coefficients takes one count, or three"), std::string::npos) << out;
   // An unsigned field needs a structure; an ITDF without a size needs --size to be meshed.
   test::write_file(dir / "u.tdf",
                    "sign unsigned\n4 4 4\n" + std::string(64 * 2, ' ').replace(0, 0, [] {

@@ -131,6 +131,8 @@ double report_iso(const FieldArgs& a, const PorousStructure& s) {
 
 int run_fit(const FieldArgs& a) {
   if (a.output.empty()) throw InputError("field fit needs IN and OUT.itdf");
+  if (a.coefficients.size() == 2)
+    throw InputError("--coefficients takes one count, or three (NX NY NZ), not two");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
   const VolumeFile in = read_volume_file(a.input);
@@ -141,8 +143,7 @@ int run_fit(const FieldArgs& a) {
   for (int ax = 0; ax < 3; ++ax)
     counts[ax] = a.coefficients.empty()       ? std::max(a.degree + 1, (v.dims[ax] + 1) / 2)
                  : a.coefficients.size() == 1 ? a.coefficients[0]
-                                              : a.coefficients.at(ax);
-  if (a.coefficients.size() == 2) throw InputError("--coefficients takes one count or three");
+                                              : a.coefficients[ax];
   FitOptions fo;
   fo.method = a.method == "lspia" ? FitMethod::Lspia : FitMethod::Direct;
   fo.degree = a.degree;
