@@ -272,18 +272,7 @@ PY
   echo
   echo "| porosity asked | measured (field mesh, skull bone) | measured (sponge) |"
   echo "|---:|---:|---:|"
-  python3 - "$tmp/sponge.tdf" <<'PY'
-import math, random, sys
-random.seed(7)
-pores = [(random.random(), random.random(), random.random()) for _ in range(40)]
-n = 48
-with open(sys.argv[1], "w") as f:
-    f.write("tpmsfill-field 1\nsize 20 20 20\nsign signed\n%d %d %d\n" % (n, n, n))
-    for k in range(n):
-        for j in range(n):
-            p = [((i + .5) / n, (j + .5) / n, (k + .5) / n) for i in range(n)]
-            f.write(" ".join("%.5f" % (min(math.dist(q, c) for c in pores) - 0.11) for q in p) + "\n")
-PY
+  python3 scripts/sponge_field.py "$tmp/sponge.tdf" 20
   ./build/tpmsfill field fit "$tmp/sponge.tdf" "$tmp/sponge.itdf" --coefficients 24 --solid 0 inf --quiet
   for p in 0.5 0.7 0.85; do
     row="| $p"

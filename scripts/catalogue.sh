@@ -113,18 +113,7 @@ if [[ -f "$femur_tarball" ]] && tar -xzf "$femur_tarball" -C "$work" --strip-com
   "$tpmsfill" field fit "$work/skull_2.9.inr" "$work/skull.itdf" --coefficients 32 \
     --solid 2.9 inf --quiet && have_skull=1
 fi
-python3 - "$work/sponge.tdf" <<'PY'
-import math, random, sys
-random.seed(7)
-pores = [(random.random(), random.random(), random.random()) for _ in range(40)]
-n = 48
-with open(sys.argv[1], "w") as f:
-    f.write("tpmsfill-field 1\nsign signed\n%d %d %d\n" % (n, n, n))
-    for k in range(n):
-        for j in range(n):
-            p = [((i + .5) / n, (j + .5) / n, (k + .5) / n) for i in range(n)]
-            f.write(" ".join("%.5f" % (min(math.dist(q, c) for c in pores) - 0.11) for q in p) + "\n")
-PY
+python3 scripts/sponge_field.py "$work/sponge.tdf"
 "$tpmsfill" field fit "$work/sponge.tdf" "$work/sponge.itdf" --coefficients 24 --solid 0 inf --quiet
 "$tpmsfill" field fit "$work/sponge.tdf" "$work/sponge-sheet.itdf" --coefficients 24 \
   --surface 0.05 --thickness 0.5 --size 20 20 20 --quiet

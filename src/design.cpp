@@ -293,6 +293,41 @@ void require_valid(const LatticeDesign& d) {
   }
 }
 
+// The ramp with its unset positions taken from `model`: linear ramps span the box along their
+// axis, radial ones from its centre to its farthest corner, depth 0 to a quarter of its
+// smallest side. `what` names the ramp in errors.
+namespace {
+Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what) {
+  if ((ramp.point || ramp.shape == RampShape::Depth) && ramp.from && ramp.to) return ramp;
+  if (model.empty())
+    throw InputError("the " + what + " needs explicit positions (no model to span)");
+  const Vec3 centre = model.centre(), size = model.size();
+  if (ramp.shape != RampShape::Depth)
+    ramp.point = ramp.point.value_or(ramp.shape == RampShape::Radial ? centre : Vec3{});
+  ramp.axis = unit(ramp.axis);
+  double lo = 0, hi = 0;
+  if (ramp.shape == RampShape::Depth) {
+    hi = 0.25 * std::fmin(size.x, std::fmin(size.y, size.z));
+  } else {
+    const RampEval e(ramp);
+    lo = ramp.shape == RampShape::Radial ? 0 : HUGE_VAL, hi = -HUGE_VAL;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 corner{c & 1 ? model.max.x : model.min.x, c & 2 ? model.max.y : model.min.y,
+                        c & 4 ? model.max.z : model.min.z};
+      const double t = e.coordinate(corner);
+      lo = std::fmin(lo, t), hi = std::fmax(hi, t);
+    }
+  }
+  if (!(hi > lo)) hi = lo + 1;  // a flat model along the ramp: any span will do
+  ramp.from = ramp.from.value_or(lo);
+  ramp.to = ramp.to.value_or(hi);
+  if (*ramp.from == *ramp.to)
+    throw InputError("the " + what + " starts and ends at the same place");
+  return ramp;
+}
+
+}  // namespace
+
 Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int counts) {
   if (ramp.shape == RampShape::Depth)
     throw InputError(
@@ -301,9 +336,8 @@ Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int count
   if (counts < 2 || counts > 16) throw InputError("a threshold ramp takes 2 to 16 coefficients");
   for (double l : size)
     if (!(l > 0) || !std::isfinite(l)) throw InputError("a threshold ramp needs a positive size");
-  LatticeDesign d;
-  d.grading = {{Graded::Level, ramp}};
-  const RampEval e(resolve_design(d, Box3{{0, 0, 0}, {size[0], size[1], size[2]}}).grading[0].ramp);
+  const RampEval e(
+      resolve_ramp(ramp, Box3{{0, 0, 0}, {size[0], size[1], size[2]}}, "threshold ramp"));
   constexpr int kSamples = 16;
   std::vector<double> values;
   for (int k = 0; k < kSamples; ++k)
@@ -333,36 +367,8 @@ LatticeDesign resolve_design(const LatticeDesign& design, const Box3& model) {
   }
   static_cast<TpmsOptions&>(r) = resolve_porosity(design);
   for (Blend& b : r.blends) b.tpms = resolve_porosity(b.tpms);
-  for (Grading& g : r.grading) {
-    Ramp& ramp = g.ramp;
-    if ((ramp.point || ramp.shape == RampShape::Depth) && ramp.from && ramp.to) continue;
-    if (model.empty())
-      throw InputError("the " + std::string(graded_name(g.what)) +
-                       " grading's ramp needs explicit positions (no model to span)");
-    const Vec3 centre = model.centre(), size = model.size();
-    if (ramp.shape != RampShape::Depth)
-      ramp.point = ramp.point.value_or(ramp.shape == RampShape::Radial ? centre : Vec3{});
-    ramp.axis = unit(ramp.axis);
-    double lo = 0, hi = 0;
-    if (ramp.shape == RampShape::Depth) {
-      hi = 0.25 * std::fmin(size.x, std::fmin(size.y, size.z));
-    } else {
-      const RampEval e(ramp);
-      lo = ramp.shape == RampShape::Radial ? 0 : HUGE_VAL, hi = -HUGE_VAL;
-      for (int c = 0; c < 8; ++c) {
-        const Vec3 corner{c & 1 ? model.max.x : model.min.x, c & 2 ? model.max.y : model.min.y,
-                          c & 4 ? model.max.z : model.min.z};
-        const double t = e.coordinate(corner);
-        lo = std::fmin(lo, t), hi = std::fmax(hi, t);
-      }
-    }
-    if (!(hi > lo)) hi = lo + 1;  // a flat model along the ramp: any span will do
-    ramp.from = ramp.from.value_or(lo);
-    ramp.to = ramp.to.value_or(hi);
-    if (*ramp.from == *ramp.to)
-      throw InputError("the " + std::string(graded_name(g.what)) +
-                       " grading's ramp starts and ends at the same place");
-  }
+  for (Grading& g : r.grading)
+    g.ramp = resolve_ramp(g.ramp, model, std::string(graded_name(g.what)) + " grading's ramp");
   return r;
 }
 

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -323,7 +324,8 @@ int run_mesh(const FieldArgs& a) {
   if (progress) progress->clear();
   write_mesh(a.output, r.mesh);
   if (!a.quiet) {
-    const std::uint64_t itdf = itdf_bytes(file).size(), stl = 84 + 50 * r.mesh.triangles.size();
+    const std::uint64_t itdf = std::filesystem::file_size(a.input),
+                        stl = 84 + 50 * r.mesh.triangles.size();
     std::printf("%s -> %s\n%s", a.input.c_str(), a.output.c_str(), to_text(r.report).c_str());
     std::printf("storage      ITDF %s, binary STL %s: %.0fx smaller\n", kib(itdf).c_str(),
                 kib(stl).c_str(), double(stl) / double(itdf));
@@ -335,9 +337,8 @@ int run_mesh(const FieldArgs& a) {
 
 // from-mesh, from-points, from-ct: a field file from data a user has.
 int run_from(const FieldArgs& a, const std::string& kind) {
-  if (volume_format_from_extension(a.output) == VolumeFormat::Auto ||
-      volume_format_from_extension(a.output) == VolumeFormat::MetaImage ||
-      volume_format_from_extension(a.output) == VolumeFormat::Inr)
+  if (const VolumeFormat f = volume_format_from_extension(a.output);
+      f == VolumeFormat::Auto || f == VolumeFormat::MetaImage || f == VolumeFormat::Inr)
     throw InputError(a.output + ": fields are written as .tdf (text), .tdfb (binary) or .nrrd");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
