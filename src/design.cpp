@@ -10,6 +10,7 @@
 #include <string>
 
 #include "detail/names.hpp"
+#include "detail/polygon_miter.hpp"
 #include "detail/region_distance.hpp"
 #include "detail/tpms_kernel.hpp"
 #include "tpmsfill/error.hpp"
@@ -192,7 +193,7 @@ std::string porosity_and(const std::string& graded) {
 }  // namespace
 
 // A polygon region: at least 3 finite corners, a plane, rings that make a band, and for
-// mitered rings a convex outline.
+// mitered rings a simple outline (its straight skeleton needs one).
 void require_valid_polygon(const Region& r) {
   if (r.loop.size() < 3) throw InputError("a polygon region needs at least 3 corners");
   for (const auto& q : r.loop)
@@ -204,19 +205,16 @@ void require_valid_polygon(const Region& r) {
   if (!std::isfinite(r.inner) || !std::isfinite(r.outer) || !(r.inner + r.outer > 0))
     throw InputError("a polygon region's rings must make a band: inner + outer > 0 mm");
   double area = 0;
-  int turns = 0;
   const std::size_t n = r.loop.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const auto a = r.loop[i], b = r.loop[(i + 1) % n], c = r.loop[(i + 2) % n];
+    const auto a = r.loop[i], b = r.loop[(i + 1) % n];
     area += a[0] * b[1] - a[1] * b[0];
-    const double turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-    turns += turn > 0 ? 1 : turn < 0 ? -1 : 0;
   }
   if (area == 0) throw InputError("a polygon region's outline encloses no area");
-  if (r.join == RingJoin::Miter && std::abs(turns) != static_cast<int>(n))
+  if (r.join == RingJoin::Miter && !detail::is_simple_outline(r.loop))
     throw InputError(
-        "mitered rings need a convex outline in this version (round joins take "
-        "any outline)");
+        "mitered rings need a simple outline: no edge may cross or touch another (round joins "
+        "take any outline)");
 }
 
 void require_valid(const LatticeDesign& d) {

@@ -74,7 +74,7 @@ enum class RegionShape {
 /// are mitered).
 enum class RingJoin {
   Round,  ///< the Euclidean distance to the outline: rounded corners, C1 off the medial axis
-  Miter,  ///< mitered offsets, straight lines meeting on the corners' bisectors (convex only)
+  Miter,  ///< mitered offsets, straight lines meeting on the corners' bisectors (simple outlines)
 };
 
 struct Region {
