@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/design_flags.hpp"
 #include "cli/job_files.hpp"
 #include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
@@ -28,10 +29,10 @@ namespace {
 
 struct FillArgs {
   std::string input, output, report, recipe, field;
-  std::optional<std::string> lattice, inside;
-  bool sheet = false;
-  std::vector<double> cell, rotate, origin, grade_range, levels;
-  std::optional<double> level, thickness, porosity, voxel, skin;
+  std::optional<std::string> inside;
+  TpmsArgs tpms;
+  std::vector<double> grade_range;
+  std::optional<double> voxel, skin;
   std::vector<std::string> grade;
   std::string grade_along = "z";
   std::optional<std::string> units;
@@ -65,32 +66,28 @@ std::uint64_t parse_bytes(const std::string& text) {
   return static_cast<std::uint64_t>(value * scale);
 }
 
-Vec3 three(const std::vector<double>& v) {
-  return {v[0], v[1], v[2]};
-}
-
 // --field: seed 003's structure replaces the TPMS; --cell tiles it with that cell.
 void apply_field(FillArgs& args, FillOptions& options) {
-  for (const auto& [given, flag] : {std::pair{args.lattice.has_value(), "--lattice"},
-                                    {args.sheet, "--sheet"},
-                                    {!args.levels.empty(), "--levels"},
-                                    {args.level.has_value(), "--level"},
-                                    {args.thickness.has_value(), "--thickness"},
+  const TpmsArgs& t = args.tpms;
+  for (const auto& [given, flag] : {std::pair{t.lattice.has_value(), "--lattice"},
+                                    {t.sheet, "--sheet"},
+                                    {!t.levels.empty(), "--levels"},
+                                    {t.level.has_value(), "--level"},
+                                    {t.thickness.has_value(), "--thickness"},
                                     {!args.grade.empty(), "--grade"},
-                                    {!args.rotate.empty(), "--rotate"},
-                                    {!args.origin.empty(), "--origin"}})
+                                    {!t.rotate.empty(), "--rotate"},
+                                    {!t.origin.empty(), "--origin"}})
     if (given)
       throw InputError(std::string(flag) + " describes a TPMS; --field " + args.field +
                        " replaces it (its thresholds: tpmsfill field mesh --solid/--surface)");
   LatticeDesign& d = options.design;
   d.structure = read_itdf(args.field).structure;
   d.structure_file = args.field;
-  if (!args.cell.empty()) {
-    d.structure->size = args.cell.size() == 1
-                            ? std::array<double, 3>{args.cell[0], args.cell[0], args.cell[0]}
-                            : std::array<double, 3>{args.cell[0], args.cell[1], args.cell[2]};
+  if (std::vector<double>& cell = args.tpms.cell; !cell.empty()) {
+    d.structure->size = cell.size() == 1 ? std::array<double, 3>{cell[0], cell[0], cell[0]}
+                                         : std::array<double, 3>{cell[0], cell[1], cell[2]};
     d.structure->placement = Placement::Tile;
-    args.cell.clear();
+    cell.clear();
   }
 }
 
@@ -101,38 +98,7 @@ void apply_flags(FillArgs& args, FillOptions& options) {
   if (args.units) options.units.units = units_from_name(*args.units);
   if (args.scale) options.units.scale = *args.scale;
   if (args.voxel) options.grid.voxel_size = *args.voxel;
-  if (args.lattice) tpms.type = tpms_type_from_name(*args.lattice);
-  if (args.sheet || !args.levels.empty()) tpms.style = TpmsStyle::Sheet;
-  if (!args.levels.empty()) {  // walls between two levels: a sheet off the minimal surface
-    if (args.level || args.thickness || args.porosity)
-      throw InputError(
-          "--levels sets the sheet's walls; it takes no --level, --thickness or "
-          "--porosity");
-    if (!(args.levels[1] > args.levels[0]))
-      throw InputError("--levels C1 C2 needs C1 < C2 (mm), not " + std::to_string(args.levels[0]) +
-                       " and " + std::to_string(args.levels[1]));
-    tpms.thickness = args.levels[1] - args.levels[0];
-    tpms.level = -0.5 * (args.levels[0] + args.levels[1]);
-    tpms.porosity.reset();
-  }
-  if (!args.cell.empty()) {
-    if (args.cell.size() != 1 && args.cell.size() != 3)
-      throw InputError("--cell takes one size or three (x y z), in mm");
-    tpms.cell =
-        args.cell.size() == 1 ? Vec3{args.cell[0], args.cell[0], args.cell[0]} : three(args.cell);
-  }
-  const bool sheet = tpms.style == TpmsStyle::Sheet;
-  if (sheet && args.level)
-    throw InputError("--level is for network lattices; use --thickness with --sheet");
-  if (!sheet && args.thickness) throw InputError("--thickness needs --sheet");
-  if (args.porosity && (args.level || args.thickness))
-    throw InputError("--porosity sets the " + std::string(sheet ? "thickness" : "level") +
-                     "; give one or the other");
-  if (args.level) tpms.level = *args.level, tpms.porosity.reset();
-  if (args.thickness) tpms.thickness = *args.thickness, tpms.porosity.reset();
-  if (args.porosity) tpms.porosity = *args.porosity;
-  if (!args.rotate.empty()) tpms.rotation = rotation_from_euler(three(args.rotate));
-  if (!args.origin.empty()) tpms.origin = three(args.origin);
+  apply_tpms_flags(args.tpms, tpms);
   if (args.grade.size() % 3 != 0)
     throw InputError("--grade takes three values each time: WHAT FROM TO");
   if (!args.grade.empty()) {
@@ -273,29 +239,7 @@ Command add_fill_command(CLI::App& app) {
                   "stretched over the model's box, or tiled with --cell as its cell; --porosity "
                   "shifts its thresholds")
       ->check(existing_file());
-  sub->add_option("--lattice", args->lattice,
-                  "primitive, gyroid, diamond, iwp, neovius, frd, lidinoid or splitp (default "
-                  "gyroid)");
-  sub->add_flag("--sheet", args->sheet, "Sheet (shell) lattice instead of a network");
-  sub->add_option("--levels", args->levels,
-                  "A sheet between two levels C1 C2 in mm (C1 <= f/|grad f| <= C2): walls of "
-                  "thickness C2 - C1 off the minimal surface, e.g. --levels 0 0.4")
-      ->expected(2);
-  sub->add_option("--cell", args->cell,
-                  "Cell size in mm: one value, or three for x y z (default 2)")
-      ->expected(1, 3);
-  sub->add_option("--porosity", args->porosity,
-                  "Void fraction to reach, e.g. 0.7: solves the network level or the sheet "
-                  "thickness over a sampled unit cell (any type)");
-  sub->add_option("--level", args->level,
-                  "Network level in mm: 0 is the minimal surface, positive thins the struts "
-                  "(default 0)");
-  sub->add_option("--thickness", args->thickness, "Sheet wall thickness in mm (default 0.3)");
-  sub->add_option("--rotate", args->rotate,
-                  "Rotate the lattice by RX RY RZ degrees (about x, then y, then z)")
-      ->expected(3);
-  sub->add_option("--origin", args->origin, "Shift the lattice's phase origin to X Y Z (mm)")
-      ->expected(3);
+  add_tpms_options(sub, args->tpms);
   sub->add_option("--grade", args->grade,
                   "Vary porosity, level, thickness or cell between two values, e.g. --grade "
                   "porosity 0.8 0.5 (repeatable; where: --grade-along)")

@@ -23,5 +23,6 @@ Command add_check_command(CLI::App& app);
 Command add_fill_command(CLI::App& app);
 Command add_repair_command(CLI::App& app);
 Command add_field_command(CLI::App& app);
+Command add_conformal_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   Command fill = add_fill_command(app);
   Command repair = add_repair_command(app);
   Command field = add_field_command(app);
+  Command conformal = add_conformal_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
@@ -71,6 +72,8 @@ int main(int argc, char** argv) {
         return repair();
       else if (sub->get_name() == "field")
         return field();
+      else if (sub->get_name() == "conformal")
+        return conformal();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

@@ -1,0 +1,123 @@
+/// @file conformal.hpp
+/// @brief Stage "conformal": a lattice layer of height H that follows a freeform surface
+/// (seed 004's microchannels): a planar slab design, laid onto the surface through its
+/// parameterization (parameterize.hpp), then filled, meshed and validated like any lattice.
+///
+/// The field-space map. For a point p near the surface, q is its closest point (CGAL's AABB
+/// tree over the surface's triangles), (u, v) the parameter there (barycentric in q's
+/// triangle), and h the signed distance along the surface's normal at q (on the `side` the
+/// layer grows to). The slab design, a LatticeDesign in the box [0, Lu] × [0, Lv] × [0, H/s]
+/// (blends, rings, grading as for any part), is evaluated at (u·Lu, v·Lv, h/s): sampled once on
+/// a grid of half the voxel and read back trilinearly. The layer is what lies between h = 0
+/// and h = H over the surface:
+///
+///   φ = max(φ_slab, min(φ_design, skins)),   φ_slab = max(−h, h − H, lateral)
+///
+/// lateral is, over the surface, minus the distance to its boundary (through u, v: the seam of
+/// a tube is no boundary) and, past the boundary, the distance from the boundary's normal
+/// line; skins (optional) are solid where h < skin_surface or h > H − skin_top, so the layer
+/// can be a closed channel. The map is one-to-one while H stays below the surface's smallest
+/// radius of curvature on the layer's side (its focal distance): the job estimates that
+/// radius and warns with it when H exceeds it. Cells on the surface measure T·√σ_A (the
+/// parameterization's area scale); the report gives their spread.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tpmsfill/design.hpp"
+#include "tpmsfill/field.hpp"
+#include "tpmsfill/fill.hpp"
+#include "tpmsfill/parameterize.hpp"
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+/// Which side of the surface the layer grows to: along its normals (the side its triangles
+/// face, counter-clockwise seen from there) or against them.
+enum class SurfaceSide { Out, In };
+
+struct ConformalOptions {
+  double height = 0;  ///< H, the layer's height above the surface, mm (> 0)
+  SurfaceSide side = SurfaceSide::Out;
+  /// s: the slab design's z is h / s, so s > 1 stretches the design's cells across the layer
+  /// (the seed's normal-offset scale).
+  double normal_scale = 1;
+  /// The slab's size along u and v, mm. Unset: the surface's mean lengths along u and v
+  /// (SurfaceParameterization::length_u/v), so cells keep their nominal size on average. For a
+  /// tube, Lu is rounded to a whole number of the design's cells along x so the lattice closes
+  /// across the seam.
+  std::optional<double> length_u = {}, length_v = {};
+  double skin_surface = 0;  ///< a solid skin this thick on the surface (h < skin), mm
+  double skin_top = 0;      ///< a solid skin this thick under the top (h > H − skin), mm
+};
+
+/// @throws InputError  height, normal_scale, lengths or skins not positive and finite (skins:
+///                     not negative; together under H)
+void require_valid(const ConformalOptions& options);
+
+/// The slab sizes options and parameterization give (Lu rounded for a tube: see
+/// ConformalOptions::length_u), mm.
+std::array<double, 2> slab_lengths(const SurfaceParameterization& layout,
+                                   const LatticeDesign& design, const ConformalOptions& options);
+
+/// The layer as a field source (field.hpp): φ above, mm. `design` is resolved against the slab
+/// box (resolve_design). `layout` must outlive the source.
+/// @throws InputError  invalid options or design
+FieldSource conformal_source(const SurfaceParameterization& layout, const LatticeDesign& design,
+                             const ConformalOptions& options);
+
+struct ConformalJobOptions {
+  ConformalOptions layer;
+  LatticeDesign design;  ///< in slab coordinates (x along u, y along v, z up the layer)
+  ParameterizeOptions layout;
+  GridOptions grid;  ///< voxel size (mm) and padding of the fill's grid
+  bool keep_islands = false;
+  bool check_self_intersections = true;
+  std::uint64_t memory_budget = 0;  ///< as FillOptions
+  Progress* progress = nullptr;
+};
+
+struct ConformalReport {
+  SurfaceParameterization layout;     ///< the parameterization, with its distortion
+  double length_u = 0, length_v = 0;  ///< the slab's size used, mm
+  /// Cell size on the surface along the design's x (T·√σ_A over the triangles, area-weighted).
+  Spread cell_size;
+  /// The surface's smallest radius of curvature on the layer's side (edge dihedral angles),
+  /// mm (infinity: flat or curving away), and where.
+  double focal_distance = 0;
+  Vec3 focal_at = {};
+  /// Signed heights of the output's vertices above the surface (h), mm: the layer's measured
+  /// extent (0 and H up to the marching cubes' vertex error, a fraction of a voxel).
+  double height_min = 0, height_max = 0;
+  Vec3 farthest_at = {};  ///< the output vertex farthest outside 0..H
+};
+
+struct ConformalResult {
+  TriangleSoup mesh;  ///< closed, 2-manifold, outward, no self-intersections (validated)
+  FillReport fill;    ///< the fill's report (warnings include the layer's)
+  ConformalReport report;
+  ConformalOptions layer;  ///< the layer as it ran
+};
+
+/// Lays `surface` out (parameterize_surface), maps the slab design onto it and fills the layer
+/// over its box with fill(), then measures the output's heights.
+/// @throws as parameterize_surface, require_valid, fill()
+ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOptions& options);
+
+/// The fill's report (report.hpp's to_json) with a "conformal" object: the layer's settings,
+/// the layout (loops, seam, corners, flips, distortion spreads), cell sizes, focal distance
+/// and measured heights.
+std::string to_json(const ConformalResult& result);
+/// The fill's summary followed by the layer's lines.
+std::string to_text(const ConformalResult& result);
+
+std::string_view surface_side_name(SurfaceSide side);  ///< "out", "in"
+/// @throws InputError  neither "out" nor "in"
+SurfaceSide surface_side_from_name(std::string_view name);
+
+}  // namespace tpmsfill

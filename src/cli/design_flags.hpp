@@ -1,0 +1,33 @@
+// The flags that describe one TPMS (type, style, cell, level or thickness or porosity,
+// rotation, origin), shared by the commands that make lattices: fill and conformal.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <tpmsfill/tpms.hpp>
+#include <vector>
+
+namespace tpmsfill::cli {
+
+struct TpmsArgs {
+  std::optional<std::string> lattice;
+  bool sheet = false;
+  std::vector<double> cell, rotate, origin, levels;
+  std::optional<double> level, thickness, porosity;
+
+  bool any() const {
+    return lattice || sheet || !cell.empty() || !rotate.empty() || !origin.empty() ||
+           !levels.empty() || level || thickness || porosity;
+  }
+};
+
+/// Registers --lattice, --sheet, --levels, --cell, --porosity, --level, --thickness, --rotate
+/// and --origin on `sub`.
+void add_tpms_options(CLI::App* sub, TpmsArgs& args);
+
+/// What the flags give, on top of `tpms` (a recipe's or the defaults): given flags win.
+/// @throws InputError  contradicting flags (--level with --sheet, --levels with --thickness...)
+void apply_tpms_flags(const TpmsArgs& args, TpmsOptions& tpms);
+
+}  // namespace tpmsfill::cli
