@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -23,13 +23,17 @@
 # 14. seed 003: the skull CT fitted at 16³, 32³, 48³ (direct and LSPIA), fit time 128³ → 32³ and
 #     256³ → 64³, grid evaluation rate, ground-truth Hausdorff distances (bench_fit), ITDF
 #     against binary STL sizes, porosity asked vs measured with `field mesh`
+#  conformal:
+# 15. seed 004: `tpmsfill conformal` on the dome, the wave, Debian's Nefertiti face and blade at
+#     a voxel of H/10 (layout flips and distortion, cells on the surface, heights, time, memory),
+#     and the layout alone on libcgal-demo's other disks
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -315,4 +319,48 @@ PY
       fi
     done
   fi
+fi
+
+if [[ "$section" == all || "$section" == conformal ]]; then
+  echo
+  echo "## 15. seed 004: lattice layers on surfaces (tpmsfill conformal, voxel H/10)"
+  python3 scripts/surfaces.py "$tmp"
+  cgal=/usr/share/doc/libcgal-demo/data.tar.gz
+  [[ -f "$cgal" ]] && tar -xzf "$cgal" -C "$tmp" --strip-components=2 data/meshes/nefertiti.off \
+    data/meshes/blade.off data/meshes/lion-head.off data/meshes/mushroom.off
+  echo "| surface | job | wall s | peak MB | flips | area scale p5/p50/p95 | angle p5/p50/p95 | cells mm p5-p95 | smallest radius mm | heights mm | triangles | valid | warnings |"
+  echo "|---|---|---:|---:|---:|---|---|---|---:|---|---:|---|---:|"
+  conformal_case() {
+    local name=$1 in=$2
+    shift 2
+    [[ -f "$in" ]] || { echo "| $name | (missing: libcgal-demo) |"; return; }
+    timed ./build/tpmsfill conformal "$in" "$tmp/$name.stl" --quiet --report "$tmp/$name.json" "$@" \
+      2>"$tmp/$name.err"
+    ((code == 0)) || { echo "| $name | exit $code: $(head -1 "$tmp/$name.err") |"; return; }
+    python3 - "$tmp/$name.json" "$name" "$wall" "$kb" "$(grep -c warning "$tmp/$name.err" || true)" "$*" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); c = r["conformal"]; l = c["layout"]
+name, wall, kb, warnings, job = sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5], sys.argv[6]
+a, g, s = l["area_scale"], l["angle_distortion"], c["cell_size"]
+focal = "none" if c["focal_distance"] is None else f"{c['focal_distance']:.3g}"
+print(f"| {name} | {job} | {wall:.2f} | {kb/1024:.0f} | {l['flips']} | {a['p5']:.3g}/{a['p50']:.3g}/{a['p95']:.3g} "
+      f"| {g['p5']:.3g}/{g['p50']:.3g}/{g['p95']:.3g} | {s['p5']:.3g}-{s['p95']:.3g} | {focal} "
+      f"| {c['height_min']:.3g} to {c['height_max']:.3g} | {r['output']['triangles']:,} | {r['valid']} | {warnings} |")
+PY
+  }
+  conformal_case dome "$tmp/hemisphere.off" --height 3 --lattice primitive --cell 5 --voxel 0.3
+  conformal_case wave "$tmp/wave.off" --height 3 --lattice gyroid --cell 5 --voxel 0.3
+  conformal_case face "$tmp/nefertiti.off" --scale 20 --height 3 --lattice primitive --cell 5 --voxel 0.3
+  conformal_case blade "$tmp/blade.off" --height 2 --recipe docs/recipes/conformal/blade-rings.json --voxel 0.2
+  conformal_case blade-in "$tmp/blade.off" --height 0.3 --side in --lattice gyroid --cell 1 --voxel 0.03
+  conformal_case lion-head "$tmp/lion-head.off" --scale 100 --height 3 --lattice primitive --cell 5 --voxel 0.3
+  conformal_case mushroom "$tmp/mushroom.off" --scale 60 --height 3 --lattice primitive --cell 5 --voxel 0.3
+  echo
+  echo "threads: the face at 1 and 2 threads (identical output)"
+  for t in 1 2; do
+    timed ./build/tpmsfill conformal "$tmp/nefertiti.off" "$tmp/face-$t.stl" --quiet --scale 20 \
+      --height 3 --lattice primitive --cell 5 --voxel 0.3 --threads "$t"
+    echo "- $t thread(s): $wall s"
+  done
+  cmp -s "$tmp/face-1.stl" "$tmp/face-2.stl" && echo "- outputs byte-identical" || echo "- OUTPUTS DIFFER"
 fi

@@ -104,6 +104,13 @@ if [[ -f "$femur_tarball" ]]; then
   tar -xzf "$femur_tarball" -C "$work" --strip-components=2 data/meshes/femur.off && have_femur=1
 fi
 
+# Seed 004's surfaces: the procedural dome and wave, and libcgal-demo's face and blade.
+python3 scripts/surfaces.py "$work"
+if [[ -f "$femur_tarball" ]]; then
+  tar -xzf "$femur_tarball" -C "$work" --strip-components=2 data/meshes/nefertiti.off \
+    data/meshes/blade.off || true
+fi
+
 # Seed 003's structures (issue 13), as ITDF files made by `tpmsfill field fit`: the skull CT
 # libcgal-demo ships (bone above 2.9), and a sponge: 48³ cells, distance to the nearest of 40
 # random pore centres minus 0.11 (the unit cube), the solid outside the pores.
@@ -127,9 +134,12 @@ now() { date +%s.%N; }
 # Runs `tpmsfill fill INPUT NAME.stl FILL OPTIONS` in $work and renders NAME.stl to
 # OUT_DIR/NAME.png at --size 480 with RENDER OPTIONS. Records the commands and the note for the
 # page whether or not the image is made in this run.
+# The command is `fill`, or $shot_command where an image needs another (conformal).
+shot_command=fill
 shot() {
   local name=$1 input=$2 render_options=$3 fill_options=$4 note=$5
-  local fill_cmd="tpmsfill fill $input $name.stl $fill_options"
+  local command=$shot_command
+  local fill_cmd="tpmsfill $command $input $name.stl $fill_options"
   local render_cmd="render_png $name.stl $name.png --size 480${render_options:+ $render_options}"
   names+=("$name") fill_commands+=("$fill_cmd") render_commands+=("$render_cmd") notes+=("$note")
   local status=""
@@ -140,17 +150,24 @@ shot() {
       [[ "$name" == $p ]] && status=""
     done
   fi
+  if [[ -z "$status" && ! -f "$work/$input" ]]; then
+    status="skipped: no $input (apt-get install libcgal-demo)"
+  fi
   if [[ -z "$status" && "$input" == femur.off && $have_femur == 0 ]]; then
     status="skipped: no $femur_tarball (apt-get install libcgal-demo)"
   fi
   if [[ -z "$status" ]]; then
     local word
     for word in $fill_options; do
-      if [[ "$word" == --* ]] && ! grep -qE -- "(^|[ ,])$word([ ,=]|$)" <<<"$fill_help"; then
-        status="pending: this tpmsfill has no $word"
+      if [[ "$word" == --* ]] && ! grep -qE -- "(^|[ ,])$word([ ,=]|$)" \
+        <<<"$([[ $command == fill ]] && echo "$fill_help" || "$tpmsfill" "$command" --help 2>/dev/null)"; then
+        status="pending: this tpmsfill $command has no $word"
         break
       fi
     done
+  fi
+  if [[ -z "$status" && "$command" != fill ]] && ! "$tpmsfill" "$command" --help >/dev/null 2>&1; then
+    status="pending: this tpmsfill has no $command"
   fi
   if [[ -n "$status" ]]; then
     statuses+=("$status")
@@ -161,7 +178,7 @@ shot() {
   local t0 t1 t2 code=0
   t0=$(now)
   # shellcheck disable=SC2086  # the options are words
-  (cd "$work" && "$tpmsfill" fill "$input" "$name.stl" $fill_options --quiet) \
+  (cd "$work" && "$tpmsfill" "$command" "$input" "$name.stl" $fill_options --quiet) \
     2>"$work/$name.err" || code=$?
   t1=$(now)
   if ((code != 0)); then
@@ -270,6 +287,26 @@ image_femur_gyroid() {
     "the main job: the 35 mm femur filled with 2 mm gyroid cells, clipped to the bone's surface"
 }
 
+# Seed 004: lattice layers that follow a surface (tpmsfill conformal), on its four
+# demonstrations: a dome, a wave, a face and a turbine blade (a tube, with two ring regions).
+image_conformal() {
+  [[ -e "$work/docs" ]] || ln -s "$PWD/docs" "$work/docs"
+  shot_command=conformal
+  shot conformal-hemisphere hemisphere.off "--view -60 -120" \
+    "--height 3 --lattice primitive --cell 5 --voxel 0.3" \
+    "a 3 mm Schwarz P layer (5 mm cells, the seed's main region) on a 30 mm dome: cells keep their size on average, stretched towards the rim by the layout (area scale p5-p95 about 0.5-1.5)"
+  shot conformal-wave wave.off "--view -50 -130" \
+    "--height 3 --lattice gyroid --cell 5 --voxel 0.3 --skins 0.4 0" \
+    "a 3 mm gyroid layer on a wavy 80 mm panel with a 0.4 mm skin on the surface: over crests, troughs and saddles alike"
+  shot conformal-face nefertiti.off "--view 0 -90" \
+    "--scale 20 --height 3 --lattice primitive --cell 5 --voxel 0.3" \
+    "Debian's Nefertiti (CGAL's own parameterization example, scaled to 97 mm) under a 3 mm Schwarz P layer: the seed's face, where curvature changes fastest"
+  shot conformal-blade blade.off "--view -90 -100" \
+    "--height 2 --recipe docs/recipes/conformal/blade-rings.json --voxel 0.2" \
+    "Debian's turbine blade (a tube, cut along a seam the lattice closes across) with a 2 mm P layer, an I-WP region near the root and a gyroid region at mid-span (docs/recipes/conformal/blade-rings.json)"
+  shot_command=fill
+}
+
 # >>> HYBRID RECIPES SLOT: every docs/recipes/*.json, filled into the 20 mm cube, image named
 # >>> after the recipe. The fill gets only --recipe and --voxel: lattice types, cells and the
 # >>> blend region come from the recipe.
@@ -288,7 +325,8 @@ image_recipes() {
 # <<< HYBRID RECIPES SLOT
 
 features=(image_types image_porosity image_rotation image_grade_linear image_grade_radial
-  image_grade_depth image_grade_cell image_skin image_femur_gyroid image_field image_recipes)
+  image_grade_depth image_grade_cell image_skin image_femur_gyroid image_field image_conformal
+  image_recipes)
 for feature in "${features[@]}"; do "$feature"; done
 
 # --- the page ----------------------------------------------------------------------------------
@@ -405,6 +443,24 @@ TEXT
       i=$(index_of "$name")
       printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
     fi
+  done
+  cat <<'TEXT'
+## Layers that follow a surface (seed 004)
+
+`tpmsfill conformal`: a surface laid flat by mean-value coordinates, a slab design carried onto
+it through the field, filled and validated like any part (docs/method.md). The four surfaces
+of the seed's demonstrations: a dome and a wave (made by `scripts/surfaces.py`), a face and a
+turbine blade (Debian's libcgal-demo).
+
+TEXT
+  printf '| dome | wave |\n|:---:|:---:|\n| %s | %s |\n' "$(picture conformal-hemisphere)" \
+    "$(picture conformal-wave)"
+  printf '| **face** | **blade** |\n| %s | %s |\n\n' "$(picture conformal-face)" \
+    "$(picture conformal-blade)"
+  for name in conformal-hemisphere conformal-wave conformal-face conformal-blade; do
+    commands "$name"
+    i=$(index_of "$name")
+    printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
   done
   hybrids=()
   for i in "${!names[@]}"; do
