@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
       "tpmsfill fills triangle meshes with TPMS lattices and proves that what it writes is a "
       "closed 2-manifold.\n"
       "Reads STL (ASCII or binary), OBJ, PLY and OFF, also gzip-compressed; `field` turns a "
-      "scanned distance field or CT into a porous structure (seed 003); `conformal` grows a lattice "
+      "scanned distance field or CT into a porous structure (seed 003); `conformal` grows a "
+      "lattice "
       "layer that follows a surface (seed 004).\n",
       "tpmsfill"};
   app.set_version_flag("--version", "tpmsfill " TPMSFILL_VERSION);
