@@ -316,6 +316,17 @@ struct Layer {
   LatticeDesign design;  // resolved against the slab box
 };
 
+// The slab design's sampling step: half the voxel, or a sixteenth of its smallest cell where
+// that is coarser. Trilinear reading of a TPMS field (≈ T/2π · f) errs by about s²/8 · 2π/T,
+// 0.3 % of T at s = T/16: a few per cent of a voxel, and a fine voxel in a large slab does not
+// need billions of samples.
+double slab_spacing(const LatticeDesign& d, double voxel) {
+  double cell = std::min({d.cell.x, d.cell.y, d.cell.z});
+  for (const Blend& b : d.blends)
+    cell = std::min({cell, b.tpms.cell.x, b.tpms.cell.y, b.tpms.cell.z});
+  return std::max(0.5 * voxel, cell / 16);
+}
+
 Box3 slab_box(const std::array<double, 2>& lengths, const ConformalOptions& o) {
   return Box3{{0, 0, 0}, {lengths[0], lengths[1], o.height / o.normal_scale}};
 }
@@ -358,7 +369,7 @@ FieldSource conformal_source(const SurfaceParameterization& layout, const Lattic
     const Vec3 size = box.max - box.min;
     auto slab = std::make_shared<const SlabSamples>(design_source(layer->design),
                                                     std::array<double, 3>{size.x, size.y, size.z},
-                                                    0.5 * grid.spacing);
+                                                    slab_spacing(layer->design, grid.spacing));
     // Nodes farther than H and two voxels from every triangle are outside the layer by at
     // least two voxels: they skip the closest-point search.
     const double reach = layer->options.height + 2 * grid.spacing;
@@ -463,6 +474,12 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   }
 
   const double voxel = options.grid.voxel_size;
+  const double asked = options.design.cell.x;
+  if (r.cell_size.p95 > 2 * r.cell_size.p5)
+    warnings.push_back("the layout stretches the surface unevenly: cells asked " + mm(asked) +
+                       " measure " + mm(r.cell_size.p5) + " to " + mm(r.cell_size.p95) +
+                       " on the surface (p5 to p95); a shallower surface, or corners where it "
+                       "turns, lay it out more evenly");
   if (r.layout.flips > 0)
     warnings.push_back(std::to_string(r.layout.flips) +
                        " triangles of the surface fold over in its layout; the lattice is torn "
