@@ -295,7 +295,7 @@ image_conformal() {
   shot conformal-hemisphere hemisphere.off "--view -60 -120" \
     "--height 3 --lattice primitive --cell 5 --voxel 0.3" \
     "a 3 mm Schwarz P layer (5 mm cells, the seed's main region) on a 30 mm dome: cells keep their size on average, stretched towards the rim by the layout (area scale p5-p95 about 0.5-1.5)"
-  shot conformal-wave wave.off "--view -50 -130" \
+  shot conformal-wave wave.off "--view -30 45" \
     "--height 3 --lattice gyroid --cell 5 --voxel 0.3 --skins 0.4 0" \
     "a 3 mm gyroid layer on a wavy 80 mm panel with a 0.4 mm skin on the surface: over crests, troughs and saddles alike"
   shot conformal-face nefertiti.off "--view 0 -90" \
