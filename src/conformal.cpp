@@ -6,17 +6,21 @@
 #include <CGAL/AABB_triangle_primitive.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "detail/cgal_types.hpp"
 #include "detail/parallel.hpp"
+#include "detail/surface_normals.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/review.hpp"
+#include "tpmsfill/validate.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -66,21 +70,11 @@ class SurfaceMap {
     tree_.build();
     tree_.accelerate_distance_queries();
     // Angle-weighted normals per position, so the seam's two copies of a point agree.
-    std::map<std::array<double, 3>, Vec3> at;
+    normals_ = detail::angle_weighted_normals(m);
     auto pos = [&](std::uint32_t i) {
       const Vec3 p = m.points[i];
       return std::array<double, 3>{p.x, p.y, p.z};
     };
-    for (const Triangle& t : m.triangles) {
-      const Vec3 n = unit(cross(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]));
-      for (int c = 0; c < 3; ++c) {
-        const Vec3 a = m.points[t[(c + 1) % 3]] - m.points[t[c]],
-                   b = m.points[t[(c + 2) % 3]] - m.points[t[c]];
-        at[pos(t[c])] = at[pos(t[c])] + std::atan2(norm(cross(a, b)), dot(a, b)) * n;
-      }
-    }
-    normals_.resize(m.points.size());
-    for (std::size_t i = 0; i < m.points.size(); ++i) normals_[i] = unit(at[pos(std::uint32_t(i))]);
     // The surface's own boundary: edges without a twin, less the seam's (whose twin is the
     // reversed edge between the same positions, on the seam's other side).
     std::map<std::array<double, 6>, int> open;
@@ -407,6 +401,57 @@ TriangleSoup box_soup(const Box3& b) {
   return box;
 }
 
+// The field-space map: fill() over the surface's box grown by the layer, with the layer's field.
+FillResult fill_through_field(const SurfaceParameterization& layout,
+                              const ConformalJobOptions& options) {
+  FillOptions f;
+  f.grid = options.grid;
+  f.design.cell = options.design.cell;  // for the report; the field is the layer's
+  f.design.custom = conformal_source(layout, options.design, options.layer);
+  f.keep_islands = options.keep_islands;
+  f.check_self_intersections = options.check_self_intersections;
+  f.memory_budget = options.memory_budget;
+  f.progress = options.progress;
+  Box3 box = bounding_box(layout.mesh);
+  const double grow = options.layer.height + options.grid.voxel_size;
+  box.min = box.min - Vec3{grow, grow, grow}, box.max = box.max + Vec3{grow, grow, grow};
+  return fill(box_soup(box), f);
+}
+
+// The seed's vertex map: fill() of the slab box with the design, carried over vertex by
+// vertex, then validated again (it may fold, which the field map cannot).
+FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& options,
+                            std::array<double, 2> lengths, const Box3& slab) {
+  if (options.layer.skin_surface > 0 || options.layer.skin_top > 0)
+    throw InputError("skins need the field map (the vertex map carries the slab as it is)");
+  FillOptions f;
+  f.grid = options.grid;
+  f.design = options.design;
+  f.keep_islands = options.keep_islands;
+  f.check_self_intersections = options.check_self_intersections;
+  f.memory_budget = options.memory_budget;
+  f.progress = options.progress;
+  FillResult filled = fill(box_soup(slab), f);
+  const auto t0 = std::chrono::steady_clock::now();
+  filled.mesh = map_slab_vertices(filled.mesh, r.layout, lengths, options.layer, options.vertex_map,
+                                  &r.vertex_map);
+  ValidateOptions check;
+  check.self_intersections = options.check_self_intersections;
+  filled.report.validation = validate_mesh(filled.mesh, check);
+  filled.report.stages.push_back(
+      {"vertex map", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+       peak_memory_mb()});
+  if (!filled.report.validation.valid()) {
+    std::string why;
+    for (const std::string& p : filled.report.validation.problems())
+      why += (why.empty() ? "" : "; ") + p;
+    throw ValidationError("the vertex map folds the layer (" + why +
+                          "): it is thicker than the surface bends, or the surface's triangles "
+                          "are coarse; the field map (the default) stays valid");
+  }
+  return filled;
+}
+
 std::string mm(double x) {
   char s[32];
   std::snprintf(s, sizeof s, "%.3g mm", x);
@@ -423,7 +468,13 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   ConformalReport& r = result.report;
   ParameterizeOptions po = options.layout;
   po.progress = options.progress;
+  auto t0 = std::chrono::steady_clock::now();
+  const auto seconds = [&] {
+    const auto t = std::chrono::steady_clock::now();
+    return std::chrono::duration<double>(t - std::exchange(t0, t)).count();
+  };
   r.layout = parameterize_surface(surface, po);
+  const StageTime layout_time{"parameterize", seconds(), peak_memory_mb()};
   const ConformalOptions& o = options.layer;
   const std::array<double, 2> lengths = slab_lengths(r.layout, options.design, o);
   r.length_u = lengths[0], r.length_v = lengths[1];
@@ -436,23 +487,16 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   const Spread& a = r.layout.area_scale;
   r.cell_size = {cell(a.min), cell(a.p5), cell(a.p50), cell(a.p95), cell(a.max)};
 
-  FillOptions f;
-  f.grid = options.grid;
-  f.design.cell = options.design.cell;  // for the report; the field is the layer's
-  f.design.custom = conformal_source(r.layout, options.design, o);
-  f.keep_islands = options.keep_islands;
-  f.check_self_intersections = options.check_self_intersections;
-  f.memory_budget = options.memory_budget;
-  f.progress = options.progress;
-  Box3 box = bounding_box(r.layout.mesh);
-  const double grow = o.height + options.grid.voxel_size;
-  box.min = box.min - Vec3{grow, grow, grow}, box.max = box.max + Vec3{grow, grow, grow};
-  FillResult filled = fill(box_soup(box), f);
+  r.map = options.map;
+  FillResult filled = options.map == SlabMap::Field ? fill_through_field(r.layout, options)
+                                                    : fill_by_vertices(r, options, lengths, slab);
   result.mesh = std::move(filled.mesh);
   result.fill = std::move(filled.report);
   result.fill.design = tpms_label(options.design);
   for (const Blend& b : options.design.blends) result.fill.design += " + " + tpms_label(b.tpms);
 
+  result.fill.stages.insert(result.fill.stages.begin(), layout_time);
+  seconds();  // the fill timed its own stages
   // The output's heights, through the same map.
   const SurfaceMap map(r.layout, lengths, o.side);
   std::tie(r.focal_distance, r.focal_at) = map.focal_distance();
@@ -499,11 +543,22 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   if (result.mesh.triangles.empty())
     warnings.push_back("the layer came out empty: no lattice lies within it");
   for (std::string& w : warnings) result.fill.warnings.push_back(std::move(w));
+  result.fill.stages.push_back({"heights", seconds(), peak_memory_mb()});
   return result;
 }
 
 std::string_view surface_side_name(SurfaceSide side) {
   return side == SurfaceSide::Out ? "out" : "in";
+}
+
+std::string_view slab_map_name(SlabMap map) {
+  return map == SlabMap::Field ? "field" : "vertex";
+}
+
+SlabMap slab_map_from_name(std::string_view name) {
+  if (name == "field") return SlabMap::Field;
+  if (name == "vertex") return SlabMap::Vertex;
+  throw InputError("unknown map '" + std::string(name) + "' (use field or vertex)");
 }
 
 SurfaceSide surface_side_from_name(std::string_view name) {

@@ -33,28 +33,34 @@ std::string to_json(const ConformalResult& result) {
   const ConformalReport& r = result.report;
   const SurfaceParameterization& p = r.layout;
   const ConformalOptions& o = result.layer;
-  j["conformal"] = {{"height", o.height},
-                    {"side", surface_side_name(o.side)},
-                    {"normal_scale", o.normal_scale},
-                    {"skin_surface", o.skin_surface},
-                    {"skin_top", o.skin_top},
-                    {"slab", {r.length_u, r.length_v}},
-                    {"layer_volume", result.fill.model_volume},
-                    {"layout",
-                     {{"boundary_loops", p.boundary_loops},
-                      {"periodic_u", p.periodic_u},
-                      {"seam_edges", p.seam_edges},
-                      {"corners", p.corners},
-                      {"length_u", p.length_u},
-                      {"length_v", p.length_v},
-                      {"area", p.area},
-                      {"flips", p.flips},
-                      {"area_scale", spread(p.area_scale)},
-                      {"angle_distortion", spread(p.angle_distortion)}}},
-                    {"cell_size", spread(r.cell_size)},
-                    {"focal_distance", finite_or_null(r.focal_distance)},
-                    {"height_min", r.height_min},
-                    {"height_max", r.height_max}};
+  j["conformal"] = {
+      {"height", o.height},
+      {"side", surface_side_name(o.side)},
+      {"normal_scale", o.normal_scale},
+      {"skin_surface", o.skin_surface},
+      {"skin_top", o.skin_top},
+      {"slab", {r.length_u, r.length_v}},
+      {"map", slab_map_name(r.map)},
+      {"vertex_map", r.map == SlabMap::Vertex ? json{{"split_edges", r.vertex_map.split_edges},
+                                                     {"clamped", r.vertex_map.clamped},
+                                                     {"chord_error", r.vertex_map.chord_error}}
+                                              : json(nullptr)},
+      {"layer_volume", result.fill.model_volume},
+      {"layout",
+       {{"boundary_loops", p.boundary_loops},
+        {"periodic_u", p.periodic_u},
+        {"seam_edges", p.seam_edges},
+        {"corners", p.corners},
+        {"length_u", p.length_u},
+        {"length_v", p.length_v},
+        {"area", p.area},
+        {"flips", p.flips},
+        {"area_scale", spread(p.area_scale)},
+        {"angle_distortion", spread(p.angle_distortion)}}},
+      {"cell_size", spread(r.cell_size)},
+      {"focal_distance", finite_or_null(r.focal_distance)},
+      {"height_min", r.height_min},
+      {"height_max", r.height_max}};
   return j.dump(2) + "\n";
 }
 
@@ -72,6 +78,9 @@ std::string to_text(const ConformalResult& result) {
   if (o.skin_surface > 0 || o.skin_top > 0)
     s += format(", skins %g mm (surface) and %g mm (top)", o.skin_surface, o.skin_top);
   s += "\n";
+  if (r.map == SlabMap::Vertex)
+    s += format("map          vertex by vertex: %.0f edges split, chords within %.3g mm\n",
+                static_cast<double>(r.vertex_map.split_edges), r.vertex_map.chord_error);
   s += "layout       " +
        (p.periodic_u ? format("a tube cut along %.0f seam edges", static_cast<double>(p.seam_edges))
                      : std::string("a disk")) +

@@ -426,6 +426,9 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
     throw InputError("the surface has handles (genus " +
                      std::to_string((2 - long(loops.size()) - euler) / 2) +
                      "); only a disk or a tube can be laid out");
+  if (loops.size() == 1 && loops[0].size() < 4)
+    throw InputError("the surface's boundary has " + std::to_string(loops[0].size()) +
+                     " points; laying it on a square needs at least 4");
   SurfaceParameterization p;
   p.boundary_loops = static_cast<int>(loops.size());
   std::array<std::uint32_t, 4> c{};

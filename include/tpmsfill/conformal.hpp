@@ -20,6 +20,21 @@
 /// radius of curvature on the layer's side (its focal distance): the job estimates that
 /// radius and warns with it when H exceeds it. Cells on the surface measure T·√σ_A (the
 /// parameterization's area scale); the report gives their spread.
+///
+/// The seed's own map, vertex by vertex (map_slab_vertices, SlabMap::Vertex): the slab's mesh
+/// is made in slab coordinates (x in [0, Lu], y in [0, Lv], z in [0, H/s]) and carried over.
+/// A vertex (x, y, z) goes to (u, v) = (x/Lu, y/Lv), is located in the layout's triangle that
+/// holds (u, v) (barycentric λ), lifted to P = Σ λ_k P_k and offset along the interpolated
+/// vertex normal: P + s·z·N, N = normalize(Σ λ_k n_k) (angle-weighted normals; per-face normals
+/// would tear the mesh at the surface's edges). Edges whose mapped midpoint strays from the
+/// chord between their mapped ends by more than a tolerance are split (shared midpoints, so
+/// the mesh stays closed and manifold) until none does.
+///
+/// Where it is valid: while s·z stays below the surface's focal distance on the layer's side
+/// (past it the offset folds, and the result intersects itself), and on disks only (a tube's
+/// slab has walls at u = 0 and u = 1 that land on the same seam). The field-space map takes
+/// tubes too and its output is validated like any fill's, which is why conformal_fill() uses it
+/// by default.
 #pragma once
 
 #include <array>
@@ -56,6 +71,30 @@ struct ConformalOptions {
   double skin_top = 0;      ///< a solid skin this thick under the top (h > H − skin), mm
 };
 
+struct VertexMapOptions {
+  /// Split edges whose mapped midpoint is farther than this from their mapped chord, mm
+  /// (0: a fiftieth of the layer's height).
+  double chord_tolerance = 0;
+  int max_passes = 12;  ///< rounds of splitting at most
+};
+
+struct VertexMapReport {
+  std::uint64_t split_edges = 0;  ///< edges split to follow the surface
+  std::uint64_t clamped = 0;      ///< vertices outside the unit square, moved onto its edge
+  double chord_error = 0;         ///< the largest left after splitting, mm
+};
+
+/// Maps `slab` vertex by vertex onto the surface (see the file comment).
+/// @param[in] slab     a mesh in slab coordinates (e.g. fill() of the slab box with the design)
+/// @param[in] layout   a disk's layout (periodic_u false)
+/// @param[in] lengths  Lu, Lv, mm (slab_lengths())
+/// @param[in] layer    height, side and normal scale (skins are not used)
+/// @throws InputError  a tube's layout, lengths not positive
+TriangleSoup map_slab_vertices(const TriangleSoup& slab, const SurfaceParameterization& layout,
+                               std::array<double, 2> lengths, const ConformalOptions& layer,
+                               const VertexMapOptions& options = {},
+                               VertexMapReport* report = nullptr);
+
 /// @throws InputError  height, normal_scale, lengths or skins not positive and finite (skins:
 ///                     not negative; together under H)
 void require_valid(const ConformalOptions& options);
@@ -71,9 +110,16 @@ std::array<double, 2> slab_lengths(const SurfaceParameterization& layout,
 FieldSource conformal_source(const SurfaceParameterization& layout, const LatticeDesign& design,
                              const ConformalOptions& options);
 
+/// How the slab reaches the surface: through the field (conformal_source: the default) or the
+/// seed's vertex map (map_slab_vertices: disks only, no skins; the mapped mesh is validated and
+/// refused with its intersecting pairs where it folds).
+enum class SlabMap { Field, Vertex };
+
 struct ConformalJobOptions {
   ConformalOptions layer;
-  LatticeDesign design;  ///< in slab coordinates (x along u, y along v, z up the layer)
+  SlabMap map = SlabMap::Field;
+  VertexMapOptions vertex_map;  ///< SlabMap::Vertex
+  LatticeDesign design;         ///< in slab coordinates (x along u, y along v, z up the layer)
   ParameterizeOptions layout;
   GridOptions grid;  ///< voxel size (mm) and padding of the fill's grid
   bool keep_islands = false;
@@ -95,6 +141,8 @@ struct ConformalReport {
   /// extent (0 and H up to the marching cubes' vertex error, a fraction of a voxel).
   double height_min = 0, height_max = 0;
   Vec3 farthest_at = {};  ///< the output vertex farthest outside 0..H
+  SlabMap map = SlabMap::Field;
+  VertexMapReport vertex_map;  ///< SlabMap::Vertex: edges split, vertices clamped, chord error
 };
 
 struct ConformalResult {
@@ -119,5 +167,8 @@ std::string to_text(const ConformalResult& result);
 std::string_view surface_side_name(SurfaceSide side);  ///< "out", "in"
 /// @throws InputError  neither "out" nor "in"
 SurfaceSide surface_side_from_name(std::string_view name);
+std::string_view slab_map_name(SlabMap map);  ///< "field", "vertex"
+/// @throws InputError  neither "field" nor "vertex"
+SlabMap slab_map_from_name(std::string_view name);
 
 }  // namespace tpmsfill

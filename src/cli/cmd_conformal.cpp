@@ -23,7 +23,7 @@ namespace tpmsfill::cli {
 namespace {
 
 struct ConformalArgs {
-  std::string input, output, report, recipe, side = "out";
+  std::string input, output, report, recipe, side = "out", map = "field";
   TpmsArgs tpms;
   double height = 0;
   std::optional<double> voxel, normal_scale, scale;
@@ -42,6 +42,7 @@ ConformalJobOptions job_options(const ConformalArgs& a) {
   require_valid(o.design);
   o.layer.height = a.height;
   o.layer.side = surface_side_from_name(a.side);
+  o.map = slab_map_from_name(a.map);
   if (a.normal_scale) o.layer.normal_scale = *a.normal_scale;
   if (!a.slab.empty()) o.layer.length_u = a.slab[0], o.layer.length_v = a.slab[1];
   if (!a.skins.empty()) o.layer.skin_surface = a.skins[0], o.layer.skin_top = a.skins[1];
@@ -143,6 +144,11 @@ Command add_conformal_command(CLI::App& app) {
                   "JSON recipe for the slab's design: lattice, blends and ring regions in slab "
                   "millimetres (docs/recipes.md); flags given as well override it")
       ->check(existing_file());
+  sub->add_option("--map", args->map,
+                  "field (default: every grid node takes its closest point's (u, v) and height; "
+                  "always valid) or vertex (the seed's: the slab's mesh lifted vertex by vertex "
+                  "along the normals, edges split where they stray; disks only, no skins, "
+                  "refused where it folds)");
   add_tpms_options(sub, args->tpms);
   sub->add_option("--units", args->units,
                   "Unit the surface was modelled in: mm, cm, m, in or um (default mm); OUT is in "

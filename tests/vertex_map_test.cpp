@@ -1,0 +1,148 @@
+// Seed 004's vertex map: the slab's mesh carried onto a surface vertex by vertex.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <tpmsfill/check.hpp>
+#include <tpmsfill/conformal.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
+#include <tpmsfill/parameterize.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+using namespace tpmsfill::test;
+
+namespace {
+
+TriangleSoup plate(int n, double L) {
+  TriangleSoup s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.points.push_back({L * i / n, L * j / n, 0});
+  auto id = [n](int i, int j) { return std::uint32_t(i + (n + 1) * j); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return s;
+}
+
+// A spherical cap of radius R up to polar angle `cap`, normals outward.
+TriangleSoup cap(double R, double cap_angle, int rings, int segments) {
+  TriangleSoup s;
+  s.points.push_back({0, 0, R});
+  for (int r = 1; r <= rings; ++r) {
+    const double theta = cap_angle * r / rings;
+    for (int k = 0; k < segments; ++k) {
+      const double phi = 2 * std::numbers::pi * k / segments;
+      s.points.push_back({R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
+                          R * std::cos(theta)});
+    }
+  }
+  auto id = [segments](int r, int k) {
+    return std::uint32_t(1 + (r - 1) * segments + (k % segments));
+  };
+  for (int k = 0; k < segments; ++k) s.triangles.push_back({0, id(1, k), id(1, k + 1)});
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      s.triangles.push_back({id(r, k), id(r + 1, k), id(r + 1, k + 1)});
+      s.triangles.push_back({id(r, k), id(r + 1, k + 1), id(r, k + 1)});
+    }
+  return s;
+}
+
+}  // namespace
+
+TEST(VertexMap, AFlatPlateMapsTheSlabOntoItself) {
+  const SurfaceParameterization layout = parameterize_surface(plate(8, 20));
+  ConformalOptions layer;
+  layer.height = 2;
+  const TriangleSoup slab = make_box({0, 0, 0}, {20, 20, 2});
+  VertexMapReport r;
+  const TriangleSoup mapped = map_slab_vertices(slab, layout, {20, 20}, layer, {}, &r);
+  EXPECT_EQ(r.split_edges, 0u);  // nothing bends: no chord strays
+  EXPECT_EQ(r.clamped, 0u);
+  // The plate's layout is a rotation of (x, y)/20: the box comes back as a box.
+  const Box3 b = bounding_box(mapped);
+  EXPECT_NEAR(b.min.x, 0, 1e-9);
+  EXPECT_NEAR(b.max.x, 20, 1e-9);
+  EXPECT_NEAR(b.min.z, 0, 1e-9);
+  EXPECT_NEAR(b.max.z, 2, 1e-9);
+  const MeshCheck c = check_mesh(mapped);
+  EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
+  ASSERT_TRUE(c.volume.has_value());
+  EXPECT_NEAR(*c.volume, 800, 1e-6);
+}
+
+TEST(VertexMap, ALatticeOnASphericalCapIsValidAndFollowsTheSurface) {
+  const double R = 20;
+  const SurfaceParameterization layout = parameterize_surface(cap(R, 0.6, 16, 48));
+  ConformalOptions layer;
+  layer.height = 2;
+  FillOptions f;
+  f.design.cell = {4, 4, 4};
+  f.grid.voxel_size = 0.25;
+  const std::array<double, 2> lengths = slab_lengths(layout, f.design, layer);
+  const TriangleSoup slab =
+      fill(make_box({0, 0, 0}, {lengths[0], lengths[1], layer.height}), f).mesh;
+  VertexMapReport r;
+  const TriangleSoup mapped = map_slab_vertices(slab, layout, lengths, layer, {}, &r);
+  EXPECT_GT(r.split_edges, 0u);  // the slab's long flat faces are bent onto the cap
+  EXPECT_LE(r.chord_error, layer.height / 50 + 1e-12);
+  const MeshCheck c = check_mesh(mapped);
+  EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
+  // Lifted onto a sphere's polyhedron (chords inside it) and offset by 0..2 mm along the normals.
+  for (const Vec3& p : mapped.points) {
+    ASSERT_GE(norm(p), R * std::cos(std::numbers::pi / 48) - 0.05);
+    ASSERT_LE(norm(p), R + 2 + 1e-6);
+  }
+  // Inward: mirrored, so reversed to stay outward.
+  layer.side = SurfaceSide::In;
+  const MeshCheck in = check_mesh(map_slab_vertices(slab, layout, lengths, layer));
+  EXPECT_TRUE(in.valid()) << testing::PrintToString(in.problems());
+}
+
+TEST(VertexMap, RefusesATube) {
+  TriangleSoup tube;
+  const int n = 16;
+  for (int j = 0; j <= 2; ++j)
+    for (int k = 0; k < n; ++k)
+      tube.points.push_back({5 * std::cos(2 * std::numbers::pi * k / n),
+                             5 * std::sin(2 * std::numbers::pi * k / n), 3.0 * j});
+  for (int j = 0; j < 2; ++j)
+    for (int k = 0; k < n; ++k) {
+      const std::uint32_t a = j * n + k, b = j * n + (k + 1) % n;
+      tube.triangles.push_back({a, b, b + n});
+      tube.triangles.push_back({a, b + n, a + n});
+    }
+  const SurfaceParameterization layout = parameterize_surface(tube);
+  ConformalOptions layer;
+  layer.height = 1;
+  EXPECT_THROW(map_slab_vertices(make_box({0, 0, 0}, {30, 6, 1}), layout, {30, 6}, layer),
+               InputError);
+}
+
+TEST(VertexMap, ConformalFillOffersItAndRefusesWhatItCannotDo) {
+  ConformalJobOptions o;
+  o.map = SlabMap::Vertex;
+  o.layer.height = 2;
+  o.design.cell = {4, 4, 4};
+  o.grid.voxel_size = 0.25;
+  const TriangleSoup surface = cap(20, 0.6, 16, 48);
+  const ConformalResult r = conformal_fill(surface, o);
+  EXPECT_TRUE(r.fill.validation.valid());
+  EXPECT_TRUE(check_mesh(r.mesh).valid());
+  EXPECT_EQ(r.report.map, SlabMap::Vertex);
+  EXPECT_GT(r.report.vertex_map.split_edges, 0u);
+  // Heights measured through the closest-point map: the lift lies on the surface's chords and
+  // the offset runs along interpolated normals, so within a fraction of a millimetre of 0..H.
+  EXPECT_GT(r.report.height_min, -0.1);
+  EXPECT_LT(r.report.height_max, 2.1);
+  EXPECT_GT(r.report.height_max, 1.9);
+  o.layer.skin_top = 0.2;
+  EXPECT_THROW(conformal_fill(surface, o), InputError);
+  EXPECT_EQ(slab_map_from_name("vertex"), SlabMap::Vertex);
+  EXPECT_THROW(slab_map_from_name("normal"), InputError);
+}
