@@ -364,8 +364,8 @@ FieldSource conformal_source(const SurfaceParameterization& layout, const Lattic
     auto slab = std::make_shared<const SlabSamples>(design_source(layer->design),
                                                     std::array<double, 3>{size.x, size.y, size.z},
                                                     slab_spacing(layer->design, grid.spacing));
-    // Nodes farther than H and two voxels from every triangle are outside the layer by at
-    // least two voxels: they skip the closest-point search.
+    // Nodes in coarse blocks that lie more than two voxels outside the layer (NearMask) skip
+    // the closest-point search and read "two voxels outside".
     const double reach = layer->options.height + 2 * grid.spacing;
     auto near =
         std::make_shared<const NearMask>(layer->map, grid, layer->options.height, 2 * grid.spacing);
