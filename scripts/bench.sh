@@ -351,7 +351,7 @@ PY
   conformal_case dome "$tmp/hemisphere.off" --height 3 --lattice primitive --cell 5 --voxel 0.3
   conformal_case wave "$tmp/wave.off" --height 3 --lattice gyroid --cell 5 --voxel 0.3
   conformal_case face "$tmp/nefertiti.off" --scale 20 --height 3 --lattice primitive --cell 5 --voxel 0.3
-  conformal_case blade "$tmp/blade.off" --height 2 --recipe docs/recipes/conformal/blade-rings.json --voxel 0.2
+  conformal_case blade "$tmp/blade.off" --scale 2.5 --height 4 --recipe docs/recipes/conformal/blade-rings.json --voxel 0.4
   conformal_case blade-in "$tmp/blade.off" --height 0.3 --side in --lattice gyroid --cell 1 --voxel 0.03
   conformal_case dome-vertex "$tmp/hemisphere.off" --height 3 --lattice primitive --cell 5 --voxel 0.3 --map vertex
   conformal_case wave-vertex "$tmp/wave.off" --height 3 --lattice gyroid --cell 5 --voxel 0.3 --map vertex

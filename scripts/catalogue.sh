@@ -301,9 +301,9 @@ image_conformal() {
   shot conformal-face nefertiti.off "--view 0 -90" \
     "--scale 20 --height 3 --lattice primitive --cell 5 --voxel 0.3" \
     "Debian's Nefertiti (CGAL's own parameterization example, scaled to 97 mm) under a 3 mm Schwarz P layer: the seed's face, where curvature changes fastest"
-  shot conformal-blade blade.off "--view -90 -100" \
-    "--height 2 --recipe docs/recipes/conformal/blade-rings.json --voxel 0.2" \
-    "Debian's turbine blade (a tube, cut along a seam the lattice closes across) with a 2 mm P layer, an I-WP region near the root and a gyroid region at mid-span (docs/recipes/conformal/blade-rings.json)"
+  shot conformal-blade blade.off "--view -15 25" \
+    "--scale 2.5 --height 4 --recipe docs/recipes/conformal/blade-rings.json --voxel 0.4" \
+    "Debian's turbine blade scaled to 323 mm (a tube, cut along a seam the lattice closes across) under a 4 mm Schwarz P layer of 5 mm cells, with an I-WP region near the root and a gyroid region at mid-span (docs/recipes/conformal/blade-rings.json)"
   shot_command=fill
 }
 
