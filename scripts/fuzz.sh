@@ -76,7 +76,7 @@ for reader in auto stl obj ply off; do
 done
 # Recipes, seeded with the documented ones.
 mkdir -p "$seeds/recipe"
-cp "$root"/docs/recipes/*.json "$seeds/recipe/"
+cp "$root"/docs/recipes/*.json "$root"/docs/recipes/conformal/*.json "$seeds/recipe/"
 fuzz recipe "$build/tests/fuzz/read_recipe_fuzz" 8192
 # Field files and ITDF, seeded with small files of every form (first byte: even = a field
 # file, odd = ITDF), written by the CLI built in build/ when it is there.
