@@ -311,6 +311,9 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
       {"repair '" + in + "' '" + out + "' --min-component 1",
        "--min-component must be at least 0 and below 1"},
       {"check --max-examples -1 '" + in + "'", "--max-examples must be 0 to 1000000"},
+      {"conformal '" + in + "' '" + out + "'", "conformal needs --height"},
+      {"conformal '" + in + "' '" + out + "' --hieght 2",
+       "unknown option --hieght for conformal (did you mean --height?)"},
   };
   for (const auto& [args, sentence] : cases) {
     std::string output;

@@ -3,6 +3,7 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -79,7 +80,17 @@ int run_conformal(const ConformalArgs& a) {
   if (a.units) units.units = units_from_name(*a.units);
   if (a.scale) units.scale = *a.scale;
   require_valid(units);
-  ConformalResult result = conformal_fill(to_millimetres(file.soup, units), o);
+  const TriangleSoup surface = to_millimetres(file.soup, units);
+  // A wrong unit makes a layer of millimetres on a surface of metres (or microns): say so
+  // before the memory estimate does, in numbers that make no sense.
+  const Box3 box = bounding_box(surface);
+  if (const std::string hint = units_hint(box, units.units); !hint.empty()) {
+    const Vec3 size = box.size();
+    std::fprintf(stderr, "tpmsfill: warning: the surface is %.3g mm across, implausible in %s%s\n",
+                 std::max({size.x, size.y, size.z}), std::string(units_name(units.units)).c_str(),
+                 hint.c_str());
+  }
+  ConformalResult result = conformal_fill(surface, o);
   result.fill.units = units_name(units.units);
   result.fill.scale = units.scale;
   result.fill.mm_per_unit = units.factor();

@@ -110,9 +110,13 @@ std::string missing_command(const CLI::App& command, int argc, const char* const
 
 std::string missing_arguments(const CLI::App& app, const CLI::App* command) {
   if (!command) return "a command is needed: " + commands_list(app) + help_for(nullptr);
+  // A misspelt option is the likelier cause of a missing one (--hieght for --height).
+  if (std::string extra = unplaced_arguments(*command); !extra.empty()) return extra;
+  // What is required and was not given: positionals (IN, OUT) and required options (--height).
   std::vector<std::string> required;
   for (const CLI::Option* o : command->get_options())
-    if (o->get_positional() && o->get_required()) required.push_back(o->get_name(true));
+    if (o->get_required() && o->count() == 0)
+      required.push_back(o->get_positional() ? o->get_name(true) : o->get_name());
   std::string names;
   for (std::size_t i = 0; i < required.size(); ++i)
     names += (i == 0 ? "" : i + 1 == required.size() ? " and " : ", ") + required[i];
