@@ -34,11 +34,6 @@ bool positive(double x) {
   return std::isfinite(x) && x > 0;
 }
 
-Vec3 unit(Vec3 v) {
-  const double n = norm(v);
-  return n > 0 ? (1 / n) * v : v;
-}
-
 // Barycentric coordinates of q (on the triangle or near it) in abc, clamped to the triangle.
 std::array<double, 3> barycentric(Vec3 q, Vec3 a, Vec3 b, Vec3 c) {
   const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
@@ -151,7 +146,8 @@ class SurfaceMap {
     }
     auto normal = [&](std::uint32_t t) {
       const Triangle& x = m.triangles[t];
-      return unit(cross(m.points[x[1]] - m.points[x[0]], m.points[x[2]] - m.points[x[0]]));
+      return detail::unit_or_zero(
+          cross(m.points[x[1]] - m.points[x[0]], m.points[x[2]] - m.points[x[0]]));
     };
     auto centroid = [&](std::uint32_t t) {
       const Triangle& x = m.triangles[t];
@@ -184,11 +180,13 @@ class SurfaceMap {
     const Vec3 q{cp.x(), cp.y(), cp.z()};
     const std::array<double, 3> b = barycentric(q, pts[tri[0]], pts[tri[1]], pts[tri[2]]);
     constexpr double eps = 1e-9;
-    const Vec3 face = unit(cross(pts[tri[1]] - pts[tri[0]], pts[tri[2]] - pts[tri[0]]));
+    const Vec3 face =
+        detail::unit_or_zero(cross(pts[tri[1]] - pts[tri[0]], pts[tri[2]] - pts[tri[0]]));
     Vec3 n = face;
     bool beyond = false;
     if (std::min({b[0], b[1], b[2]}) <= eps) {  // on an edge or a corner: the vertices' normal
-      n = unit(b[0] * normals_[tri[0]] + b[1] * normals_[tri[1]] + b[2] * normals_[tri[2]]);
+      n = detail::unit_or_zero(b[0] * normals_[tri[0]] + b[1] * normals_[tri[1]] +
+                               b[2] * normals_[tri[2]]);
       for (int c = 0; c < 3; ++c)
         beyond = beyond || (b[(c + 2) % 3] <= eps && boundary_edge_[t][c]) ||
                  (b[c] >= 1 - eps && on_boundary_[tri[c]]);
@@ -352,15 +350,22 @@ std::array<double, 2> slab_lengths(const SurfaceParameterization& layout,
   return {lu, lv};
 }
 
-FieldSource conformal_source(const SurfaceParameterization& layout, const LatticeDesign& design,
-                             const ConformalOptions& options) {
+namespace {
+
+// The layer: its surface map (an AABB tree) built once, for the field and for the measures.
+std::shared_ptr<const Layer> make_layer(const SurfaceParameterization& layout,
+                                        const LatticeDesign& design,
+                                        const ConformalOptions& options) {
   require_valid(options);
   require_valid(design);
   const std::array<double, 2> lengths = slab_lengths(layout, design, options);
-  const Box3 box = slab_box(lengths, options);
-  auto layer = std::make_shared<const Layer>(layout, lengths, options, resolve_design(design, box));
-  return {.on_grid = [layer, box](const Grid& grid) -> RowFunction {
-    const Vec3 size = box.max - box.min;
+  return std::make_shared<const Layer>(layout, lengths, options,
+                                       resolve_design(design, slab_box(lengths, options)));
+}
+
+FieldSource source_of(std::shared_ptr<const Layer> layer) {
+  return {.on_grid = [layer](const Grid& grid) -> RowFunction {
+    const Vec3 size = slab_box(layer->lengths, layer->options).max;
     auto slab = std::make_shared<const SlabSamples>(design_source(layer->design),
                                                     std::array<double, 3>{size.x, size.y, size.z},
                                                     slab_spacing(layer->design, grid.spacing));
@@ -389,29 +394,33 @@ FieldSource conformal_source(const SurfaceParameterization& layout, const Lattic
   }};
 }
 
-namespace {
+}  // namespace
 
-TriangleSoup box_soup(const Box3& b) {
-  TriangleSoup box;
-  for (int c = 0; c < 8; ++c)
-    box.points.push_back(
-        {c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y, c & 4 ? b.max.z : b.min.z});
-  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return box;
+FieldSource conformal_source(const SurfaceParameterization& layout, const LatticeDesign& design,
+                             const ConformalOptions& options) {
+  return source_of(make_layer(layout, design, options));
 }
 
-// The field-space map: fill() over the surface's box grown by the layer, with the layer's field.
-FillResult fill_through_field(const SurfaceParameterization& layout,
-                              const ConformalJobOptions& options) {
+namespace {
+
+// What both maps' fills share: the job's grid, budget, checks and progress.
+FillOptions fill_options(const ConformalJobOptions& options) {
   FillOptions f;
   f.grid = options.grid;
-  f.design.cell = options.design.cell;  // for the report; the field is the layer's
-  f.design.custom = conformal_source(layout, options.design, options.layer);
   f.keep_islands = options.keep_islands;
   f.check_self_intersections = options.check_self_intersections;
   f.memory_budget = options.memory_budget;
   f.progress = options.progress;
+  return f;
+}
+
+// The field-space map: fill() over the surface's box grown by the layer, with the layer's field.
+FillResult fill_through_field(std::shared_ptr<const Layer> layer,
+                              const SurfaceParameterization& layout,
+                              const ConformalJobOptions& options) {
+  FillOptions f = fill_options(options);
+  f.design.cell = options.design.cell;  // for the report; the field is the layer's
+  f.design.custom = source_of(std::move(layer));
   Box3 box = bounding_box(layout.mesh);
   const double grow = options.layer.height + options.grid.voxel_size;
   box.min = box.min - Vec3{grow, grow, grow}, box.max = box.max + Vec3{grow, grow, grow};
@@ -424,13 +433,8 @@ FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& optio
                             std::array<double, 2> lengths, const Box3& slab) {
   if (options.layer.skin_surface > 0 || options.layer.skin_top > 0)
     throw InputError("skins need the field map (the vertex map carries the slab as it is)");
-  FillOptions f;
-  f.grid = options.grid;
+  FillOptions f = fill_options(options);
   f.design = options.design;
-  f.keep_islands = options.keep_islands;
-  f.check_self_intersections = options.check_self_intersections;
-  f.memory_budget = options.memory_budget;
-  f.progress = options.progress;
   FillResult filled = fill(box_soup(slab), f);
   const auto t0 = std::chrono::steady_clock::now();
   filled.mesh = map_slab_vertices(filled.mesh, r.layout, lengths, options.layer, options.vertex_map,
@@ -488,7 +492,8 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   r.cell_size = {cell(a.min), cell(a.p5), cell(a.p50), cell(a.p95), cell(a.max)};
 
   r.map = options.map;
-  FillResult filled = options.map == SlabMap::Field ? fill_through_field(r.layout, options)
+  const std::shared_ptr<const Layer> layer = make_layer(r.layout, options.design, o);
+  FillResult filled = options.map == SlabMap::Field ? fill_through_field(layer, r.layout, options)
                                                     : fill_by_vertices(r, options, lengths, slab);
   result.mesh = std::move(filled.mesh);
   result.fill = std::move(filled.report);
@@ -498,7 +503,7 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   result.fill.stages.insert(result.fill.stages.begin(), layout_time);
   seconds();  // the fill timed its own stages
   // The output's heights, through the same map.
-  const SurfaceMap map(r.layout, lengths, o.side);
+  const SurfaceMap& map = layer->map;
   std::tie(r.focal_distance, r.focal_at) = map.focal_distance();
   // The fill ran over a box: its input and model are the surface and the layer.
   result.fill.input_triangles = surface.triangles.size();

@@ -246,16 +246,16 @@ std::vector<std::uint32_t> disk_boundary(const TriangleSoup& m) {
   return loops.front();
 }
 
-double turning(const TriangleSoup& m, std::uint32_t v) {
-  double angle = 0;
+// How much the boundary turns at each point: π less the triangles' angles there (one pass).
+std::vector<double> turning(const TriangleSoup& m) {
+  std::vector<double> angle(m.points.size(), std::numbers::pi);
   for (const Triangle& t : m.triangles)
-    for (int c = 0; c < 3; ++c)
-      if (t[c] == v) {
-        const Vec3 a = m.points[t[(c + 1) % 3]] - m.points[v],
-                   b = m.points[t[(c + 2) % 3]] - m.points[v];
-        angle += std::atan2(norm(cross(a, b)), dot(a, b));
-      }
-  return std::numbers::pi - angle;
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 a = m.points[t[(c + 1) % 3]] - m.points[t[c]],
+                 b = m.points[t[(c + 2) % 3]] - m.points[t[c]];
+      angle[t[c]] -= std::atan2(norm(cross(a, b)), dot(a, b));
+    }
+  return angle;
 }
 
 // Corners in boundary order (surface on the left) at (0,0), (1,0), (1,1), (0,1).
@@ -263,8 +263,9 @@ std::array<std::uint32_t, 4> default_corners(const TriangleSoup& m,
                                              const std::vector<std::uint32_t>& loop) {
   std::size_t start = 0;
   double best = -std::numeric_limits<double>::infinity();
+  const std::vector<double> turn = turning(m);
   for (std::size_t i = 0; i < loop.size(); ++i)
-    if (const double a = turning(m, loop[i]); a > best + 1e-12) best = a, start = i;
+    if (const double a = turn[loop[i]]; a > best + 1e-12) best = a, start = i;
   std::vector<double> at(loop.size() + 1, 0);
   for (std::size_t i = 0; i < loop.size(); ++i)
     at[i + 1] = at[i] + norm(m.points[loop[(start + i + 1) % loop.size()]] -
@@ -432,6 +433,7 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
   SurfaceParameterization p;
   p.boundary_loops = static_cast<int>(loops.size());
   std::array<std::uint32_t, 4> c{};
+  std::vector<std::uint32_t> boundary = loops[0];  // of the disk laid out (a tube's: after the cut)
   if (loops.size() == 2) {
     if (options.corners)
       throw InputError("a tube takes its corners from its seam; corners cannot be given");
@@ -442,7 +444,8 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
     // With the surface on the left the cut disk's boundary runs along loop 0 into the seam's
     // start, up one side of the seam, along loop 1 and down the other side: corners at the
     // seam's ends, so the loops are v = 0 and v = 1 and the seam's sides u = 0 and u = 1.
-    const std::vector<std::uint32_t> loop = disk_boundary(w.mesh);
+    boundary = disk_boundary(w.mesh);
+    const std::vector<std::uint32_t>& loop = boundary;
     const std::array<std::uint32_t, 4> ends{path.front(), copy.front(), path.back(), copy.back()};
     std::array<std::size_t, 4> at{};
     for (int q = 0; q < 4; ++q) at[q] = std::find(loop.begin(), loop.end(), ends[q]) - loop.begin();
@@ -460,7 +463,7 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
   }
   p.corners = c;
   p.uv = solve_mvc(w.mesh, c);
-  const std::vector<std::uint32_t> loop = disk_boundary(w.mesh);
+  const std::vector<std::uint32_t>& loop = boundary;
   p.length_u =
       0.5 * (path_length(w.mesh, loop, c[0], c[1]) + path_length(w.mesh, loop, c[2], c[3]));
   p.length_v =

@@ -22,64 +22,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// An n × n grid of squares over [0, L]², lifted by z(x, y), counter-clockwise seen from +z.
-TriangleSoup height_field(int n, double L, const std::function<double(double, double)>& z) {
-  TriangleSoup s;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = L * i / n, y = L * j / n;
-      s.points.push_back({x, y, z(x, y)});
-    }
-  auto id = [n](int i, int j) { return std::uint32_t(i + (n + 1) * j); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return s;
-}
-
-// The upper half of a sphere of radius R (rings of latitude from the pole), normals outward.
-TriangleSoup hemisphere(double R, int rings, int segments) {
-  TriangleSoup s;
-  s.points.push_back({0, 0, R});
-  for (int r = 1; r <= rings; ++r) {
-    const double theta = 0.5 * kPi * r / rings;
-    for (int k = 0; k < segments; ++k) {
-      const double phi = 2 * kPi * k / segments;
-      s.points.push_back({R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
-                          R * std::cos(theta)});
-    }
-  }
-  auto id = [segments](int r, int k) {
-    return std::uint32_t(1 + (r - 1) * segments + (k % segments));
-  };
-  for (int k = 0; k < segments; ++k) s.triangles.push_back({0, id(1, k), id(1, k + 1)});
-  for (int r = 1; r < rings; ++r)
-    for (int k = 0; k < segments; ++k) {
-      s.triangles.push_back({id(r, k), id(r + 1, k), id(r + 1, k + 1)});
-      s.triangles.push_back({id(r, k), id(r + 1, k + 1), id(r, k + 1)});
-    }
-  return s;
-}
-
-// An open cylinder of radius R and height H along z, normals outward: a tube.
-TriangleSoup cylinder(double R, double H, int segments, int rows) {
-  TriangleSoup s;
-  for (int j = 0; j <= rows; ++j)
-    for (int k = 0; k < segments; ++k) {
-      const double phi = 2 * kPi * k / segments;
-      s.points.push_back({R * std::cos(phi), R * std::sin(phi), H * j / rows});
-    }
-  auto id = [segments](int j, int k) { return std::uint32_t(j * segments + (k % segments)); };
-  for (int j = 0; j < rows; ++j)
-    for (int k = 0; k < segments; ++k) {
-      s.triangles.push_back({id(j, k), id(j, k + 1), id(j + 1, k + 1)});
-      s.triangles.push_back({id(j, k), id(j + 1, k + 1), id(j + 1, k)});
-    }
-  return s;
-}
-
 fs::path cgal_mesh(const std::string& name) {
   return fs::path(TPMSFILL_CGAL_MESHES) / name;
 }
@@ -88,7 +30,7 @@ fs::path cgal_mesh(const std::string& name) {
 
 TEST(Parameterize, APlaneMapsWithoutDistortion) {
   const SurfaceParameterization p =
-      parameterize_surface(height_field(12, 30, [](double, double) { return 0.0; }));
+      parameterize_surface(make_height_field(12, 30, [](double, double) { return 0.0; }));
   EXPECT_EQ(p.boundary_loops, 1);
   EXPECT_FALSE(p.periodic_u);
   EXPECT_EQ(p.flips, 0u);
@@ -114,7 +56,7 @@ TEST(Parameterize, APlaneMapsWithoutDistortion) {
 }
 
 TEST(Parameterize, GivenCornersAreTheSquaresCorners) {
-  const TriangleSoup plane = height_field(6, 12, [](double, double) { return 0.0; });
+  const TriangleSoup plane = make_height_field(6, 12, [](double, double) { return 0.0; });
   // Points 0, 6, 48, 42 are (0,0), (12,0), (12,12), (0,12).
   ParameterizeOptions o;
   o.corners = std::array<std::uint32_t, 4>{6, 48, 42, 0};
@@ -133,12 +75,13 @@ TEST(Parameterize, GivenCornersAreTheSquaresCorners) {
 }
 
 TEST(Parameterize, CurvedDisksHaveNoFlips) {
-  const SurfaceParameterization hemi = parameterize_surface(hemisphere(20, 16, 48));
+  const SurfaceParameterization hemi =
+      parameterize_surface(make_spherical_cap(20, kPi / 2, 16, 48));
   EXPECT_EQ(hemi.flips, 0u);
   EXPECT_NEAR(hemi.area, 2 * kPi * 400, 0.01 * 2 * kPi * 400);
   EXPECT_GT(hemi.angle_distortion.p95, 1.0);  // a sphere cannot be laid flat without it
   const SurfaceParameterization wave =
-      parameterize_surface(height_field(40, 40, [](double x, double y) {
+      parameterize_surface(make_height_field(40, 40, [](double x, double y) {
         return 3 * std::sin(2 * kPi * x / 20) * std::sin(2 * kPi * y / 20);
       }));
   EXPECT_EQ(wave.flips, 0u);
@@ -152,7 +95,7 @@ TEST(Parameterize, CurvedDisksHaveNoFlips) {
 
 TEST(Parameterize, ATubeIsCutAlongASeam) {
   const double R = 5, H = 20;
-  const SurfaceParameterization p = parameterize_surface(cylinder(R, H, 40, 16));
+  const SurfaceParameterization p = parameterize_surface(make_open_cylinder(R, H, 40, 16));
   EXPECT_EQ(p.boundary_loops, 2);
   EXPECT_TRUE(p.periodic_u);
   EXPECT_EQ(p.seam_edges, 16u);  // straight up one column of the cylinder
@@ -172,18 +115,19 @@ TEST(Parameterize, RefusesWhatIsNotADiskOrATube) {
   TriangleSoup torus = make_torus(10, 3, 24, 12);
   torus = without_triangles(torus, [](const Vec3& c) { return c.x > 12.5; });
   EXPECT_THROW(parameterize_surface(torus), InputError);  // a handle
-  TriangleSoup flipped = flip(height_field(4, 4, [](double, double) { return 0.0; }), 5);
+  TriangleSoup flipped = flip(make_height_field(4, 4, [](double, double) { return 0.0; }), 5);
   EXPECT_THROW(parameterize_surface(flipped), InputError);  // orientation
-  TriangleSoup two = concat(height_field(2, 1, [](double, double) { return 0.0; }),
-                            height_field(2, 1, [](double, double) { return 5.0; }));
+  TriangleSoup two = concat(make_height_field(2, 1, [](double, double) { return 0.0; }),
+                            make_height_field(2, 1, [](double, double) { return 5.0; }));
   EXPECT_THROW(parameterize_surface(two), InputError);  // two pieces
   ParameterizeOptions o;
   o.corners = std::array<std::uint32_t, 4>{0, 1, 2, 3};
-  EXPECT_THROW(parameterize_surface(cylinder(2, 4, 12, 3), o), InputError);  // tube corners
+  EXPECT_THROW(parameterize_surface(make_open_cylinder(2, 4, 12, 3), o),
+               InputError);  // tube corners
 }
 
 TEST(Parameterize, DuplicatePointsAreMerged) {
-  const TriangleSoup plane = height_field(5, 10, [](double x, double) { return 0.1 * x; });
+  const TriangleSoup plane = make_height_field(5, 10, [](double x, double) { return 0.1 * x; });
   const SurfaceParameterization a = parameterize_surface(plane);
   const SurfaceParameterization b = parameterize_surface(unshare_points(plane));
   EXPECT_EQ(b.mesh.points.size(), a.mesh.points.size());
@@ -213,7 +157,7 @@ TEST(Conformal, AGyroidLayerOnAHemisphereIsValidAndWithinItsHeight) {
   o.layer.height = 2;
   o.design.cell = {4, 4, 4};
   o.grid.voxel_size = 0.25;
-  const ConformalResult r = conformal_fill(hemisphere(15, 24, 64), o);
+  const ConformalResult r = conformal_fill(make_spherical_cap(15, kPi / 2, 24, 64), o);
   const MeshCheck c = check_mesh(r.mesh);
   EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
   EXPECT_GT(r.mesh.triangles.size(), 1000u);
@@ -239,7 +183,7 @@ TEST(Conformal, ALayerInsideAHemisphereKnowsItsFocalDistance) {
   o.design.type = TpmsType::Primitive;
   o.design.cell = {4, 4, 4};
   o.grid.voxel_size = 0.3;
-  const ConformalResult r = conformal_fill(hemisphere(15, 24, 64), o);
+  const ConformalResult r = conformal_fill(make_spherical_cap(15, kPi / 2, 24, 64), o);
   EXPECT_TRUE(check_mesh(r.mesh).valid());
   EXPECT_NEAR(r.report.focal_distance, 15, 0.5);  // the sphere's radius
   for (const Vec3& p : r.mesh.points) {
@@ -250,7 +194,7 @@ TEST(Conformal, ALayerInsideAHemisphereKnowsItsFocalDistance) {
   o.layer.height = 16;
   o.grid.voxel_size = 1;
   o.design.cell = {8, 8, 8};
-  const ConformalResult folded = conformal_fill(hemisphere(15, 12, 32), o);
+  const ConformalResult folded = conformal_fill(make_spherical_cap(15, kPi / 2, 12, 32), o);
   bool warned = false;
   for (const std::string& w : folded.fill.warnings)
     warned = warned || w.find("folds over itself") != std::string::npos;
@@ -264,7 +208,7 @@ TEST(Conformal, SkinsCloseTheLayerIntoAChannel) {
   o.layer.skin_top = 0.3;
   o.design.cell = {4, 4, 4};
   o.grid.voxel_size = 0.2;
-  const TriangleSoup plate = height_field(10, 20, [](double, double) { return 0.0; });
+  const TriangleSoup plate = make_height_field(10, 20, [](double, double) { return 0.0; });
   const ConformalResult r = conformal_fill(plate, o);
   const MeshCheck c = check_mesh(r.mesh);
   EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
@@ -282,7 +226,7 @@ TEST(Conformal, ALayerAroundATubeClosesAcrossTheSeam) {
   o.layer.height = 1.5;
   o.design.cell = {3, 3, 3};
   o.grid.voxel_size = 0.25;
-  const ConformalResult r = conformal_fill(cylinder(6, 12, 64, 12), o);
+  const ConformalResult r = conformal_fill(make_open_cylinder(6, 12, 64, 12), o);
   const MeshCheck c = check_mesh(r.mesh);
   EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
   // Lu is a whole number of 3 mm cells (the circumference is about 37.7 mm: 13 cells).
@@ -318,7 +262,7 @@ int cli(const std::string& args, std::string* out) {
 
 TEST(ConformalCli, WritesAValidLayerAndItsReport) {
   const fs::path dir = scratch_dir();
-  write_mesh(dir / "dome.off", hemisphere(12, 16, 48));
+  write_mesh(dir / "dome.off", make_spherical_cap(12, kPi / 2, 16, 48));
   std::string out;
   ASSERT_EQ(cli("conformal " + (dir / "dome.off").string() + " " + (dir / "layer.stl").string() +
                     " --height 2 --lattice diamond --cell 4 --voxel 0.3 --report " +
@@ -337,7 +281,7 @@ TEST(ConformalCli, WritesAValidLayerAndItsReport) {
 TEST(ConformalCli, RefusesAClosedSurfaceAndBadFlags) {
   const fs::path dir = scratch_dir();
   write_mesh(dir / "ball.off", make_sphere({0, 0, 0}, 5, 2));
-  write_mesh(dir / "dome.off", hemisphere(12, 8, 24));
+  write_mesh(dir / "dome.off", make_spherical_cap(12, kPi / 2, 8, 24));
   std::string out;
   EXPECT_EQ(cli("conformal " + (dir / "ball.off").string() + " " + (dir / "x.stl").string() +
                     " --height 1",
@@ -355,5 +299,13 @@ TEST(ConformalCli, RefusesAClosedSurfaceAndBadFlags) {
                 &out),
             2);
   EXPECT_NE(out.find("use out or in"), std::string::npos) << out;
+  // A wrong unit: a 12 m dome under a 1 mm layer is named before the memory estimate refuses.
+  EXPECT_EQ(cli("conformal " + (dir / "dome.off").string() + " " + (dir / "x.stl").string() +
+                    " --height 1 --units m",
+                &out),
+            2);
+  EXPECT_NE(out.find("implausible in m; if it is in millimetres, add --units mm"),
+            std::string::npos)
+      << out;
   EXPECT_FALSE(fs::exists(dir / "x.stl"));
 }

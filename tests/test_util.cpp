@@ -60,6 +60,61 @@ TriangleSoup make_sphere(Vec3 center, double radius, int levels) {
   return {std::move(p), std::move(f)};
 }
 
+TriangleSoup make_height_field(int n, double L, const std::function<double(double, double)>& z) {
+  TriangleSoup s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = L * i / n, y = L * j / n;
+      s.points.push_back({x, y, z(x, y)});
+    }
+  auto id = [n](int i, int j) { return std::uint32_t(i + (n + 1) * j); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return s;
+}
+
+TriangleSoup make_spherical_cap(double R, double angle, int rings, int segments) {
+  TriangleSoup s;
+  s.points.push_back({0, 0, R});
+  for (int r = 1; r <= rings; ++r) {
+    const double theta = angle * r / rings;
+    for (int k = 0; k < segments; ++k) {
+      const double phi = 2 * std::numbers::pi * k / segments;
+      s.points.push_back({R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
+                          R * std::cos(theta)});
+    }
+  }
+  auto id = [segments](int r, int k) {
+    return std::uint32_t(1 + (r - 1) * segments + (k % segments));
+  };
+  for (int k = 0; k < segments; ++k) s.triangles.push_back({0, id(1, k), id(1, k + 1)});
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      s.triangles.push_back({id(r, k), id(r + 1, k), id(r + 1, k + 1)});
+      s.triangles.push_back({id(r, k), id(r + 1, k + 1), id(r, k + 1)});
+    }
+  return s;
+}
+
+TriangleSoup make_open_cylinder(double R, double H, int segments, int rows) {
+  TriangleSoup s;
+  for (int j = 0; j <= rows; ++j)
+    for (int k = 0; k < segments; ++k) {
+      const double phi = 2 * std::numbers::pi * k / segments;
+      s.points.push_back({R * std::cos(phi), R * std::sin(phi), H * j / rows});
+    }
+  auto id = [segments](int j, int k) { return std::uint32_t(j * segments + (k % segments)); };
+  for (int j = 0; j < rows; ++j)
+    for (int k = 0; k < segments; ++k) {
+      s.triangles.push_back({id(j, k), id(j, k + 1), id(j + 1, k + 1)});
+      s.triangles.push_back({id(j, k), id(j + 1, k + 1), id(j + 1, k)});
+    }
+  return s;
+}
+
 TriangleSoup make_torus(double R, double r, int nu, int nv) {
   TriangleSoup torus;
   const double two_pi = 2 * std::numbers::pi;

@@ -34,6 +34,14 @@ TriangleSoup make_tube(double outer_radius, double inner_radius, double height, 
 TriangleSoup make_box_with_hole(Vec3 min, Vec3 max);
 /// Two tetrahedra sharing one apex: closed, but the shared vertex is pinched (non-manifold).
 TriangleSoup make_bow_tie();
+/// Open surfaces (seed 004's layouts): an n × n grid of squares over [0, L]² lifted by z(x, y),
+/// counter-clockwise seen from +z (a disk);
+TriangleSoup make_height_field(int n, double L, const std::function<double(double, double)>& z);
+/// a spherical cap of radius R around +z up to polar angle `angle` (π/2: a hemisphere), rings of
+/// latitude from the pole, normals outward (a disk);
+TriangleSoup make_spherical_cap(double R, double angle, int rings, int segments);
+/// an open cylinder of radius R from z = 0 to H, normals outward (a tube: two loops).
+TriangleSoup make_open_cylinder(double R, double H, int segments, int rows);
 
 /// Both soups in one (b's indices shifted).
 TriangleSoup concat(const TriangleSoup& a, const TriangleSoup& b);

@@ -14,49 +14,9 @@
 using namespace tpmsfill;
 using namespace tpmsfill::test;
 
-namespace {
-
-TriangleSoup plate(int n, double L) {
-  TriangleSoup s;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s.points.push_back({L * i / n, L * j / n, 0});
-  auto id = [n](int i, int j) { return std::uint32_t(i + (n + 1) * j); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return s;
-}
-
-// A spherical cap of radius R up to polar angle `cap`, normals outward.
-TriangleSoup cap(double R, double cap_angle, int rings, int segments) {
-  TriangleSoup s;
-  s.points.push_back({0, 0, R});
-  for (int r = 1; r <= rings; ++r) {
-    const double theta = cap_angle * r / rings;
-    for (int k = 0; k < segments; ++k) {
-      const double phi = 2 * std::numbers::pi * k / segments;
-      s.points.push_back({R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
-                          R * std::cos(theta)});
-    }
-  }
-  auto id = [segments](int r, int k) {
-    return std::uint32_t(1 + (r - 1) * segments + (k % segments));
-  };
-  for (int k = 0; k < segments; ++k) s.triangles.push_back({0, id(1, k), id(1, k + 1)});
-  for (int r = 1; r < rings; ++r)
-    for (int k = 0; k < segments; ++k) {
-      s.triangles.push_back({id(r, k), id(r + 1, k), id(r + 1, k + 1)});
-      s.triangles.push_back({id(r, k), id(r + 1, k + 1), id(r, k + 1)});
-    }
-  return s;
-}
-
-}  // namespace
-
 TEST(VertexMap, AFlatPlateMapsTheSlabOntoItself) {
-  const SurfaceParameterization layout = parameterize_surface(plate(8, 20));
+  const SurfaceParameterization layout =
+      parameterize_surface(make_height_field(8, 20, [](double, double) { return 0.0; }));
   ConformalOptions layer;
   layer.height = 2;
   const TriangleSoup slab = make_box({0, 0, 0}, {20, 20, 2});
@@ -78,7 +38,7 @@ TEST(VertexMap, AFlatPlateMapsTheSlabOntoItself) {
 
 TEST(VertexMap, ALatticeOnASphericalCapIsValidAndFollowsTheSurface) {
   const double R = 20;
-  const SurfaceParameterization layout = parameterize_surface(cap(R, 0.6, 16, 48));
+  const SurfaceParameterization layout = parameterize_surface(make_spherical_cap(R, 0.6, 16, 48));
   ConformalOptions layer;
   layer.height = 2;
   FillOptions f;
@@ -105,18 +65,7 @@ TEST(VertexMap, ALatticeOnASphericalCapIsValidAndFollowsTheSurface) {
 }
 
 TEST(VertexMap, RefusesATube) {
-  TriangleSoup tube;
-  const int n = 16;
-  for (int j = 0; j <= 2; ++j)
-    for (int k = 0; k < n; ++k)
-      tube.points.push_back({5 * std::cos(2 * std::numbers::pi * k / n),
-                             5 * std::sin(2 * std::numbers::pi * k / n), 3.0 * j});
-  for (int j = 0; j < 2; ++j)
-    for (int k = 0; k < n; ++k) {
-      const std::uint32_t a = j * n + k, b = j * n + (k + 1) % n;
-      tube.triangles.push_back({a, b, b + n});
-      tube.triangles.push_back({a, b + n, a + n});
-    }
+  const TriangleSoup tube = make_open_cylinder(5, 6, 16, 2);
   const SurfaceParameterization layout = parameterize_surface(tube);
   ConformalOptions layer;
   layer.height = 1;
@@ -130,7 +79,7 @@ TEST(VertexMap, ConformalFillOffersItAndRefusesWhatItCannotDo) {
   o.layer.height = 2;
   o.design.cell = {4, 4, 4};
   o.grid.voxel_size = 0.25;
-  const TriangleSoup surface = cap(20, 0.6, 16, 48);
+  const TriangleSoup surface = make_spherical_cap(20, 0.6, 16, 48);
   const ConformalResult r = conformal_fill(surface, o);
   EXPECT_TRUE(r.fill.validation.valid());
   EXPECT_TRUE(check_mesh(r.mesh).valid());

@@ -94,6 +94,18 @@ inline Box3 bounding_box(const TriangleSoup& soup) {
   return box;
 }
 
+/// The box as a closed mesh: 8 corners, 12 outward triangles (a model that lets fill() clip a
+/// field to a box: `field mesh`, conformal layers).
+inline TriangleSoup box_soup(const Box3& b) {
+  TriangleSoup box;
+  for (int c = 0; c < 8; ++c)
+    box.points.push_back(
+        {c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y, c & 4 ? b.max.z : b.min.z});
+  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return box;
+}
+
 /// A regular grid of sample nodes: node (i, j, k) sits at origin + spacing·(i, j, k), for
 /// 0 <= i < dims[0], 0 <= j < dims[1], 0 <= k < dims[2]. Cells (voxels) are the cubes between
 /// nodes; cell (i, j, k) has node (i, j, k) as its lowest corner. Per-node data is stored flat

@@ -275,15 +275,6 @@ int run_info(const FieldArgs& a) {
   return kOk;
 }
 
-TriangleSoup box_soup(const std::array<double, 3>& s) {
-  TriangleSoup box;
-  for (int c = 0; c < 8; ++c)
-    box.points.push_back({c & 1 ? s[0] : 0, c & 2 ? s[1] : 0, c & 4 ? s[2] : 0});
-  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return box;
-}
-
 int run_mesh(const FieldArgs& a) {
   if (a.output.empty()) throw InputError("field mesh needs IN.itdf and OUT");
   if (format_from_extension(a.output) == MeshFormat::Auto)
@@ -320,7 +311,7 @@ int run_mesh(const FieldArgs& a) {
   std::unique_ptr<TerminalProgress> progress;
   if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
-  FillResult r = fill(box_soup(size), o);
+  FillResult r = fill(box_soup(Box3{{0, 0, 0}, {size[0], size[1], size[2]}}), o);
   if (progress) progress->clear();
   write_mesh(a.output, r.mesh);
   if (!a.quiet) {
