@@ -18,9 +18,9 @@
 // sample, the nearest triangle (edge functions, per-sample depth and, with --clip, the
 // per-sample clip coordinate, so a cut is exact to the sample and not to the triangle); shade
 // each sample from its triangle's normal (ambient + two directional Lambert lights fixed to the
-// camera), average each 2x2 block, encode an 8-bit RGB PNG (adaptive row filters, zlib) and
-// write it atomically (tpmsfill::write_file_atomically). Each sample is written by one strip,
-// in file order, so the picture does not depend on the number of threads.
+// camera), average each 2x2 block, encode an 8-bit RGB PNG (detail::encode_png: adaptive row
+// filters, zlib) and write it atomically (tpmsfill::write_file_atomically). Each sample is
+// written by one strip, in file order, so the picture does not depend on the number of threads.
 //
 // Back faces are what the eye meets first only where it looks into a closed solid, through a
 // --clip cut: they are drawn flat in a darker, warmer tint of the colour, so a cut reads as a
@@ -30,7 +30,6 @@
 // after --clip, the PNG could not be written). Errors are one line on stderr.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -49,6 +48,8 @@
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/types.hpp>
 #include <vector>
+
+#include "detail/png.hpp"
 
 using namespace tpmsfill;
 
@@ -416,72 +417,6 @@ Image shade(const TriangleSoup& soup, const Camera& cam, const Frame& f, const O
   return img;
 }
 
-void put_u32(std::string& s, std::uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) s.push_back(static_cast<char>((v >> shift) & 0xff));
-}
-
-void put_chunk(std::string& png, const char* type, const std::string& data) {
-  put_u32(png, static_cast<std::uint32_t>(data.size()));
-  const std::string body = std::string(type, 4) + data;
-  png += body;
-  put_u32(png, static_cast<std::uint32_t>(
-                   crc32(0, reinterpret_cast<const Bytef*>(body.data()), body.size())));
-}
-
-/// PNG bytes: signature, IHDR (8-bit RGB), one IDAT, IEND. Each row takes the filter
-/// (None, Sub, Up, Average, Paeth) whose output has the smallest sum of |signed bytes|.
-std::string encode_png(const Image& img) {
-  const std::size_t stride = static_cast<std::size_t>(img.width) * 3;
-  std::vector<std::uint8_t> raw;
-  raw.reserve((stride + 1) * img.height);
-  std::vector<std::uint8_t> zero(stride, 0), best, trial(stride);
-  for (int y = 0; y < img.height; ++y) {
-    const std::uint8_t* row = &img.rgb[y * stride];
-    const std::uint8_t* prev = y > 0 ? &img.rgb[(y - 1) * stride] : zero.data();
-    long best_cost = std::numeric_limits<long>::max();
-    int best_filter = 0;
-    for (int filter = 0; filter < 5; ++filter) {
-      long cost = 0;
-      for (std::size_t i = 0; i < stride; ++i) {
-        const int a = i >= 3 ? row[i - 3] : 0, b = prev[i], c = i >= 3 ? prev[i - 3] : 0;
-        int predictor = 0;
-        if (filter == 1) predictor = a;
-        if (filter == 2) predictor = b;
-        if (filter == 3) predictor = (a + b) / 2;
-        if (filter == 4) {
-          const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
-          predictor = pa <= pb && pa <= pc ? a : (pb <= pc ? b : c);
-        }
-        trial[i] = static_cast<std::uint8_t>(row[i] - predictor);
-        cost += std::abs(static_cast<int>(static_cast<std::int8_t>(trial[i])));
-      }
-      if (cost < best_cost) {
-        best_cost = cost;
-        best_filter = filter;
-        best = trial;
-      }
-    }
-    raw.push_back(static_cast<std::uint8_t>(best_filter));
-    raw.insert(raw.end(), best.begin(), best.end());
-  }
-  uLongf packed_size = compressBound(raw.size());
-  std::string packed(packed_size, '\0');
-  if (compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, raw.data(), raw.size(), 9) !=
-      Z_OK)
-    throw std::runtime_error("zlib could not compress the image");
-  packed.resize(packed_size);
-
-  std::string png("\x89PNG\r\n\x1a\n", 8);
-  std::string header;
-  put_u32(header, static_cast<std::uint32_t>(img.width));
-  put_u32(header, static_cast<std::uint32_t>(img.height));
-  header += std::string("\x08\x02\x00\x00\x00", 5);  // 8 bits, RGB, deflate, adaptive, no interlace
-  put_chunk(png, "IHDR", header);
-  put_chunk(png, "IDAT", packed);
-  put_chunk(png, "IEND", "");
-  return png;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -502,7 +437,8 @@ int main(int argc, char** argv) {
     }
     const Camera cam = fit_camera(o, box);
     const Frame frame = rasterize(soup, cam, o.clip_axis, o.clip_value);
-    write_file_atomically(o.output, encode_png(shade(soup, cam, frame, o)));
+    const Image img = shade(soup, cam, frame, o);
+    write_file_atomically(o.output, detail::encode_png(img.width, img.height, 3, img.rgb.data()));
     return 0;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "render_png: %s\n", e.what());
