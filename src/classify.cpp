@@ -282,20 +282,50 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
   });
   progress.finish();
 
-  double length = 0;  // summed in row order: the same for every thread count
-  for (const RowResult& r : per_row) {
-    length += r.length;
-    result.crossings += r.crossings;
-    result.odd_rows += r.odd ? 1 : 0;
-    if (options.rule == InsideRule::Winding) {
-      result.overlap_rows += r.overlap ? 1 : 0;
-      result.unbalanced_rows += r.unbalanced ? 1 : 0;
-      result.parity_disagreements += r.disagreements;
-      result.cap_evaluations += r.cap_evaluations;
+  // Summed in row order within a plane, then plane by plane: the same for every thread count,
+  // and a slab's planes give the same figures as the whole grid's.
+  const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
+  result.planes.resize(static_cast<std::size_t>(grid.dims[2]));
+  Occupancy::PlaneCounts total;
+  for (std::size_t k = 0; k < result.planes.size(); ++k) {
+    Occupancy::PlaneCounts& p = result.planes[k];
+    double length = 0;
+    for (std::size_t row = k * ny; row < (k + 1) * ny; ++row) {
+      const RowResult& r = per_row[row];
+      length += r.length;
+      p.rows += 1;
+      p.crossings += r.crossings;
+      p.odd_rows += r.odd ? 1 : 0;
+      if (options.rule == InsideRule::Winding) {
+        p.overlap_rows += r.overlap ? 1 : 0;
+        p.unbalanced_rows += r.unbalanced ? 1 : 0;
+        p.parity_disagreements += r.disagreements;
+        p.cap_evaluations += r.cap_evaluations;
+      }
     }
+    p.volume = length * grid.spacing * grid.spacing;
+    total += p;
   }
-  result.volume = length * grid.spacing * grid.spacing;
+  result.volume = total.volume;
+  result.crossings = total.crossings;
+  result.odd_rows = total.odd_rows;
+  result.overlap_rows = total.overlap_rows;
+  result.unbalanced_rows = total.unbalanced_rows;
+  result.parity_disagreements = total.parity_disagreements;
+  result.cap_evaluations = total.cap_evaluations;
   return result;
+}
+
+Occupancy::PlaneCounts& Occupancy::PlaneCounts::operator+=(const PlaneCounts& o) {
+  volume += o.volume;
+  rows += o.rows;
+  crossings += o.crossings;
+  odd_rows += o.odd_rows;
+  overlap_rows += o.overlap_rows;
+  unbalanced_rows += o.unbalanced_rows;
+  parity_disagreements += o.parity_disagreements;
+  cap_evaluations += o.cap_evaluations;
+  return *this;
 }
 
 }  // namespace tpmsfill

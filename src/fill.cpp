@@ -15,6 +15,7 @@
 #include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/job_progress.hpp"
+#include "detail/job_settings.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/components.hpp"
@@ -251,34 +252,8 @@ struct Job {
 void resolve(Job& job) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
-  r.units = units_name(o.units.units);
-  r.scale = o.units.scale;
-  r.mm_per_unit = o.units.factor();
-  r.input_triangles = job.model.triangles.size();
-  r.input_bbox = bounding_box(job.model);
   job.result.resolved = o;
-  const LatticeDesign& d = job.result.resolved.design = resolve_design(o.design, r.input_bbox);
-  r.design = d.structure ? structure_label(*d.structure)
-             : d.custom  ? std::string("custom field")
-                         : tpms_label(d);
-  for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
-  for (const Grading& g : d.grading)
-    r.grading += (r.grading.empty() ? "" : "; ") + grading_label(g);
-  r.rotation_degrees = euler_from_rotation(d.rotation);
-  if (!d.structure) r.cell = d.cell;
-  r.level = d.level;
-  r.thickness = d.thickness;
-  r.full_field = o.full_field;
-  r.skin = o.skin;
-  r.porosity_target = d.porosity;
-  r.sheet = d.style == TpmsStyle::Sheet;
-  if (d.structure) {  // its "cell" is the unit cube as placed: the model's box or the tile
-    const std::array<double, 3> cube = unit_cube_map(*d.structure, r.input_bbox).extent;
-    r.unclipped_porosity = 1.0 - porous_solid_share(*d.structure, cube);
-    r.cell = {cube[0], cube[1], cube[2]};
-  } else if (!d.custom)
-    r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
-
+  const LatticeDesign& d = job.result.resolved.design = detail::describe_job(job.model, o, r);
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
   // What cannot come out as asked is refused here, before the work; doubts are warnings.
   std::vector<std::string> doubts = job.stage("review", [&] {
@@ -350,12 +325,10 @@ void compose(Job& job) {
     if (g.ramp.shape == RampShape::Depth && !job.depth)
       job.depth = job.stage("depth", [&] { return distance_transform(inside); });
   const FieldSource lattice = design_source(design, job.depth ? &*job.depth : nullptr);
-  const ComposeOptions compose_options{
-      .skin = o.skin, .skin_windows = o.skin_windows, .progress = job.progress};
+  const ComposeOptions compose_options = detail::compose_options(o, job.progress);
   const DistanceOptions distance_options{.progress = job.progress};
   if (!o.full_field) {
-    const BandOptions band_options{
-        std::max(o.band.width, skin_band_width(o.skin, job.grid.spacing))};
+    const BandOptions band_options{detail::band_width(o, job.grid.spacing)};
     const Band band = job.stage("band", [&] { return band_voxels(inside, band_options); });
     r.band_nodes = band.nodes.size();
     r.distance_queries = band.nodes.size();
@@ -512,6 +485,57 @@ void warn_structure_porosity(const LatticeDesign& d, FillReport& r) {
 }
 
 }  // namespace
+
+namespace detail {
+
+LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& o, FillReport& r) {
+  r.units = units_name(o.units.units);
+  r.scale = o.units.scale;
+  r.mm_per_unit = o.units.factor();
+  r.input_triangles = model.triangles.size();
+  r.input_bbox = bounding_box(model);
+  LatticeDesign d = resolve_design(o.design, r.input_bbox);
+  r.design = d.structure ? structure_label(*d.structure)
+             : d.custom  ? std::string("custom field")
+                         : tpms_label(d);
+  for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
+  for (const Grading& g : d.grading)
+    r.grading += (r.grading.empty() ? "" : "; ") + grading_label(g);
+  r.rotation_degrees = euler_from_rotation(d.rotation);
+  if (!d.structure) r.cell = d.cell;
+  r.level = d.level;
+  r.thickness = d.thickness;
+  r.full_field = o.full_field;
+  r.skin = o.skin;
+  r.porosity_target = d.porosity;
+  r.sheet = d.style == TpmsStyle::Sheet;
+  if (d.structure) {  // its "cell" is the unit cube as placed: the model's box or the tile
+    const std::array<double, 3> cube = unit_cube_map(*d.structure, r.input_bbox).extent;
+    r.unclipped_porosity = 1.0 - porous_solid_share(*d.structure, cube);
+    r.cell = {cube[0], cube[1], cube[2]};
+  } else if (!d.custom)
+    r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
+  return d;
+}
+
+int band_width(const FillOptions& o, double spacing) {
+  return std::max(o.band.width, skin_band_width(o.skin, spacing));
+}
+
+ComposeOptions compose_options(const FillOptions& o, Progress* progress) {
+  return {.skin = o.skin, .skin_windows = o.skin_windows, .progress = progress};
+}
+
+double depth_reach(const LatticeDesign& design) {
+  double reach = 0;
+  for (const Grading& g : design.grading)
+    if (g.ramp.shape == RampShape::Depth)
+      reach = std::fmax(
+          reach, std::fmax(std::fabs(g.ramp.from.value_or(0)), std::fabs(g.ramp.to.value_or(0))));
+  return reach;
+}
+
+}  // namespace detail
 
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);

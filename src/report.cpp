@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "detail/report_text.hpp"
+
 namespace tpmsfill {
 namespace {
 
@@ -186,8 +188,9 @@ std::string to_json(const FillReport& r) {
   return j.dump(2) + "\n";
 }
 
-std::string to_text(const FillReport& r) {
-  const ValidationReport& v = r.validation;
+namespace detail {
+
+std::string settings_text(const FillReport& r) {
   std::string s;
   s += "lattice      " + r.design + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z);
   // A porous structure's porosity moves its thresholds, shown in its label, not a level.
@@ -208,6 +211,29 @@ std::string to_text(const FillReport& r) {
     s += "input        read as " + r.units +
          (r.scale != 1 ? format(" scaled by %g", r.scale) : std::string()) +
          format(": %g mm per unit\n", r.mm_per_unit);
+  return s;
+}
+
+std::string closing_text(const FillReport& r) {
+  std::string s;
+  for (const std::string& w : r.warnings) s += "warning      " + w + "\n";
+  s += "stage            seconds   peak MB\n";
+  for (const StageTime& t : r.stages)
+    s += "  " + t.name + std::string(t.name.size() < 14 ? 14 - t.name.size() : 0, ' ') +
+         format(" %8.3f  %8.0f\n", t.seconds, t.peak_memory_mb);
+  s += format("  total          %8.3f\n", r.total_seconds());
+  return s;
+}
+
+std::string inside_text(const FillReport& r) {
+  return inside_summary(r);
+}
+
+}  // namespace detail
+
+std::string to_text(const FillReport& r) {
+  const ValidationReport& v = r.validation;
+  std::string s = detail::settings_text(r);
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
   s += "inside       " + inside_summary(r) + "\n";
@@ -253,12 +279,7 @@ std::string to_text(const FillReport& r) {
             : ", self-intersections not searched") +
        "\n";
   for (const std::string& p : v.problems()) s += "  problem: " + p + "\n";
-  for (const std::string& w : r.warnings) s += "warning      " + w + "\n";
-  s += "stage            seconds   peak MB\n";
-  for (const StageTime& t : r.stages)
-    s += "  " + t.name + std::string(t.name.size() < 14 ? 14 - t.name.size() : 0, ' ') +
-         format(" %8.3f  %8.0f\n", t.seconds, t.peak_memory_mb);
-  s += format("  total          %8.3f\n", r.total_seconds());
+  s += detail::closing_text(r);
   return s;
 }
 

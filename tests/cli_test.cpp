@@ -284,7 +284,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
-      {"", "a command is needed: check, fill, repair, field or conformal"},
+      {"", "a command is needed: check, fill, repair, field, conformal or slice"},
       {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},
@@ -293,6 +293,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
       {"fil a b", "unknown command 'fil' (did you mean fill?)"},
       {"fill", "fill needs IN and OUT"},
       {"check", "check needs FILE"},
+      {"slice a.stl b.cli", "slice needs --layer"},
       {job + "--scale 0", "--scale must be > 0"},
       {job + "--poro 0.7", "unknown option --poro for fill (did you mean --porosity?)"},
       {job + "--porosity 0.7 extra", "unexpected argument 'extra'"},

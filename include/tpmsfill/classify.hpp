@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/spatial.hpp"
@@ -70,6 +71,16 @@ struct Occupancy {
   std::uint64_t parity_disagreements = 0;
   /// Winding rule: nodes whose answer needed the caps' winding number evaluated.
   std::uint64_t cap_evaluations = 0;
+
+  /// The figures above for the rows of one node plane (rows (·, ·, k)): a slab's planes sum to
+  /// what a whole grid reports for them. The totals above are these summed in plane order.
+  struct PlaneCounts {
+    double volume = 0;  ///< its rows' inside lengths × spacing²
+    std::uint64_t rows = 0, crossings = 0, odd_rows = 0, overlap_rows = 0, unbalanced_rows = 0,
+                  parity_disagreements = 0, cap_evaluations = 0;
+    PlaneCounts& operator+=(const PlaneCounts& o);
+  };
+  std::vector<PlaneCounts> planes;  ///< one per node plane k
 };
 
 /// Classifies every node of `grid`. A node exactly on a crossing takes the lower of the

@@ -117,6 +117,10 @@ struct Grid {
   Vec3 origin;                ///< position of node (0, 0, 0), mm
   double spacing = 1.0;       ///< voxel size a (same on all axes), mm
   std::array<int, 3> dims{};  ///< nodes along x, y, z
+  /// For a slab of a larger grid (a run of its z planes): the larger grid's index of this
+  /// grid's plane 0, so node k lies at origin.z + spacing·(k + z_offset), bit for bit where
+  /// the larger grid puts its plane k + z_offset. 0 for a whole grid.
+  int z_offset = 0;
 
   std::size_t node_count() const {
     return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
@@ -133,7 +137,9 @@ struct Grid {
                 static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(k));
   }
   /// Coordinate of node number i along axis (0 = x, 1 = y, 2 = z), mm.
-  double coordinate(int axis, int i) const { return origin[axis] + spacing * i; }
+  double coordinate(int axis, int i) const {
+    return origin[axis] + spacing * (axis == 2 ? i + z_offset : i);
+  }
   Vec3 node(int i, int j, int k) const {
     return {coordinate(0, i), coordinate(1, j), coordinate(2, k)};
   }

@@ -24,5 +24,6 @@ Command add_fill_command(CLI::App& app);
 Command add_repair_command(CLI::App& app);
 Command add_field_command(CLI::App& app);
 Command add_conformal_command(CLI::App& app);
+Command add_slice_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

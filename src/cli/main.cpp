@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Run 'tpmsfill COMMAND --help' for a command's options. Exit codes: 0 ok, 1 mesh "
-      "not valid (check), lattice failed validation (fill) or mesh not repairable (repair), 2 "
+      "not valid (check), lattice failed validation (fill, slice) or mesh not repairable (repair), "
+      "2 "
       "unreadable input or bad arguments, "
       "3 internal error.");
 
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   Command repair = add_repair_command(app);
   Command field = add_field_command(app);
   Command conformal = add_conformal_command(app);
+  Command slice = add_slice_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
@@ -76,6 +78,8 @@ int main(int argc, char** argv) {
         return field();
       else if (sub->get_name() == "conformal")
         return conformal();
+      else if (sub->get_name() == "slice")
+        return slice();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

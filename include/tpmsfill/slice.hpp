@@ -1,0 +1,128 @@
+/// @file slice.hpp
+/// @brief Stage "slice": printer layers straight from the field fill() meshes, without a mesh
+/// (seed 001's direct slicing, on our field).
+///
+/// For each layer the field φ of fill() (model clipping, design, grading, blends, skin) is
+/// sampled on the horizontal plane through the layer's centre, at fill()'s nodes in x and y,
+/// and its zero level is traced by marching squares with marching cubes' rules: the same
+/// asymptotic decider on ambiguous squares, the same edge parameters clamped into the edge,
+/// one vertex per crossed edge shared by the two squares beside it (no welding). The plane's
+/// φ at a node is the value fill() would give a node there: a slab of node planes around it
+/// is classified and banded, so the model's exact distance reaches it wherever fill()'s would.
+///
+/// Contours are closed and oriented with the solid on their left: outer boundaries run
+/// counter-clockwise seen from above (+z), holes clockwise. They never cross or touch (checked
+/// with exact predicates for every layer; a defect throws ValidationError).
+///
+/// Memory: one slab of planes per layer being worked on, the model and its tree; never the
+/// grid or a mesh. Layers go to the caller's sink one at a time, in order.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "tpmsfill/fill.hpp"
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/report.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+/// A point in a layer's plane, mm.
+struct Vec2 {
+  double x = 0, y = 0;
+  friend bool operator==(const Vec2&, const Vec2&) = default;
+};
+
+/// A closed contour: the last point joins the first (it is not repeated).
+struct Contour {
+  std::vector<Vec2> points;
+  /// Signed area (shoelace), mm²: positive for an outer boundary of solid (counter-clockwise
+  /// seen from +z), negative for a hole (clockwise).
+  double area = 0;
+  bool outer() const { return area > 0; }
+};
+
+/// One printer layer: the solid's cross-section at its centre height.
+struct Layer {
+  std::uint64_t index = 0;     ///< 0 for the lowest
+  double bottom = 0, top = 0;  ///< the layer spans [bottom, top], mm
+  double z = 0;                ///< the height sampled: the layer's centre, mm
+  std::vector<Contour> contours;
+  double area = 0;  ///< solid area: the contours' signed areas summed, mm²
+  /// φ at the plane's nodes (grid.dims[2] == 1, grid.origin.z == z), negative in the solid:
+  /// what writers rasterise with antialiasing (a pixel's coverage from φ at its centre).
+  Field field;
+};
+
+struct SliceOptions {
+  double layer = 0.05;  ///< layer thickness L, mm (> 0)
+  /// Height of the first layer's bottom, mm; unset: the model's lowest point. Layers are
+  /// stacked from there until one's bottom reaches the model's top.
+  std::optional<double> start = {};
+  Progress* progress = nullptr;  ///< stages "review", "spatial", ..., then "slice" per layer
+};
+
+/// One layer's figures, kept for every layer (the report's index).
+struct LayerSummary {
+  double z = 0;              ///< mm
+  double area = 0;           ///< mm²
+  std::uint32_t outer = 0;   ///< counter-clockwise contours
+  std::uint32_t holes = 0;   ///< clockwise contours
+  std::uint64_t points = 0;  ///< contour points
+};
+
+struct SliceReport {
+  /// The job as fill() would report it up to the field: input, units, design, grading, skin,
+  /// grid (its x and y nodes are the planes' nodes), inside rule, clean, model volume (from the
+  /// layers' inside nodes), stage times and warnings. The mesh figures (validation, islands)
+  /// stay empty: no mesh is made.
+  FillReport job;
+  double layer = 0;  ///< thickness, mm
+  std::vector<LayerSummary> layers;
+  std::uint64_t contours = 0, holes = 0, points = 0;
+  /// Σ area × layer, mm³: the lattice's volume as printed.
+  double volume = 0;
+  /// Pairs of contour segments tested for crossing or touching with exact predicates.
+  std::uint64_t segment_pairs_checked = 0;
+  std::uint64_t plane_nodes = 0;  ///< nodes per plane
+  int slab_planes = 0;            ///< planes classified per layer
+};
+
+/// Receives each layer, in order, from the thread that called slice().
+using LayerSink = std::function<void(const Layer& layer)>;
+
+/// Slices the lattice fill(model, options) would mesh into layers of options.layer.
+/// @throws InputError      as fill() (bad options, no volume, a design refused on review);
+///                         a layer thickness that is not positive
+/// @throws ResourceError   one slab of planes exceeds the memory budget
+/// @throws ValidationError a layer's contours cross or touch (a bug; nothing more is sunk)
+/// @throws Cancelled       options.progress cancelled the job
+/// @throws whatever the sink throws
+SliceReport slice(const TriangleSoup& model, const FillOptions& fill_options,
+                  const SliceOptions& options, const LayerSink& sink);
+
+/// Layers slice() makes for a model with this box (mm): from the start (or the box's bottom)
+/// until one's bottom reaches its top, at least one.
+/// @throws InputError  a layer thickness that is not positive, or a start that is not finite
+std::uint64_t layer_count(const Box3& model, const SliceOptions& options);
+
+/// Contours of φ < 0 on one plane (grid.dims[2] == 1) by marching squares, oriented as above.
+/// Nodes on the plane's border must be positive (outside) for every contour to close.
+/// @throws InputError  the field is not one plane, or a border node is not positive
+std::vector<Contour> trace_contours(const Field& plane);
+
+/// Exact check of a plane's contours: no two segments cross, touch or overlap except
+/// consecutive ones at their shared point, and no contour turns back on itself.
+/// @return the number of offending segment pairs (0: the contours are simple and disjoint);
+///         `pairs_checked` (if not null) gets the pairs tested
+std::uint64_t count_contour_defects(const std::vector<Contour>& contours, double spacing,
+                                    std::uint64_t* pairs_checked = nullptr);
+
+/// The JSON object `tpmsfill slice --report` writes (and the folder formats' index.json).
+std::string to_json(const SliceReport& report);
+/// The human summary `tpmsfill slice` prints.
+std::string to_text(const SliceReport& report);
+
+}  // namespace tpmsfill

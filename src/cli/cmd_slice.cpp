@@ -1,0 +1,238 @@
+// `tpmsfill slice IN OUT --layer L`: printer layers straight from fill's field
+// (tpmsfill::slice), written as they come (tpmsfill::LayerFileWriter). This file only parses,
+// stages the outputs and prints.
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/layer_files.hpp>
+#include <tpmsfill/recipe.hpp>
+#include <tpmsfill/slice.hpp>
+#include <tpmsfill/units.hpp>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/job_files.hpp"
+#include "cli/job_flags.hpp"
+#include "cli/terminal_progress.hpp"
+#include "cli/validators.hpp"
+
+namespace tpmsfill::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SliceArgs {
+  std::string input, output, report;
+  JobArgs job;
+  double layer = 0;
+  std::optional<double> start, pixel;
+  std::optional<std::string> format;
+  bool binary = false, quiet = false;
+  int threads = 0;
+};
+
+// The format from --format, else from OUT's extension (.cli, .svg) or --pixel (PNGs).
+LayerFormat output_format(const SliceArgs& a) {
+  const std::string ext = fs::path(a.output).extension().string();
+  LayerFormat f;
+  if (a.format)
+    f = layer_format_from_name(*a.format);
+  else if (ext == ".cli" || ext == ".CLI")
+    f = LayerFormat::Cli;
+  else if (ext == ".svg" || ext == ".SVG")
+    f = LayerFormat::Svg;
+  else if (a.pixel)
+    f = LayerFormat::PngLayers;
+  else
+    throw InputError(a.output +
+                     ": unknown extension (use .cli or .svg, or --format svg-layers or png "
+                     "with a folder)");
+  if (a.binary) {
+    if (f != LayerFormat::Cli && f != LayerFormat::CliBinary)
+      throw InputError("--binary is for Common Layer Interface files (.cli)");
+    f = LayerFormat::CliBinary;
+  }
+  if (a.pixel && f != LayerFormat::PngLayers)
+    throw InputError("--pixel sets the PNG masks' pixel size: it needs --format png");
+  return f;
+}
+
+// A folder of layers, written under a temporary name beside its target and renamed onto it
+// once complete; a target that exists must be a folder this command wrote (it holds
+// index.json) or empty, so no other folder is ever replaced.
+class StagedFolder {
+ public:
+  explicit StagedFolder(fs::path target) : target_(std::move(target)) {
+    if (target_.filename().empty()) target_ = target_.parent_path();
+    std::error_code ec;
+    if (fs::exists(target_, ec)) {
+      if (!fs::is_directory(target_, ec))
+        throw InputError(target_.string() + ": exists and is not a folder (the layers need one)");
+      if (!fs::is_empty(target_, ec) && !fs::exists(target_ / "index.json", ec))
+        throw InputError(target_.string() +
+                         ": a folder with other files in it; give a new or empty folder");
+    }
+    const fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent, ec))
+      throw InputError(target_.string() + ": its folder " + parent.string() + " does not exist");
+    temp_ = parent / (target_.filename().string() + ".tmp-" + std::to_string(getpid()));
+    fs::remove_all(temp_, ec);
+    if (!fs::create_directory(temp_, ec))
+      throw IoError(temp_.string() + ": cannot create the folder (" + ec.message() + ")");
+  }
+  StagedFolder(const StagedFolder&) = delete;
+  StagedFolder& operator=(const StagedFolder&) = delete;
+  ~StagedFolder() {
+    std::error_code ec;
+    if (!temp_.empty()) fs::remove_all(temp_, ec);
+  }
+  const fs::path& path() const { return temp_; }
+  void commit() {
+    std::error_code ec;
+    const fs::path old = target_.string() + ".old-" + std::to_string(getpid());
+    const bool existed = fs::exists(target_, ec);
+    if (existed) fs::rename(target_, old, ec);
+    if (!ec) fs::rename(temp_, target_, ec);
+    if (ec) {
+      if (existed) fs::rename(old, target_, ec);
+      throw IoError(target_.string() + ": cannot put the layers in place");
+    }
+    temp_.clear();
+    if (existed) fs::remove_all(old, ec);
+  }
+
+ private:
+  fs::path target_, temp_;
+};
+
+int run_slice(SliceArgs a) {
+  std::optional<tbb::global_control> threads;
+  if (a.threads > 0)
+    threads.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<std::size_t>(a.threads));
+  FillOptions options = job_options(a.job);
+  const SliceOptions slice_options{.layer = a.layer, .start = a.start};
+  const LayerFormat format = output_format(a);
+  const bool folder = writes_folder(format);
+  std::vector<OutputFile> outputs;
+  if (!folder) outputs.push_back({"OUT", a.output});
+  if (!a.report.empty()) outputs.push_back({"--report", a.report});
+  std::vector<fs::path> inputs{a.input};
+  for (const std::string& f : {a.job.field, a.job.recipe})
+    if (!f.empty()) inputs.emplace_back(f);
+  require_writable_outputs(inputs, outputs);
+
+  std::unique_ptr<TerminalProgress> progress;
+  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  options.progress = progress.get();
+  SliceOptions so = slice_options;
+  so.progress = progress.get();
+
+  const MeshFile file = read_mesh_file(a.input);
+  for (const std::string& w : file.warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  // The writer needs the part's box and layer count before the first layer arrives.
+  Box3 box = bounding_box(file.soup);
+  const double f = options.units.factor();
+  box = {f * box.min, f * box.max};
+  LayerFileOptions files{.format = format,
+                         .bounds = box,
+                         .layer_count = box.empty() ? 0 : layer_count(box, slice_options),
+                         .layer = a.layer,
+                         .pixel = a.pixel.value_or(0.05),
+                         .label = fs::path(a.input).stem().string()};
+
+  std::optional<StagedFolder> staged_folder;
+  StagedOutputs staged;
+  if (folder) staged_folder.emplace(a.output);
+  const fs::path target = folder ? staged_folder->path() : staged.stage(a.output);
+  LayerFileWriter writer(target, files);
+  SliceReport report =
+      slice(file.soup, options, so, [&](const Layer& layer) { writer.add(layer); });
+  writer.finish();
+  if (progress) progress->clear();
+
+  FillReport& job = report.job;
+  job.recipe = recipe_json(options);
+  job.input_path = a.input;
+  job.input_sha256 = sha256_of_file(a.input);
+  job.command_line = command_line();
+  job.version = TPMSFILL_VERSION;
+  const std::string json = to_json(report);
+  if (folder) write_file_atomically(target / "index.json", json);
+  if (!a.report.empty()) write_file_atomically(staged.stage(a.report), json);
+  if (folder) staged_folder->commit();
+  staged.commit();
+
+  if (!a.quiet) {
+    std::printf("%s -> %s (%s)\n%s", a.input.c_str(), a.output.c_str(),
+                std::string(layer_format_name(format)).c_str(), to_text(report).c_str());
+    if (!a.report.empty()) std::printf("report       %s\n", a.report.c_str());
+  }
+  for (const std::string& w : job.warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  return kOk;
+}
+
+}  // namespace
+
+Command add_slice_command(CLI::App& app) {
+  auto args = std::make_shared<SliceArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "slice", "Slice the lattice fill would make into printer layers, without a mesh");
+  sub->footer(
+      "Each layer is the cross-section of exactly the solid `tpmsfill fill` meshes with the "
+      "same options (model clipping, lattice, grading, blends, skin): its field is sampled on "
+      "the plane through the layer's centre at fill's grid nodes (--voxel), and its zero level "
+      "traced by marching squares with marching cubes' rules. Contours are closed, outer ones "
+      "counter-clockwise and holes clockwise seen from above, and checked with exact "
+      "predicates never to cross or touch. No mesh is made, so memory stays small whatever "
+      "the part's size: one slab of planes per layer being worked on.\n\n"
+      "Formats: .cli (Common Layer Interface, what laser powder-bed machines read; --binary "
+      "for its binary form), .svg (every layer in one file), or a folder with --format "
+      "svg-layers (one SVG per layer) or png (one 8-bit mask per layer for DLP/SLA, "
+      "antialiased, --pixel mm per pixel). A folder also gets index.json: the report, with "
+      "every layer's height, area and contour counts. The report's volume (the layers' areas "
+      "times --layer) matches fill's lattice volume for the same options.\n\n"
+      "Islands (pieces fill removes because they float free) are kept: a single layer cannot "
+      "tell them; run fill to see whether there are any.\n\n"
+      "Examples:\n"
+      "  tpmsfill slice femur.stl femur.cli --layer 0.03 --cell 2 --voxel 0.03\n"
+      "  tpmsfill slice part.stl part.cli --binary --layer 0.05 --porosity 0.7 --skin 0.4\n"
+      "  tpmsfill slice part.stl layers.svg --layer 0.1 --lattice diamond --sheet\n"
+      "  tpmsfill slice part.stl masks/ --format png --pixel 0.05 --layer 0.05\n\n"
+      "Exit code 0: written; 1: a layer's contours failed the exact check (nothing written; a "
+      "bug); 2: unreadable input, bad arguments or over the memory budget.");
+  sub->add_option("IN", args->input,
+                  "Mesh: STL, OBJ, PLY or OFF (gzip allowed), mm; holes, flipped faces and "
+                  "overlapping shells are fine")
+      ->required();
+  sub->add_option("OUT", args->output,
+                  "Layers: a .cli or .svg file, or a folder for --format svg-layers or png")
+      ->required();
+  sub->add_option("--layer", args->layer, "Layer thickness in mm, e.g. 0.03 or 0.05")
+      ->required()
+      ->check(positive());
+  sub->add_option("--start", args->start,
+                  "Height of the first layer's bottom in mm (default: the model's lowest point)");
+  sub->add_option("--format", args->format,
+                  "cli, cli-binary, svg, svg-layers or png (default: from OUT's extension)");
+  sub->add_flag("--binary", args->binary, "Binary Common Layer Interface instead of ASCII");
+  sub->add_option("--pixel", args->pixel, "PNG pixel size in mm (default 0.05)")->check(positive());
+  add_job_options(sub, args->job);
+  sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
+  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
+      ->check(between(1, 1024, "1 to 1024"));
+  sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
+  return [args] { return run_slice(*args); };
+}
+
+}  // namespace tpmsfill::cli

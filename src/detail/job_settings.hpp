@@ -1,0 +1,32 @@
+/// @file job_settings.hpp
+/// @brief What every job that samples fill()'s field (fill, slice) settles first, in one
+/// place so their fields cannot drift apart: the settings in the report, the design resolved
+/// against the model's box, the band's width and the field source the model clips.
+#pragma once
+
+#include "tpmsfill/compose.hpp"
+#include "tpmsfill/design.hpp"
+#include "tpmsfill/field.hpp"
+#include "tpmsfill/fill.hpp"
+#include "tpmsfill/report.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill::detail {
+
+/// The options' settings into `report` (units, input, design, grading, cell, level, skin,
+/// porosities) and the design resolved against the model's box (resolve_design), returned.
+/// @param model  in millimetres
+LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& options,
+                           FillReport& report);
+
+/// The band's half-width in voxels: the options' own, widened so distances reach the skin.
+int band_width(const FillOptions& options, double spacing);
+
+/// The compose options fill() uses for `options` (skin, windows), reporting to `progress`.
+ComposeOptions compose_options(const FillOptions& options, Progress* progress);
+
+/// The deepest depth (mm) any depth ramp of `design` reads (0: none): the distance below the
+/// surface beyond which every ramp is constant.
+double depth_reach(const LatticeDesign& design);
+
+}  // namespace tpmsfill::detail

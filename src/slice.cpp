@@ -1,0 +1,348 @@
+// Stage "slice": fill()'s field on one plane per layer, traced by marching squares.
+#include "tpmsfill/slice.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "detail/field_planes.hpp"
+#include "detail/job_progress.hpp"
+#include "detail/job_settings.hpp"
+#include "detail/stage_progress.hpp"
+#include "tpmsfill/classify.hpp"
+#include "tpmsfill/clean.hpp"
+#include "tpmsfill/compose.hpp"
+#include "tpmsfill/error.hpp"
+#include "tpmsfill/grid.hpp"
+#include "tpmsfill/review.hpp"
+#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/units.hpp"
+
+namespace tpmsfill {
+namespace {
+
+// Marching cubes' clamp of the edge parameter (marching_cubes.cpp): a vertex never sits on a
+// node, so vertices of edges sharing a node never coincide.
+constexpr double kDelta = 1e-4;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// One plane's marching squares. Square (i, j) has corners c0 (i, j), c1 (i+1, j),
+// c2 (i+1, j+1), c3 (i, j+1), counter-clockwise; edge e of the square joins corner e to corner
+// e+1. Walking a square's border counter-clockwise, the solid is left at an "exit" edge and
+// entered at an "entry" edge; a segment from an exit to an entry has the solid on its left.
+class Tracer {
+ public:
+  explicit Tracer(const Field& plane)
+      : g_(plane.grid),
+        v_(plane.values.data()),
+        nx_(static_cast<std::size_t>(g_.dims[0])),
+        ny_(static_cast<std::size_t>(g_.dims[1])),
+        edge_vertex_(2 * nx_ * ny_, kNone) {}
+
+  std::vector<Contour> trace() {
+    for (std::size_t j = 0; j + 1 < ny_; ++j)
+      for (std::size_t i = 0; i + 1 < nx_; ++i) square(i, j);
+    return loops();
+  }
+
+ private:
+  bool inside(std::size_t i, std::size_t j) const { return v_[i + nx_ * j] < 0; }
+
+  // Edge e of square (i, j): its id (horizontal edges first, then vertical ones by their lower
+  // node) and its vertex, made on first use.
+  std::uint32_t vertex(std::size_t i, std::size_t j, int e) {
+    const int axis = e % 2 == 0 ? 0 : 1;
+    const std::size_t ei = i + (e == 1 ? 1 : 0), ej = j + (e == 2 ? 1 : 0);
+    std::uint32_t& id = edge_vertex_[ei + nx_ * ej + (axis ? nx_ * ny_ : 0)];
+    if (id != kNone) return id;
+    const std::size_t n0 = ei + nx_ * ej, n1 = n0 + (axis ? nx_ : 1);
+    const double v0 = v_[n0], v1 = v_[n1];
+    const double t = std::clamp(-v0 / (v1 - v0), kDelta, 1 - kDelta);
+    const int at[2] = {static_cast<int>(ei), static_cast<int>(ej)};
+    double p[2] = {g_.coordinate(0, at[0]), g_.coordinate(1, at[1])};
+    const double c1 = g_.coordinate(axis, at[axis] + 1);
+    p[axis] = p[axis] + t * (c1 - p[axis]);
+    id = static_cast<std::uint32_t>(points_.size());
+    points_.push_back({p[0], p[1]});
+    next_.push_back(kNone);
+    return id;
+  }
+
+  void square(std::size_t i, std::size_t j) {
+    const bool c[4] = {inside(i, j), inside(i + 1, j), inside(i + 1, j + 1), inside(i, j + 1)};
+    int exits[2], entries[2], n_exit = 0, n_entry = 0;
+    for (int e = 0; e < 4; ++e) {
+      if (c[e] && !c[(e + 1) % 4]) exits[n_exit++] = e;
+      if (!c[e] && c[(e + 1) % 4]) entries[n_entry++] = e;
+    }
+    if (n_exit == 0) return;
+    if (n_exit == 1) return link(i, j, exits[0], entries[0]);
+    // Two solid corners on one diagonal: the asymptotic decider, as marching cubes decides a
+    // cube face (values rounded to float once, products exact in double, a tie separates).
+    const double d[4] = {v_[i + nx_ * j], v_[i + 1 + nx_ * j], v_[i + 1 + nx_ * (j + 1)],
+                         v_[i + nx_ * (j + 1)]};
+    const bool first_diagonal = c[0];
+    const double in = first_diagonal ? d[0] * d[2] : d[1] * d[3];
+    const double out = first_diagonal ? d[1] * d[3] : d[0] * d[2];
+    const bool joined = in > out;
+    // Joined: each exit meets the next entry, cutting off the empty corner between them;
+    // separated: the entry before it, cutting off its own solid corner.
+    for (int k = 0; k < 2; ++k) {
+      const int e = exits[k];
+      link(i, j, e, joined ? (e + 1) % 4 : (e + 3) % 4);
+    }
+  }
+
+  void link(std::size_t i, std::size_t j, int exit, int entry) {
+    const std::uint32_t a = vertex(i, j, exit), b = vertex(i, j, entry);
+    next_[a] = b;
+  }
+
+  // Every vertex has one segment out and one in (its two squares), so following `next_`
+  // from any vertex comes back to it. Contours start at their first-made vertex.
+  std::vector<Contour> loops() const {
+    std::vector<Contour> out;
+    std::vector<std::uint8_t> seen(points_.size(), 0);
+    for (std::uint32_t start = 0; start < points_.size(); ++start) {
+      if (seen[start]) continue;
+      Contour c;
+      std::uint32_t v = start;
+      do {
+        seen[v] = 1;
+        c.points.push_back(points_[v]);
+        v = next_[v];
+      } while (v != start && v != kNone);
+      if (v == kNone) throw Error("trace_contours: an open contour (a bug)");
+      double twice = 0;
+      for (std::size_t k = 0, n = c.points.size(); k < n; ++k) {
+        const Vec2 p = c.points[k], q = c.points[(k + 1) % n];
+        twice += p.x * q.y - q.x * p.y;
+      }
+      c.area = 0.5 * twice;
+      out.push_back(std::move(c));
+    }
+    return out;
+  }
+
+  const Grid& g_;
+  const float* v_;
+  std::size_t nx_, ny_;
+  std::vector<std::uint32_t> edge_vertex_;
+  std::vector<Vec2> points_;
+  std::vector<std::uint32_t> next_;
+};
+
+// Layer m's centre height: its bottom start + m·L plus half a layer.
+double layer_centre(double start, double L, std::uint64_t m) {
+  return start + (static_cast<double>(m) + 0.5) * L;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::vector<Contour> trace_contours(const Field& plane) {
+  const Grid& g = plane.grid;
+  if (g.dims[2] != 1 || g.dims[0] < 2 || g.dims[1] < 2 || plane.values.size() != g.node_count())
+    throw InputError("trace_contours: the field is not one plane of at least 2 x 2 nodes");
+  const std::size_t nx = g.dims[0], ny = g.dims[1];
+  for (std::size_t i = 0; i < nx; ++i)
+    for (std::size_t j : {std::size_t{0}, ny - 1})
+      if (!(plane.values[i + nx * j] > 0))
+        throw InputError("trace_contours: a node on the plane's border is not outside");
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i : {std::size_t{0}, nx - 1})
+      if (!(plane.values[i + nx * j] > 0))
+        throw InputError("trace_contours: a node on the plane's border is not outside");
+  return Tracer(plane).trace();
+}
+
+std::uint64_t layer_count(const Box3& model, const SliceOptions& options) {
+  const double L = options.layer;
+  if (!(L > 0) || !std::isfinite(L))
+    throw InputError("the layer thickness must be a positive number of millimetres");
+  if (options.start && !std::isfinite(*options.start))
+    throw InputError("the first layer's height must be a finite number of millimetres");
+  const double span = model.max.z - options.start.value_or(model.min.z);
+  const double n = std::ceil(span / L);
+  if (n > 1e9) throw InputError("more than a billion layers: is the layer thickness in mm?");
+  return n >= 1 ? static_cast<std::uint64_t>(n) : std::uint64_t{1};
+}
+
+namespace {
+
+// One layer's plane: fill()'s grid's x and y nodes at height z.
+Grid layer_plane(const Grid& grid, double z) {
+  return {{grid.origin.x, grid.origin.y, z}, grid.spacing, {grid.dims[0], grid.dims[1], 1}};
+}
+
+// Refuses a job whose layers at once do not fit: per layer, the slab's mask and band
+// temporaries (4 bytes a node, the depth's distance transform 4 more) and the plane's fields
+// and contour tables (about 40 bytes a node); the model and its tree.
+void require_budget(const FillOptions& options, SliceReport& report, std::size_t at_once,
+                    bool depth, std::size_t model_triangles) {
+  const double bytes =
+      static_cast<double>(at_once) *
+          (static_cast<double>(report.plane_nodes) * (report.slab_planes * (depth ? 8 : 4) + 40)) +
+      static_cast<double>(model_triangles) * 260.0 + 64.0 * 1024 * 1024;
+  report.job.estimated_memory_bytes = static_cast<std::uint64_t>(std::min(bytes, 1.8e19));
+  const double budget =
+      static_cast<double>(options.memory_budget ? options.memory_budget : default_memory_budget());
+  if (bytes <= budget) return;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "slicing needs about %.2f GB (%zu planes of %llu nodes at once) but the memory "
+                "budget is %.2f GB; use a larger --voxel",
+                bytes / 1e9, at_once, static_cast<unsigned long long>(report.plane_nodes),
+                budget / 1e9);
+  throw ResourceError(text);
+}
+
+// A layer's figures into the report, after the exact check of its contours.
+void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double L,
+                  SliceReport& report) {
+  std::uint64_t checked = 0;
+  if (const std::uint64_t bad =
+          count_contour_defects(layer.contours, layer.field.grid.spacing, &checked))
+    throw ValidationError("layer " + std::to_string(layer.index) +
+                          " at z = " + std::to_string(layer.z) + " mm: " + std::to_string(bad) +
+                          " pairs of contour segments cross or touch (a bug)");
+  report.segment_pairs_checked += checked;
+  LayerSummary s{.z = layer.z, .area = layer.area};
+  for (const Contour& c : layer.contours) {
+    (c.outer() ? s.outer : s.holes) += 1;
+    s.points += c.points.size();
+  }
+  report.layers.push_back(s);
+  report.contours += s.outer + s.holes;
+  report.holes += s.holes;
+  report.points += s.points;
+  report.volume += layer.area * L;
+  FillReport& r = report.job;
+  const Occupancy::PlaneCounts& c = plane.counts.front();
+  r.model_volume += c.volume / layer.field.grid.spacing * L;  // the section's area × L
+  r.band_nodes += plane.band_nodes;
+  r.distance_queries += plane.band_nodes;
+  r.rows += c.rows;
+  r.crossings += c.crossings;
+  r.odd_rows += c.odd_rows;
+  r.overlap_rows += c.overlap_rows;
+  r.parity_disagreements += c.parity_disagreements;
+  r.cap_evaluations += c.cap_evaluations;
+}
+
+// The layers, a few at once (each parallel inside too), handed to the sink in order.
+void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start, double L,
+                  std::uint64_t count, SliceReport& report, const LayerSink& sink,
+                  Progress* progress) {
+  const std::size_t at_once = detail::slabs_at_once();
+  std::vector<Layer> batch;
+  std::vector<detail::SampledPlanes> planes;
+  for (std::uint64_t first = 0; first < count; first += at_once) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(at_once, count - first));
+    batch.assign(n, Layer{});
+    planes.assign(n, {});
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t b) {
+      Layer& layer = batch[b];
+      layer.index = first + b;
+      layer.bottom = start + static_cast<double>(layer.index) * L;
+      layer.top = start + static_cast<double>(layer.index + 1) * L;
+      layer.z = layer_centre(start, L, layer.index);
+      planes[b] = detail::sample_planes(job, layer_plane(grid, layer.z));
+      layer.field = std::move(planes[b].phi);
+      layer.contours = trace_contours(layer.field);
+      for (const Contour& c : layer.contours) layer.area += c.area;
+    });
+    for (std::size_t b = 0; b < n; ++b) {
+      record_layer(batch[b], planes[b], L, report);
+      sink(batch[b]);
+    }
+    detail::report_or_cancel(progress, static_cast<double>(first + n) / static_cast<double>(count));
+  }
+}
+
+}  // namespace
+
+SliceReport slice(const TriangleSoup& input, const FillOptions& options,
+                  const SliceOptions& slice_options, const LayerSink& sink) {
+  require_valid(options.units);
+  require_valid(options.design);
+  require_valid(ComposeOptions{.skin = options.skin});
+  const double L = slice_options.layer;
+  layer_count(Box3{{0, 0, 0}, {1, 1, 1}}, slice_options);  // the options' checks, before work
+  std::optional<TriangleSoup> in_mm;
+  if (options.units.factor() != 1) in_mm = to_millimetres(input, options.units);
+  const TriangleSoup& model = in_mm ? *in_mm : input;
+
+  SliceReport report;
+  FillReport& r = report.job;
+  report.layer = L;
+  const InsideRule rule = options.inside.value_or(InsideRule::Winding);
+  std::vector<detail::PlannedStage> plan{{"review", 0.5}, {"spatial", 5}};
+  if (!options.inside) plan.push_back({"classify", 5});
+  if (rule == InsideRule::Winding) plan.insert(plan.end(), {{"clean", 5}, {"spatial", 5}});
+  plan.push_back({"slice", 85});
+  detail::JobProgress job(slice_options.progress, plan);
+  auto stage = [&](const char* name, auto&& work) {
+    job.begin_stage(name);
+    const auto t0 = std::chrono::steady_clock::now();
+    work();
+    r.stages.push_back({name, seconds_since(t0), peak_memory_mb()});
+    job.end_stage();
+  };
+
+  LatticeDesign design;
+  Grid grid;
+  stage("review", [&] {
+    design = detail::describe_job(model, options, r);
+    grid = make_grid(r.input_bbox, options.grid);
+    for (std::string& w : review_design(
+             design, r.input_bbox, {.voxel = grid.spacing, .input_units = options.units.units}))
+      r.warnings.push_back(std::move(w));
+  });
+  r.grid = grid;
+  r.inside_rule = inside_name(rule);
+  const int halo = detail::halo_planes(options, design, grid.spacing);
+  report.slab_planes = 2 * halo + 1;
+  report.plane_nodes = static_cast<std::uint64_t>(grid.dims[0]) * grid.dims[1];
+  const double start = slice_options.start.value_or(r.input_bbox.min.z);
+  const std::uint64_t count = layer_count(r.input_bbox, slice_options);
+  require_budget(options, report, detail::slabs_at_once(), detail::depth_reach(design) > 0,
+                 model.triangles.size());
+
+  detail::IndexedModel indexed;
+  stage("spatial", [&] { indexed.tree.emplace(build_index(model)); });
+  if (rule == InsideRule::Winding && options.inside)
+    detail::index_cleaned(model, indexed, r, stage);
+  // Auto: the input as it is, unless a row of some layer's slab finds it open or inside out.
+  if (!options.inside) {
+    bool unbalanced = false;
+    stage("classify", [&] {
+      unbalanced = detail::any_unbalanced(
+          *indexed.tree, count,
+          [&](std::uint64_t m) {
+            return detail::widened(layer_plane(grid, layer_centre(start, L, m)), halo);
+          },
+          job.get());
+    });
+    if (unbalanced) detail::index_cleaned(model, indexed, r, stage);
+  }
+  stage("slice", [&] {
+    slice_layers({*indexed.tree, rule, options, design, halo}, grid, start, L, count, report, sink,
+                 job.get());
+  });
+  r.samples = report.plane_nodes * count;
+  job.finish();
+  return report;
+}
+
+}  // namespace tpmsfill
