@@ -7,11 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
 #include <utility>
 
+#include "detail/field_planes.hpp"
+#include "detail/fill_job.hpp"
 #include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/job_progress.hpp"
@@ -32,6 +35,9 @@
 namespace tpmsfill {
 namespace {
 
+using detail::Job;
+using detail::StageClock;
+
 // Bytes per grid node at the peak: occupancy, the band stage's three temporary masks, and the
 // composed field (plus the full distance field with --full-field).
 constexpr double kBytesPerNode = 8.0;
@@ -41,19 +47,56 @@ constexpr double kBytesPerInputTriangle = 260.0;
 // Bytes per output triangle: indices, half a vertex, validation's edge table and buckets.
 constexpr double kBytesPerOutputTriangle = 110.0;
 
-double estimate_bytes(const Box3& bounds, std::uint64_t triangles, const FillOptions& o) {
-  const double nodes = static_cast<double>(grid_node_count(bounds, o.grid));
-  const Vec3 size = bounds.size();
+// What the estimates know of the model (mm): its box, triangles, and the volume and area its
+// lattice's surface scales with.
+struct ModelSize {
+  Box3 bounds;
+  std::uint64_t triangles = 0;
+  double volume = 0;  ///< enclosed, as far as the soup tells; at most the box's
+  double area = 0;    ///< of its surface (a scan's overlapping shells count twice: more is safe)
+};
+
+// The soup's size. Its signed volume is the enclosed volume for a closed, outward mesh; for a
+// scan with holes or flipped faces it may be anything, so a quarter of the box is the least
+// assumed, and the box the most.
+ModelSize model_size(const TriangleSoup& model) {
+  ModelSize m{bounding_box(model), model.triangles.size()};
+  double six_v = 0, twice_a = 0;
+  for (const Triangle& t : model.triangles) {
+    const Vec3 a = model.points[t[0]], b = model.points[t[1]], c = model.points[t[2]];
+    six_v += dot(a, cross(b, c));
+    twice_a += norm(cross(b - a, c - a));
+  }
+  if (model.triangles.empty()) return m;
+  const Vec3 s = m.bounds.size();
+  const double box = s.x * s.y * s.z;
+  m.volume = std::clamp(std::fabs(six_v) / 6, 0.25 * box, box);
+  m.area = 0.5 * twice_a;
+  return m;
+}
+
+// Output triangles expected: lattice area ≈ 3.1/T per unit volume (gyroid; the others are
+// close), plus the clipped boundary at most the model's surface; marching cubes makes about
+// 2.6 triangles per a².
+double output_triangles(const ModelSize& m, const FillOptions& o) {
   const double a = o.grid.voxel_size;
   const double cell = std::fmin(o.design.cell.x, std::fmin(o.design.cell.y, o.design.cell.z));
-  // Lattice area ≈ 3.1/T per unit volume (gyroid; the others are close), the clipped
-  // boundary at most the box's surface; marching cubes makes about 2.6 triangles per a².
-  const double area = 3.1 / cell * size.x * size.y * size.z +
-                      2.0 * (size.x * size.y + size.y * size.z + size.z * size.x);
-  const double out_triangles = 2.6 * area / (a * a);
-  return nodes * (kBytesPerNode + (o.full_field ? kBytesPerFullFieldNode : 0.0)) +
-         static_cast<double>(triangles) * kBytesPerInputTriangle +
-         out_triangles * kBytesPerOutputTriangle + 64.0 * 1024 * 1024;
+  return 2.6 * (3.1 / cell * m.volume + m.area) / (a * a);
+}
+
+// The peak of a job whose field stages hold `field_bytes`: the input and its tree throughout;
+// then the larger of the field stages (with marching cubes' mesh and islands' components, 40
+// bytes a triangle) and validation (the mesh and its tables, kBytesPerOutputTriangle), since
+// the field is gone before validation starts.
+double peak_bytes(const ModelSize& m, const FillOptions& o, double field_bytes) {
+  const double out = output_triangles(m, o);
+  return static_cast<double>(m.triangles) * kBytesPerInputTriangle +
+         std::fmax(field_bytes + 40 * out, kBytesPerOutputTriangle * out) + 64.0 * 1024 * 1024;
+}
+
+double estimate_bytes(const ModelSize& m, const FillOptions& o) {
+  const double nodes = static_cast<double>(grid_node_count(m.bounds, o.grid));
+  return peak_bytes(m, o, nodes * (kBytesPerNode + (o.full_field ? kBytesPerFullFieldNode : 0.0)));
 }
 
 std::string gigabytes(double bytes) {
@@ -68,69 +111,100 @@ std::uint64_t saturated_bytes(double bytes) {
                          : static_cast<std::uint64_t>(bytes);
 }
 
-// The job's estimated bytes; refuses a job over its budget, naming a voxel size that fits.
-std::uint64_t require_budget(const Box3& bounds, std::uint64_t triangles, const FillOptions& o) {
-  const double budget =
-      static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
-  const double need = estimate_bytes(bounds, triangles, o);
-  if (need <= budget) return saturated_bytes(need);
-  // The estimate falls as the voxel grows: bisect for the smallest voxel size that fits.
-  FillOptions trial = o;
-  double lo = o.grid.voxel_size, hi = o.grid.voxel_size;
-  do {
-    hi *= 2;
-    trial.grid.voxel_size = hi;
-  } while (estimate_bytes(bounds, triangles, trial) > budget && hi < 1e12);
-  for (int it = 0; it < 60; ++it) {
-    trial.grid.voxel_size = 0.5 * (lo + hi);
-    (estimate_bytes(bounds, triangles, trial) > budget ? lo : hi) = trial.grid.voxel_size;
-  }
-  char fit[64];
-  std::snprintf(fit, sizeof fit, "%.4g mm", hi * 1.0001);
-  const bool input_alone = static_cast<double>(triangles) * kBytesPerInputTriangle > budget;
-  throw ResourceError("the job needs about " + gigabytes(need) + " but the memory budget is " +
-                      gigabytes(budget) +
-                      (input_alone ? "; the input alone exceeds it"
-                                   : "; a voxel size of " + std::string(fit) + " or more fits"));
+// Bytes the slab path needs with slabs of `planes` node planes: per node of a slab and its
+// halo the classification, the band's temporaries (and the depth's distance transform); per
+// node of the slab φ and the inside copy; the masks islands need as runs (about two inside
+// runs per row, two solid runs per cell along it); the input and the output as the whole
+// grid's path.
+double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign& d, int planes) {
+  const Box3& bounds = m.bounds;
+  const Grid g = make_grid(bounds, o.grid);
+  const double plane = static_cast<double>(g.dims[0]) * g.dims[1];
+  const double halo = detail::halo_planes(o, d, g.spacing);
+  const bool depth = detail::depth_reach(d) > 0;
+  const double widened = planes + 2 + 2 * halo;
+  const double cell = std::fmin(d.cell.x, std::fmin(d.cell.y, d.cell.z));
+  const double runs = static_cast<double>(g.row_count()) * 12.0 *
+                      (2 + 2 * bounds.size().x / std::fmax(cell, g.spacing));
+  // The runs are copied once more when islands label them.
+  return peak_bytes(
+      m, o,
+      plane * (widened * (depth ? 8.0 : 4.0) + (planes + 2) * (o.full_field ? 10.0 : 6.0)) +
+          2 * runs);
 }
 
-// Times each stage into the report and announces its start and end to the job's progress
-// (which checks for cancelling at both, also for stages that report nothing themselves).
-class StageClock {
- public:
-  StageClock(FillReport& report, detail::JobProgress& progress)
-      : report_(report), progress_(progress) {}
-  template <class F>
-  auto operator()(const char* name, F&& work) {
-    progress_.begin_stage(name);
-    const auto t0 = std::chrono::steady_clock::now();
-    if constexpr (std::is_void_v<decltype(work())>) {
-      work();
-      record(name, t0);
-      progress_.end_stage();
-    } else {
-      auto result = work();
-      record(name, t0);
-      progress_.end_stage();
-      return result;
-    }
-  }
+// Planes per slab at which the slab path needs no more than the whole grid: past it, slabs
+// gain nothing.
+constexpr int kMinSlabPlanes = 4;
 
- private:
-  void record(const char* name, std::chrono::steady_clock::time_point t0) {
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    report_.stages.push_back({name, s, peak_memory_mb()});
+// The memory plan: the whole grid at once when it fits the budget (or slabs when asked), else
+// slabs as thick as fit; when nothing fits, the refusal to throw after the review, naming a
+// voxel size that fits.
+detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const LatticeDesign& d) {
+  const Box3& bounds = m.bounds;
+  const std::uint64_t triangles = m.triangles;
+  const double budget =
+      static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
+  const double whole = estimate_bytes(m, o);
+  const int nz = make_grid(bounds, o.grid).dims[2];
+  if (o.slab_planes > 0) {
+    const int planes = std::min(o.slab_planes, nz);
+    return {planes, saturated_bytes(slab_bytes(m, o, d, planes)), {}};
   }
-  FillReport& report_;
-  detail::JobProgress& progress_;
-};
+  if (whole <= budget) return {0, saturated_bytes(whole), {}};
+  // The thickest slabs that fit (bytes grow with the thickness until validation's peak, the
+  // output's, dominates): bisect.
+  int fit = slab_bytes(m, o, d, kMinSlabPlanes) <= budget ? kMinSlabPlanes : 0;
+  if (fit) {
+    int lo = kMinSlabPlanes, hi = nz;
+    if (slab_bytes(m, o, d, hi) <= budget) lo = hi;
+    while (hi - lo > 1) {
+      const int mid = lo + (hi - lo) / 2;
+      (slab_bytes(m, o, d, mid) <= budget ? lo : hi) = mid;
+    }
+    fit = lo;
+  }
+  if (fit && !o.measure) return {fit, saturated_bytes(slab_bytes(m, o, d, fit)), {}};
+  if (o.measure && fit)
+    return {0, saturated_bytes(whole),
+            "--measure needs the whole grid in memory, about " + gigabytes(whole) +
+                ", but the memory budget is " + gigabytes(budget) +
+                "; without --measure the job runs in slabs that fit"};
+  // The least any path needs falls as the voxel grows: bisect for the smallest that fits.
+  auto least = [&](double voxel) {
+    FillOptions t = o;
+    t.grid.voxel_size = voxel;
+    return std::fmin(estimate_bytes(m, t), slab_bytes(m, t, d, kMinSlabPlanes));
+  };
+  double lo = o.grid.voxel_size, hi = o.grid.voxel_size;
+  do hi *= 2;
+  while (least(hi) > budget && hi < 1e12);
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (least(mid) > budget ? lo : hi) = mid;
+  }
+  char fit_text[64];
+  std::snprintf(fit_text, sizeof fit_text, "%.4g mm", hi * 1.0001);
+  const double need = least(o.grid.voxel_size);
+  const bool input_alone = static_cast<double>(triangles) * kBytesPerInputTriangle > budget;
+  return {0, saturated_bytes(need),
+          "the job needs about " + gigabytes(need) + " but the memory budget is " +
+              gigabytes(budget) +
+              (input_alone ? "; the input alone exceeds it"
+                           : "; a voxel size of " + std::string(fit_text) + " or more fits")};
+}
 
 // The stages fill() will run, in order, with rough shares of the time: per cent of a job's,
 // the femur's and the tube's stage tables averaged (docs/benchmarks.md §4; measure and the full
 // field from the femur's). The auto inside rule plans the clean and the second classification
 // it may need; they are credited when skipped, so the overall fraction does not go back.
-std::vector<detail::PlannedStage> plan_stages(const FillOptions& o) {
+std::vector<detail::PlannedStage> plan_stages(const FillOptions& o, bool slabs) {
   std::vector<detail::PlannedStage> plan{{"review", 0.5}};
+  if (slabs) {
+    for (detail::PlannedStage& s : detail::slab_stages(o)) plan.push_back(std::move(s));
+    plan.insert(plan.end(), {{"islands", 6}, {"validate", 46}});
+    return plan;
+  }
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
   if (rule == InsideRule::Parity || !o.inside)
     plan.insert(plan.end(), {{"spatial", 10}, {"classify", 5}});
@@ -151,13 +225,39 @@ std::vector<detail::PlannedStage> plan_stages(const FillOptions& o) {
   return plan;
 }
 
+// What islands are judged by: which nodes are solid (φ < 0), the model's parts (26-connected
+// regions of inside nodes) and, on demand, the solid's pieces (6-connected regions of solid
+// nodes). The whole-grid path reads them from φ and the occupancy, the slab path from runs.
+struct IslandMasks {
+  std::function<bool(int, int, int)> solid;
+  Regions parts;
+  std::function<Regions()> pieces;
+};
+
+// The masks of the path the job took.
+IslandMasks island_masks(const Job& job) {
+  if (job.slab_planes == 0) {
+    const Field& phi = job.phi;
+    return {[&phi](int i, int j, int k) { return phi.values[phi.grid.index(i, j, k)] < 0; },
+            label_regions(job.occupancy.inside),
+            [&phi] {
+              Mask solid{phi.grid, std::vector<std::uint8_t>(phi.values.size())};
+              for (std::size_t n = 0; n < solid.values.size(); ++n)
+                solid.values[n] = phi.values[n] < 0;
+              return label_regions(solid, Connectivity::Face);
+            }};
+  }
+  return {
+      [&job](int i, int j, int k) { return job.solid_runs.region_at(i, j, k) != detail::kNoIndex; },
+      label_runs(job.inside_runs),
+      [&job] { return label_runs(job.solid_runs, Connectivity::Face); }};
+}
+
 // Islands: lattice components that are not the largest piece within their part of the model
-// (a 26-connected region of inside nodes). A component is located by a corner with φ < 0 of
-// the cell holding its first triangle (φ < 0 implies the node is inside): `solid_node` gives
-// that node's index, or none.
+// (a 26-connected region of inside nodes). A component is located by a solid corner (φ < 0
+// implies the node is inside) of the cell holding its first triangle: its node index, or none.
 std::vector<std::uint64_t> solid_nodes(const TriangleSoup& mesh, const Components& comps,
-                                       const Field& phi) {
-  const Grid& g = phi.grid;
+                                       const Grid& g, const IslandMasks& masks) {
   std::vector<std::uint64_t> node(comps.info.size(), UINT64_MAX);
   for (std::size_t c = 0; c < comps.info.size(); ++c) {
     const Triangle& t = mesh.triangles[comps.info[c].first_triangle];
@@ -170,17 +270,16 @@ std::vector<std::uint64_t> solid_nodes(const TriangleSoup& mesh, const Component
     for (int corner = 0; corner < 8 && node[c] == UINT64_MAX; ++corner) {
       const int i = cell[0] + (corner & 1), j = cell[1] + (corner >> 1 & 1),
                 k = cell[2] + (corner >> 2 & 1);
-      if (phi.values[g.index(i, j, k)] < 0) node[c] = g.index(i, j, k);
+      if (masks.solid(i, j, k)) node[c] = g.index(i, j, k);
     }
   }
   return node;
 }
 
-std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Field& phi,
-                              const Regions& regions) {
-  const Grid& g = phi.grid;
+std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Grid& g,
+                              const IslandMasks& masks) {
   const std::uint32_t none = detail::kNoIndex;
-  const std::vector<std::uint64_t> node = solid_nodes(mesh, comps, phi);
+  const std::vector<std::uint64_t> node = solid_nodes(mesh, comps, g, masks);
   auto region_of = [&](const Regions& r, std::size_t c) {
     if (node[c] == UINT64_MAX) return none;
     const std::uint64_t n = node[c], nx = g.dims[0], ny = g.dims[1];
@@ -188,8 +287,8 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
                        static_cast<int>(n / (nx * ny)));
   };
   std::vector<std::uint32_t> part(comps.info.size(), none);
-  for (std::size_t c = 0; c < comps.info.size(); ++c) part[c] = region_of(regions, c);
-  std::vector<std::size_t> largest(regions.count, std::numeric_limits<std::size_t>::max());
+  for (std::size_t c = 0; c < comps.info.size(); ++c) part[c] = region_of(masks.parts, c);
+  std::vector<std::size_t> largest(masks.parts.count, std::numeric_limits<std::size_t>::max());
   for (std::size_t c = 0; c < comps.info.size(); ++c) {
     if (part[c] == none || comps.info[c].volume < 0) continue;
     std::size_t& best = largest[part[c]];
@@ -208,9 +307,7 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
   // A component of negative volume bounds a cavity (the pore inside a shell, a void a skin
   // encloses): it goes with the solid around it, which the shell's outer surface bounds too.
   // It stays only if a kept positive component bounds the same solid (6-connected φ < 0).
-  Mask solid{g, std::vector<std::uint8_t>(g.node_count())};
-  for (std::size_t n = 0; n < solid.values.size(); ++n) solid.values[n] = phi.values[n] < 0;
-  const Regions pieces = label_regions(solid, Connectivity::Face);
+  const Regions pieces = masks.pieces();
   std::vector<bool> kept_piece(pieces.count, false);
   for (std::size_t c = 0; c < comps.info.size(); ++c)
     if (const std::uint32_t p = region_of(pieces, c);
@@ -222,38 +319,11 @@ std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps,
   return keep;
 }
 
-// The job's state between stages: what later stages need of earlier ones.
-struct Job {
-  const TriangleSoup& model;
-  const FillOptions& options;
-  FillResult& result;
-  FillReport& report;
-  detail::JobProgress job_progress;
-  Progress* progress;  ///< what the stages report to: job_progress, or null without a caller's
-  StageClock stage;
-  Grid grid;
-  Occupancy occupancy;
-  std::optional<MeshIndex> tree;
-  std::optional<Field> depth;
-  Field phi;
-  TriangleSoup mesh;
-
-  Job(const TriangleSoup& m, const FillOptions& o, FillResult& r)
-      : model(m),
-        options(o),
-        result(r),
-        report(r.report),
-        job_progress(o.progress, plan_stages(o)),
-        progress(job_progress.get()),
-        stage(r.report, job_progress) {}
-};
-
 // Settings into the report, the design resolved against the model's box.
-void resolve(Job& job) {
+void resolve(Job& job, const detail::MemoryPlan& plan) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
-  job.result.resolved = o;
-  const LatticeDesign& d = job.result.resolved.design = detail::describe_job(job.model, o, r);
+  const LatticeDesign& d = job.result.resolved.design;
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
   // What cannot come out as asked is refused here, before the work; doubts are warnings.
   std::vector<std::string> doubts = job.stage("review", [&] {
@@ -261,7 +331,9 @@ void resolve(Job& job) {
                          {.voxel = job.grid.spacing, .input_units = o.units.units});
   });
   for (std::string& w : doubts) r.warnings.push_back(std::move(w));
-  r.estimated_memory_bytes = require_budget(r.input_bbox, job.model.triangles.size(), o);
+  if (!plan.refusal.empty()) throw ResourceError(plan.refusal);
+  r.estimated_memory_bytes = plan.bytes;
+  r.slab_planes = plan.slab_planes;
   r.grid = job.grid;
   r.samples = job.grid.node_count();
 }
@@ -294,23 +366,10 @@ void classify(Job& job) {
               [&] { job.tree.emplace(build_index(cleaned.soup, {.hole_caps = &cleaned.caps})); });
     run();
   }
-  const Occupancy& occ = job.occupancy;
-  r.rows = occ.rows;
-  r.crossings = occ.crossings;
-  r.odd_rows = occ.odd_rows;
-  r.overlap_rows = occ.overlap_rows;
-  r.parity_disagreements = occ.parity_disagreements;
-  r.cap_evaluations = occ.cap_evaluations;
-  r.model_volume = occ.volume;
-  if (rule == InsideRule::Parity && occ.odd_rows)
-    r.warnings.push_back(std::to_string(occ.odd_rows) +
-                         " grid rows crossed the surface an odd number of times: the input is "
-                         "not closed, so inside and outside may be wrong near its holes "
-                         "(--inside winding handles holes)");
-  if (std::find(occ.inside.values.begin(), occ.inside.values.end(), 1) == occ.inside.values.end())
-    throw InputError(
-        "the mesh encloses no volume: no grid node is inside it (an open sheet, or a shell "
-        "thinner than the voxel size)");
+  Occupancy::PlaneCounts total;
+  for (const Occupancy::PlaneCounts& p : job.occupancy.planes) total += p;
+  const std::vector<std::uint8_t>& in = job.occupancy.inside.values;
+  detail::record_classification(o, total, std::find(in.begin(), in.end(), 1) != in.end(), r);
 }
 
 // φ = max(φ_model, φ_L): the model's distance on the band (or everywhere with --full-field),
@@ -416,7 +475,7 @@ void remove_islands(Job& job) {
   for (const auto& c : comps.info) lattice_before += c.volume;
   std::vector<bool> keep(comps.info.size(), true);
   if (!o.keep_islands && comps.info.size() >= 2)
-    keep = main_bodies(job.mesh, comps, job.phi, label_regions(job.occupancy.inside));
+    keep = main_bodies(job.mesh, comps, job.grid, island_masks(job));
   for (std::size_t c = 0; c < keep.size(); ++c)
     if (keep[c] && comps.info[c].volume < 0)
       ++r.cavities, r.cavities_volume -= comps.info[c].volume;
@@ -469,9 +528,13 @@ void validate(Job& job) {
 
 // A structure's porosity is solved over its whole unit cube; the part sees only what the
 // model covers of it, which may be mostly void or mostly solid. Say so with the numbers.
-void warn_structure_porosity(const LatticeDesign& d, FillReport& r) {
+}  // namespace
+
+namespace detail {
+
+void warn_structure_porosity(const LatticeDesign& d, double got, FillReport& r) {
   if (!d.structure || !r.porosity_target) return;
-  const double asked = *r.porosity_target, got = r.porosity();
+  const double asked = *r.porosity_target;
   if (std::fabs(got - asked) <= 0.05) return;
   char text[400];
   std::snprintf(text, sizeof text,
@@ -483,10 +546,6 @@ void warn_structure_porosity(const LatticeDesign& d, FillReport& r) {
                 got > asked ? "a lower porosity" : "a higher porosity");
   r.warnings.push_back(text);
 }
-
-}  // namespace
-
-namespace detail {
 
 LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& o, FillReport& r) {
   r.units = units_name(o.units.units);
@@ -518,6 +577,26 @@ LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& o, Fill
   return d;
 }
 
+void record_classification(const FillOptions& o, const Occupancy::PlaneCounts& c, bool any_inside,
+                           FillReport& r) {
+  r.rows = c.rows;
+  r.crossings = c.crossings;
+  r.odd_rows = c.odd_rows;
+  r.overlap_rows = c.overlap_rows;
+  r.parity_disagreements = c.parity_disagreements;
+  r.cap_evaluations = c.cap_evaluations;
+  r.model_volume = c.volume;
+  if (o.inside == InsideRule::Parity && c.odd_rows)
+    r.warnings.push_back(std::to_string(c.odd_rows) +
+                         " grid rows crossed the surface an odd number of times: the input is "
+                         "not closed, so inside and outside may be wrong near its holes "
+                         "(--inside winding handles holes)");
+  if (!any_inside)
+    throw InputError(
+        "the mesh encloses no volume: no grid node is inside it (an open sheet, or a shell "
+        "thinner than the voxel size)");
+}
+
 int band_width(const FillOptions& o, double spacing) {
   return std::max(o.band.width, skin_band_width(o.skin, spacing));
 }
@@ -543,9 +622,11 @@ std::uint64_t default_memory_budget() {
   return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2;
 }
 
-std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
-                                   const FillOptions& options) {
-  return saturated_bytes(estimate_bytes(bounds, triangles, options));
+std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions& options) {
+  require_valid(options.units);
+  const ModelSize m =
+      model_size(options.units.factor() != 1 ? to_millimetres(model, options.units) : model);
+  return plan_memory(m, options, resolve_design(options.design, m.bounds)).bytes;
 }
 
 FillResult fill(const TriangleSoup& input, const FillOptions& options) {
@@ -557,12 +638,19 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   if (options.units.factor() != 1) in_mm = to_millimetres(input, options.units);
   const TriangleSoup& model = in_mm ? *in_mm : input;
   FillResult result;
-  Job job(model, options, result);
-  resolve(job);
-  classify(job);
-  compose(job);
-  job.mesh = job.stage("marching cubes",
-                       [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
+  result.resolved = options;
+  result.resolved.design = detail::describe_job(model, options, result.report);
+  const detail::MemoryPlan plan = plan_memory(model_size(model), options, result.resolved.design);
+  Job job(model, options, result, plan_stages(options, plan.slab_planes > 0), plan.slab_planes);
+  resolve(job, plan);
+  if (job.slab_planes > 0) {
+    detail::mesh_in_slabs(job);
+  } else {
+    classify(job);
+    compose(job);
+    job.mesh = job.stage("marching cubes",
+                         [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
+  }
   job.stage("islands", [&] { remove_islands(job); });
   if (options.measure)
     result.report.measures = job.stage("measure", [&] {
@@ -571,8 +659,9 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   job.phi = Field{};
   job.occupancy = Occupancy{};
   job.depth.reset();
+  job.inside_runs = job.solid_runs = Regions{};
   validate(job);
-  warn_structure_porosity(result.resolved.design, result.report);
+  detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
   job.job_progress.finish();
   result.mesh = std::move(job.mesh);
   return result;

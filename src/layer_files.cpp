@@ -58,6 +58,14 @@ std::string shortest(double value) {
   return std::string(buf.data(), end);
 }
 
+// A size for a sentence: four significant digits, in any locale.
+std::string readable(double value) {
+  std::array<char, 32> buf;
+  const auto [end, ec] =
+      std::to_chars(buf.data(), buf.data() + buf.size(), value, std::chars_format::general, 4);
+  return std::string(buf.data(), end);
+}
+
 template <typename T>
 void append_le(std::string& out, T value) {
   auto bytes = std::bit_cast<std::array<char, sizeof(T)>>(value);
@@ -340,8 +348,8 @@ void check_options(const LayerFileOptions& o) {
   if (o.format != LayerFormat::PngLayers) return;
   const double extent = std::max(b.max.x - b.min.x, b.max.y - b.min.y);
   if (pixels_over(extent, o.pixel) > kMaxImageSide) {
-    throw InputError("a " + shortest(o.pixel) + " mm pixel makes images of over " +
-                     std::to_string(kMaxImageSide) + " pixels a side for a " + shortest(extent) +
+    throw InputError("a " + readable(o.pixel) + " mm pixel makes images of over " +
+                     std::to_string(kMaxImageSide) + " pixels a side for a " + readable(extent) +
                      " mm part; a pixel of at least " + shortest(extent / kMaxImageSide) +
                      " mm fits");
   }

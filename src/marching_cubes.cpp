@@ -200,49 +200,51 @@ struct Extractor {
   }
 };
 
-// Both passes over the node layers. with_layers(b, e, f) calls f(extractor) with an extractor
-// that reads node layers b .. e + 1 (those that exist): all that counting the layers [b, e)
-// and numbering them and the next one need (a node's +z edge reaches the layer above).
+// Both passes over node layers [kb, ke), appended to `soup`, which holds every point and
+// triangle of the layers below kb (its point count is layer kb's first id). with_layers(b, e,
+// f) calls f(extractor) with an extractor that reads node layers b .. e + 1 (those that
+// exist): all that counting the layers [b, e) and numbering them and the next one need (a
+// node's +z edge reaches the layer above).
 template <class WithLayers>
-TriangleSoup extract(const Grid& grid, const McOptions& options, std::size_t count_grain,
-                     const WithLayers& with_layers) {
+void extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count_grain,
+             detail::ProgressCounter& progress, const WithLayers& with_layers, TriangleSoup& soup) {
   const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
-  detail::ProgressCounter progress(options.progress, "marching cubes", 2 * layers);
-
-  std::vector<LayerCounts> counts(layers);
-  detail::parallel_for(layers, count_grain, [&](std::size_t b, std::size_t e) {
-    with_layers(b, e, [&](const auto& ex) {
+  const std::size_t n = ke - kb;
+  std::vector<LayerCounts> counts(n);
+  detail::parallel_for(n, count_grain, [&](std::size_t b, std::size_t e) {
+    with_layers(kb + b, kb + e, [&](const auto& ex) {
       for (std::size_t k = b; k < e; ++k) {
-        counts[k] = ex.count(static_cast<int>(k));
+        counts[k] = ex.count(static_cast<int>(kb + k));
         progress.add(1);
       }
     });
   });
 
   // Layer k's vertices: its edge vertices, then the centroid vertices of cell layer k.
-  std::vector<std::size_t> first_vertex(layers + 1, 0), first_triangle(layers + 1, 0);
-  for (std::size_t k = 0; k < layers; ++k) {
+  std::vector<std::size_t> first_vertex(n + 1, soup.points.size()),
+      first_triangle(n + 1, soup.triangles.size());
+  for (std::size_t k = 0; k < n; ++k) {
     first_vertex[k + 1] = first_vertex[k] + counts[k].edge_vertices + counts[k].centroids;
     first_triangle[k + 1] = first_triangle[k] + counts[k].triangles;
   }
-  if (!detail::fits_32bit_ids(first_vertex[layers]))
+  if (!detail::fits_32bit_ids(first_vertex[n]))
     throw InputError("marching_cubes: more than 2^32 - 1 vertices; use a coarser grid");
 
-  TriangleSoup soup;
-  soup.points.resize(first_vertex[layers]);
-  soup.triangles.resize(first_triangle[layers]);
+  soup.points.resize(first_vertex[n]);
+  soup.triangles.resize(first_triangle[n]);
   // Ranges of several layers, so that each task numbers the layer above its range only once.
-  detail::parallel_for(layers, 8, [&](std::size_t b, std::size_t e) {
-    with_layers(b, e, [&](const auto& ex) {
+  detail::parallel_for(n, 8, [&](std::size_t b, std::size_t e) {
+    with_layers(kb + b, kb + e, [&](const auto& ex) {
       LayerIds lower, upper;
       for (std::size_t k = b; k < e; ++k) {
-        const int kk = static_cast<int>(k);
+        const int kk = static_cast<int>(kb + k);
         if (k == b)
           ex.number(kk, static_cast<std::uint32_t>(first_vertex[k]), lower, soup.points.data());
         else
           std::swap(lower, upper);
-        if (k + 1 < layers) {
-          // The next layer's points are written by whichever task owns it.
+        if (kb + k + 1 < layers) {
+          // The next layer's points are written by whichever task (or slab) owns it; its ids
+          // start where this range's end, whoever owns it.
           ex.number(kk + 1, static_cast<std::uint32_t>(first_vertex[k + 1]), upper,
                     k + 1 < e ? soup.points.data() : nullptr);
           ex.fill(kk, lower, upper,
@@ -253,8 +255,6 @@ TriangleSoup extract(const Grid& grid, const McOptions& options, std::size_t cou
       }
     });
   });
-  progress.finish();
-  return soup;
 }
 
 void require_cells(const Grid& grid) {
@@ -281,7 +281,13 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
     throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
                      " values for " + std::to_string(grid.node_count()) + " grid nodes");
   const auto ex = extractor<false>(grid, field.values.data(), options.iso);
-  return extract(grid, options, 1, [&](std::size_t, std::size_t, const auto& work) { work(ex); });
+  detail::ProgressCounter progress(options.progress, "marching cubes", 2 * grid.dims[2]);
+  TriangleSoup soup;
+  extract(
+      grid, 0, grid.dims[2], 1, progress,
+      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, soup);
+  progress.finish();
+  return soup;
 }
 
 TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const McOptions& options) {
@@ -291,12 +297,44 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const M
   const std::size_t layer = static_cast<std::size_t>(grid.dims[0]) * ny;
   const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
   // Each task evaluates the node layers it reads, two more than it owns.
-  return extract(grid, options, 8, [&](std::size_t b, std::size_t e, const auto& work) {
-    const std::size_t end = std::min(e + 2, layers);
-    std::vector<float> slab((end - b) * layer);
-    rows(b * ny, (end - b) * ny, slab.data(), nullptr);
-    work(extractor<true>(grid, slab.data(), options.iso, b * layer));
-  });
+  detail::ProgressCounter progress(options.progress, "marching cubes", 2 * layers);
+  TriangleSoup soup;
+  extract(
+      grid, 0, layers, 8, progress,
+      [&](std::size_t b, std::size_t e, const auto& work) {
+        const std::size_t end = std::min(e + 2, layers);
+        std::vector<float> slab((end - b) * layer);
+        rows(b * ny, (end - b) * ny, slab.data(), nullptr);
+        work(extractor<true>(grid, slab.data(), options.iso, b * layer));
+      },
+      soup);
+  progress.finish();
+  return soup;
+}
+
+SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options)
+    : grid_(grid), options_(options) {
+  require_cells(grid);
+  if (grid.z_offset != 0) throw InputError("SlabMarchingCubes: give the whole grid");
+}
+
+void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) {
+  const Grid& g = planes.grid;
+  const int nz = grid_.dims[2];
+  const int last = std::min(next_ + owned + 1, nz - 1);  // the highest plane read
+  if (owned < 1 || next_ + owned > nz || g.z_offset != next_ || g.dims[2] != last - next_ + 1 ||
+      g.dims[0] != grid_.dims[0] || g.dims[1] != grid_.dims[1] || g.spacing != grid_.spacing ||
+      !(g.origin == grid_.origin) || planes.values.size() != g.node_count())
+    throw InputError("SlabMarchingCubes: the slab is not the grid's next planes (" +
+                     std::to_string(next_) + " on, with the one or two above)");
+  const std::size_t layer = static_cast<std::size_t>(grid_.dims[0]) * grid_.dims[1];
+  const auto ex = extractor<true>(grid_, planes.values.data(), options_.iso,
+                                  static_cast<std::size_t>(next_) * layer);
+  detail::ProgressCounter progress(nullptr, "marching cubes", 1);
+  extract(
+      grid_, next_, next_ + owned, 1, progress,
+      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, mesh);
+  next_ += owned;
 }
 
 }  // namespace tpmsfill

@@ -142,6 +142,7 @@ std::string to_json(const FillReport& r) {
         {"parity_disagreements", r.parity_disagreements},
         {"cap_evaluations", r.cap_evaluations}}},
       {"estimated_memory_bytes", r.estimated_memory_bytes},
+      {"slab_planes", r.slab_planes ? json(r.slab_planes) : json(nullptr)},
       {"output",
        {{"vertices", r.vertices()},
         {"triangles", r.triangles()},

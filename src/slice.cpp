@@ -198,18 +198,45 @@ void require_budget(const FillOptions& options, SliceReport& report, std::size_t
   const double budget =
       static_cast<double>(options.memory_budget ? options.memory_budget : default_memory_budget());
   if (bytes <= budget) return;
+  const double fixed = static_cast<double>(model_triangles) * 260.0 + 64.0 * 1024 * 1024;
+  char text[320];
+  std::snprintf(
+      text, sizeof text,
+      "slicing needs about %.2f GB (%zu layers at once, each a slab of %d planes of "
+      "%llu nodes) but the memory budget is %.2f GB; %s",
+      bytes / 1e9, at_once, report.slab_planes, static_cast<unsigned long long>(report.plane_nodes),
+      budget / 1e9,
+      fixed > budget ? "the input alone exceeds it" : "a larger --voxel makes smaller planes");
+  throw ResourceError(text);
+}
+
+// Layers that start above the model's bottom leave its lowest part out: say how much.
+void warn_start(double start, FillReport& r) {
+  const double bottom = r.input_bbox.min.z, top = r.input_bbox.max.z;
+  if (start >= top) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "the first layer starts at z = %g mm, at or above the model's top (%g mm)", start,
+                  top);
+    throw InputError(text);
+  }
+  if (start <= bottom) return;
   char text[200];
   std::snprintf(text, sizeof text,
-                "slicing needs about %.2f GB (%zu planes of %llu nodes at once) but the memory "
-                "budget is %.2f GB; use a larger --voxel",
-                bytes / 1e9, at_once, static_cast<unsigned long long>(report.plane_nodes),
-                budget / 1e9);
-  throw ResourceError(text);
+                "layers start at z = %g mm, above the model's bottom (%g mm): its lowest %.4g mm "
+                "are not sliced",
+                start, bottom, start - bottom);
+  r.warnings.push_back(text);
+}
+
+// 1 − the layers' volume over the model's.
+double porosity(const SliceReport& report) {
+  return report.job.model_volume > 0 ? 1.0 - report.volume / report.job.model_volume : 0.0;
 }
 
 // A layer's figures into the report, after the exact check of its contours.
 void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double L,
-                  SliceReport& report) {
+                  SliceReport& report, Occupancy::PlaneCounts& totals, bool& any_inside) {
   std::uint64_t checked = 0;
   if (const std::uint64_t bad =
           count_contour_defects(layer.contours, layer.field.grid.spacing, &checked))
@@ -228,22 +255,21 @@ void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double
   report.points += s.points;
   report.volume += layer.area * L;
   FillReport& r = report.job;
-  const Occupancy::PlaneCounts& c = plane.counts.front();
-  r.model_volume += c.volume / layer.field.grid.spacing * L;  // the section's area × L
+  Occupancy::PlaneCounts c = plane.counts.front();
+  c.volume *= L / layer.field.grid.spacing;  // the section's area × L
+  totals += c;
+  any_inside = any_inside || std::find(plane.inside.values.begin(), plane.inside.values.end(),
+                                       std::uint8_t{1}) != plane.inside.values.end();
   r.band_nodes += plane.band_nodes;
   r.distance_queries += plane.band_nodes;
-  r.rows += c.rows;
-  r.crossings += c.crossings;
-  r.odd_rows += c.odd_rows;
-  r.overlap_rows += c.overlap_rows;
-  r.parity_disagreements += c.parity_disagreements;
-  r.cap_evaluations += c.cap_evaluations;
 }
 
 // The layers, a few at once (each parallel inside too), handed to the sink in order.
 void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start, double L,
                   std::uint64_t count, SliceReport& report, const LayerSink& sink,
                   Progress* progress) {
+  Occupancy::PlaneCounts totals;
+  bool any_inside = false;
   const std::size_t at_once = detail::slabs_at_once();
   std::vector<Layer> batch;
   std::vector<detail::SampledPlanes> planes;
@@ -263,11 +289,13 @@ void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start
       for (const Contour& c : layer.contours) layer.area += c.area;
     });
     for (std::size_t b = 0; b < n; ++b) {
-      record_layer(batch[b], planes[b], L, report);
+      record_layer(batch[b], planes[b], L, report, totals, any_inside);
       sink(batch[b]);
     }
     detail::report_or_cancel(progress, static_cast<double>(first + n) / static_cast<double>(count));
   }
+  // As fill reports it (the parity rule's warning; no volume refused), the sections' volume.
+  detail::record_classification(job.options, totals, any_inside, report.job);
 }
 
 }  // namespace
@@ -291,7 +319,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   if (!options.inside) plan.push_back({"classify", 5});
   if (rule == InsideRule::Winding) plan.insert(plan.end(), {{"clean", 5}, {"spatial", 5}});
   plan.push_back({"slice", 85});
-  detail::JobProgress job(slice_options.progress, plan);
+  detail::JobProgress job(slice_options.progress ? slice_options.progress : options.progress, plan);
   auto stage = [&](const char* name, auto&& work) {
     job.begin_stage(name);
     const auto t0 = std::chrono::steady_clock::now();
@@ -300,7 +328,8 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
     job.end_stage();
   };
 
-  LatticeDesign design;
+  report.resolved = options;
+  LatticeDesign& design = report.resolved.design;
   Grid grid;
   stage("review", [&] {
     design = detail::describe_job(model, options, r);
@@ -316,6 +345,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   report.plane_nodes = static_cast<std::uint64_t>(grid.dims[0]) * grid.dims[1];
   const double start = slice_options.start.value_or(r.input_bbox.min.z);
   const std::uint64_t count = layer_count(r.input_bbox, slice_options);
+  warn_start(start, r);
   require_budget(options, report, detail::slabs_at_once(), detail::depth_reach(design) > 0,
                  model.triangles.size());
 
@@ -341,6 +371,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
                  job.get());
   });
   r.samples = report.plane_nodes * count;
+  detail::warn_structure_porosity(design, porosity(report), r);
   job.finish();
   return report;
 }

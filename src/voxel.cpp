@@ -153,31 +153,34 @@ std::uint32_t Regions::region_at(int i, int j, int k) const {
   return i < it->end ? it->region : detail::kNoIndex;
 }
 
-Regions label_regions(const Mask& mask, Connectivity connectivity) {
-  require_consistent(mask);
-  const Grid& g = mask.grid;
-  Regions r;
-  r.grid = g;
-  const std::size_t rows = g.row_count();
-  r.row_start.assign(rows + 1, 0);
+void append_runs(Regions& r, const Mask& planes) {
+  require_consistent(planes);
+  const Grid& g = planes.grid;
+  const std::size_t ny = static_cast<std::size_t>(r.grid.dims[1]);
+  if (r.row_start.empty()) r.row_start.push_back(0);
+  if (g.dims[0] != r.grid.dims[0] || g.dims[1] != r.grid.dims[1] ||
+      static_cast<std::size_t>(g.z_offset - r.grid.z_offset) * ny != r.row_start.size() - 1 ||
+      g.z_offset + g.dims[2] > r.grid.z_offset + r.grid.dims[2])
+    throw InputError("append_runs: the planes are not the next ones of the runs' grid");
+  const std::size_t rows = g.row_count(), first_row = r.row_start.size() - 1;
   // Runs per row, counted then filled, so the run order is the node order.
   std::vector<std::uint64_t> counts(rows, 0);
   detail::parallel_for(rows, 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t row = b; row < e; ++row) {
-      const std::uint8_t* a = mask.values.data() + row * g.dims[0];
+      const std::uint8_t* a = planes.values.data() + row * g.dims[0];
       std::uint64_t n = 0;
       for (int i = 0; i < g.dims[0]; ++i) n += a[i] && (i == 0 || !a[i - 1]);
       counts[row] = n;
     }
   });
   for (std::size_t row = 0; row < rows; ++row)
-    r.row_start[row + 1] = r.row_start[row] + counts[row];
+    r.row_start.push_back(r.row_start.back() + counts[row]);
   if (!detail::fits_32bit_ids(r.row_start.back())) throw InputError("too many runs to label");
   r.runs.resize(r.row_start.back());
   detail::parallel_for(rows, 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t row = b; row < e; ++row) {
-      const std::uint8_t* a = mask.values.data() + row * g.dims[0];
-      std::uint64_t out = r.row_start[row];
+      const std::uint8_t* a = planes.values.data() + row * g.dims[0];
+      std::uint64_t out = r.row_start[first_row + row];
       for (int i = 0; i < g.dims[0]; ++i)
         if (a[i] && (i == 0 || !a[i - 1])) {
           int end = i;
@@ -186,6 +189,20 @@ Regions label_regions(const Mask& mask, Connectivity connectivity) {
         }
     }
   });
+}
+
+Regions label_regions(const Mask& mask, Connectivity connectivity) {
+  Regions r;
+  r.grid = mask.grid;
+  append_runs(r, mask);
+  return label_runs(std::move(r), connectivity);
+}
+
+Regions label_runs(Regions r, Connectivity connectivity) {
+  const Grid& g = r.grid;
+  if (r.row_start.size() != g.row_count() + 1)
+    throw InputError("label_runs: the runs do not cover every row of their grid");
+  r.count = 0;
   // Union each run with the runs of the rows "before" it that touch it. 26-connectivity: the
   // 4 rows j−1..j+1 at k−1 and j−1 at k, overlapping when widened by one node. 6-connectivity:
   // the rows j−1 and k−1 only, overlapping in at least one x.

@@ -151,7 +151,7 @@ TEST(FillE2E, OverTheMemoryBudgetIsRefusedWithAVoxelSizeThatFits) {
     // The suggested voxel size does fit.
     const double suggested = std::stod(what.substr(what.find("voxel size of") + 14));
     o.grid.voxel_size = suggested;
-    EXPECT_LE(estimate_fill_memory(bounding_box(cube), cube.triangles.size(), o), o.memory_budget);
+    EXPECT_LE(estimate_fill_memory(cube, o), o.memory_budget);
   }
 }
 

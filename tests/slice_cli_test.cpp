@@ -107,6 +107,9 @@ TEST(SliceCli, RefusesWhatItCannotWriteAndWritesNothing) {
       {q(dir / "out.cli") + " --layer 0.1 --format stl", "stl"},
       {q(dir / "out.cli") + " --layer -1", "--layer"},
       {q(dir / "out.cli") + " --layer 0.1 --memory 1K", "memory budget"},
+      {q(dir / "masks") + " --format png --layer 0.1 --report " + q(dir / "masks" / "r.json"),
+       "inside OUT"},
+      {q(dir / "out.cli") + " --layer 0.1 --start 9", "above the model's top"},
   };
   for (const Case& c : cases) {
     std::string out;

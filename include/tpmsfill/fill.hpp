@@ -63,8 +63,14 @@ struct FillOptions {
   /// Round the output's coordinates to float before validating, so that formats storing
   /// floats (binary STL, PLY) hold exactly the mesh that was validated.
   bool float_coordinates = true;
-  /// Refuse jobs estimated to need more bytes than this; 0 = half of physical memory.
+  /// What the job must fit in, bytes (0: half of physical memory). A job whose grid does not
+  /// fit goes slab by slab (slab_planes): the same mesh, bit for bit, in the memory of a slab
+  /// and the output; one that does not fit even so is refused with a voxel size that would.
   std::uint64_t memory_budget = 0;
+  /// Node planes per slab: 0 chooses (the whole grid when it fits the budget, else the thickest
+  /// slabs that do); > 0 forces slabs this thick whatever the budget. --measure needs the whole
+  /// grid.
+  int slab_planes = 0;
   Progress* progress = nullptr;
 };
 
@@ -91,10 +97,11 @@ struct FillResult {
 /// @throws Cancelled        options.progress cancelled the job
 FillResult fill(const TriangleSoup& model, const FillOptions& options);
 
-/// Bytes fill() is estimated to need at most for a model with this bounding box (mm) and
-/// triangle count (grid, fields, tree and output), without allocating anything.
-std::uint64_t estimate_fill_memory(const Box3& bounds, std::uint64_t triangles,
-                                   const FillOptions& options);
+/// Bytes fill() is estimated to need at most for `model` (in options.units), without
+/// allocating anything (beyond a copy in millimetres when the units are not): the whole grid's
+/// fields, tree and output when they fit options.memory_budget, else those of the thickest slabs
+/// that do.
+std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions& options);
 
 /// Half of the physical memory (the default budget), bytes.
 std::uint64_t default_memory_budget();

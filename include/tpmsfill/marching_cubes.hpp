@@ -56,4 +56,31 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options = {});
 TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid,
                             const McOptions& options = {});
 
+/// Marching cubes fed slab by slab, lowest first, for grids whose field does not fit in memory:
+/// after the last slab, `mesh` is marching_cubes() of the whole field, bit for bit (points
+/// and triangles in the same order), though no more than one slab of the field was held.
+class SlabMarchingCubes {
+ public:
+  /// @param grid  the whole grid (z_offset 0)
+  /// @throws InputError  a grid dimension is below 2
+  explicit SlabMarchingCubes(const Grid& grid, const McOptions& options = {});
+
+  /// Extracts node layers [next_plane(), next_plane() + owned) — their points and the
+  /// triangles of their cell layers — appending them to `mesh`, which must hold what the
+  /// earlier slabs appended (ids are the whole mesh's).
+  /// @param planes  φ on the grid's planes next_plane() .. min(next_plane() + owned + 1,
+  ///                dims[2] − 1): the owned ones and the two above them that their edges and
+  ///                the next layer's numbering read (a slab: Grid::z_offset = next_plane())
+  /// @throws InputError  planes is not that slab, or the mesh would need 2^32 points
+  void add(const Field& planes, int owned, TriangleSoup& mesh);
+
+  int next_plane() const { return next_; }
+  bool done() const { return next_ == grid_.dims[2]; }
+
+ private:
+  Grid grid_;
+  McOptions options_;
+  int next_ = 0;
+};
+
 }  // namespace tpmsfill

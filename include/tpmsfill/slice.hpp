@@ -14,8 +14,9 @@
 /// counter-clockwise seen from above (+z), holes clockwise. They never cross or touch (checked
 /// with exact predicates for every layer; a defect throws ValidationError).
 ///
-/// Memory: one slab of planes per layer being worked on, the model and its tree; never the
-/// grid or a mesh. Layers go to the caller's sink one at a time, in order.
+/// Memory: a few layers are worked on at once (up to 8, one per core), each a slab of planes;
+/// the model and its tree; never the grid or a mesh. Layers go to the caller's sink one at a
+/// time, in order.
 #pragma once
 
 #include <cstdint>
@@ -61,7 +62,8 @@ struct SliceOptions {
   /// Height of the first layer's bottom, mm; unset: the model's lowest point. Layers are
   /// stacked from there until one's bottom reaches the model's top.
   std::optional<double> start = {};
-  Progress* progress = nullptr;  ///< stages "review", "spatial", ..., then "slice" per layer
+  /// Stages "review", "spatial", ..., then "slice" per layer; unset: the FillOptions' progress.
+  Progress* progress = nullptr;
 };
 
 /// One layer's figures, kept for every layer (the report's index).
@@ -75,10 +77,14 @@ struct LayerSummary {
 
 struct SliceReport {
   /// The job as fill() would report it up to the field: input, units, design, grading, skin,
-  /// grid (its x and y nodes are the planes' nodes), inside rule, clean, model volume (from the
-  /// layers' inside nodes), stage times and warnings. The mesh figures (validation, islands)
-  /// stay empty: no mesh is made.
+  /// grid (its x and y nodes are the planes' nodes), inside rule, clean, the model's volume
+  /// (each layer's section measured along the rays, as fill measures it, times the layer),
+  /// stage times and warnings. The mesh figures (validation, islands) stay empty: no mesh is
+  /// made. samples counts the nodes sampled: plane nodes × layers.
   FillReport job;
+  /// The options as the job ran them, the design resolved (as FillResult::resolved):
+  /// recipe_json(resolved) reproduces the job.
+  FillOptions resolved;
   double layer = 0;  ///< thickness, mm
   std::vector<LayerSummary> layers;
   std::uint64_t contours = 0, holes = 0, points = 0;
@@ -94,8 +100,10 @@ struct SliceReport {
 using LayerSink = std::function<void(const Layer& layer)>;
 
 /// Slices the lattice fill(model, options) would mesh into layers of options.layer.
+/// FillOptions' mesh-only settings (keep_islands, measure, check_self_intersections,
+/// float_coordinates, slab_planes) do not apply: islands are kept (a layer cannot tell them).
 /// @throws InputError      as fill() (bad options, no volume, a design refused on review);
-///                         a layer thickness that is not positive
+///                         a layer thickness that is not positive; a start above the model
 /// @throws ResourceError   one slab of planes exceeds the memory budget
 /// @throws ValidationError a layer's contours cross or touch (a bug; nothing more is sunk)
 /// @throws Cancelled       options.progress cancelled the job

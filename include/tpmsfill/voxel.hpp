@@ -55,6 +55,16 @@ struct Regions {
 enum class Connectivity { Face, Vertex };
 Regions label_regions(const Mask& mask, Connectivity connectivity = Connectivity::Vertex);
 
+/// Appends the runs of `planes`' set nodes to `runs` (region 0, unlabelled): a job that goes
+/// slab by slab keeps a mask this way, in far less memory than a byte per node. runs.grid is
+/// the whole grid; `planes` must be its next planes (Grid::z_offset = the planes it holds).
+/// @throws InputError  they are not, or there are 2^32 runs or more
+void append_runs(Regions& runs, const Mask& planes);
+
+/// Labels runs (append_runs over every plane of runs.grid) as label_regions labels a mask.
+/// @throws InputError  the runs do not cover the grid's rows
+Regions label_runs(Regions runs, Connectivity connectivity = Connectivity::Vertex);
+
 /// Euclidean distance, mm (grid.spacing units), from every node to the nearest node where
 /// `mask` is unset; 0 at unset nodes. Exact on the nodes: separable squared EDT
 /// (Felzenszwalb & Huttenlocher 2012 / Saito & Toriwaki), a pass along x, y, then z,

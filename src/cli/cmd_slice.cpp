@@ -4,9 +4,11 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -113,6 +115,14 @@ class StagedFolder {
   fs::path target_, temp_;
 };
 
+// Whether `file` lies in `folder` (or below it), as paths resolve.
+bool inside_folder(const fs::path& file, const fs::path& folder) {
+  const fs::path f = fs::weakly_canonical(fs::absolute(file)),
+                 d = fs::weakly_canonical(fs::absolute(folder));
+  auto [di, fi] = std::mismatch(d.begin(), d.end(), f.begin(), f.end());
+  return di == d.end() || (std::next(di) == d.end() && di->empty());
+}
+
 int run_slice(SliceArgs a) {
   std::optional<tbb::global_control> threads;
   if (a.threads > 0)
@@ -124,6 +134,10 @@ int run_slice(SliceArgs a) {
   const bool folder = writes_folder(format);
   std::vector<OutputFile> outputs;
   if (!folder) outputs.push_back({"OUT", a.output});
+  if (folder && !a.report.empty() && inside_folder(a.report, a.output))
+    throw InputError("--report " + a.report +
+                     " is inside OUT, a folder that is replaced whole; "
+                     "put the report elsewhere (OUT gets index.json, the same report)");
   if (!a.report.empty()) outputs.push_back({"--report", a.report});
   std::vector<fs::path> inputs{a.input};
   for (const std::string& f : {a.job.field, a.job.recipe})
@@ -161,7 +175,7 @@ int run_slice(SliceArgs a) {
   if (progress) progress->clear();
 
   FillReport& job = report.job;
-  job.recipe = recipe_json(options);
+  job.recipe = recipe_json(report.resolved);
   job.input_path = a.input;
   job.input_sha256 = sha256_of_file(a.input);
   job.command_line = command_line();
@@ -201,7 +215,8 @@ Command add_slice_command(CLI::App& app) {
       "svg-layers (one SVG per layer) or png (one 8-bit mask per layer for DLP/SLA, "
       "antialiased, --pixel mm per pixel). A folder also gets index.json: the report, with "
       "every layer's height, area and contour counts. The report's volume (the layers' areas "
-      "times --layer) matches fill's lattice volume for the same options.\n\n"
+      "times --layer) matches the lattice volume of fill --keep-islands with the same "
+      "options.\n\n"
       "Islands (pieces fill removes because they float free) are kept: a single layer cannot "
       "tell them; run fill to see whether there are any.\n\n"
       "Examples:\n"

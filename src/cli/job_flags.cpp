@@ -149,8 +149,9 @@ void add_job_options(CLI::App* sub, JobArgs& args) {
                   "Half-width of the exact-distance band in voxels (default 1, the paper's)")
       ->check(between(1, 64, "1 to 64"));
   sub->add_option("--memory", args.memory,
-                  "Memory budget, e.g. 8G or 512M (default: half of physical memory); larger "
-                  "jobs are refused with the voxel size that fits");
+                  "Memory to fit in, e.g. 8G or 512M (default: half of physical memory). fill "
+                  "goes slab by slab when the whole grid does not fit (the same output); a job "
+                  "that fits in no way is refused with the voxel size that would");
 }
 
 }  // namespace tpmsfill::cli

@@ -55,6 +55,7 @@ SampledPlanes sample_planes(const FieldPlanes& job, const Grid& planes) {
   if (o.full_field) {
     const Field d = signed_distance_field(job.tree, out.inside);
     out.band_nodes = count;
+    out.band_per_plane.assign(static_cast<std::size_t>(planes.dims[2]), per_plane);
     out.phi = compose_field(d, lattice, compose);
     return out;
   }
@@ -65,6 +66,8 @@ SampledPlanes sample_planes(const FieldPlanes& job, const Grid& planes) {
   Band on_planes{planes, std::vector<std::uint64_t>(lo, hi)};
   for (std::uint64_t& n : on_planes.nodes) n -= first;
   out.band_nodes = on_planes.nodes.size();
+  out.band_per_plane.assign(static_cast<std::size_t>(planes.dims[2]), 0);
+  for (std::uint64_t n : on_planes.nodes) ++out.band_per_plane[n / per_plane];
   const std::vector<float> d = band_distances(job.tree, out.inside, on_planes);
   out.phi = compose_field(out.inside, on_planes, d, lattice, compose);
   return out;

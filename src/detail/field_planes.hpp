@@ -44,6 +44,7 @@ struct SampledPlanes {
   Mask inside;                                 ///< on the planes
   std::vector<Occupancy::PlaneCounts> counts;  ///< per plane
   std::uint64_t band_nodes = 0;                ///< exact distances computed (on the planes)
+  std::vector<std::uint64_t> band_per_plane;   ///< of those, per plane
   /// Rows of the planes and their halo whose crossings do not balance (the auto inside rule's
   /// reason to clean the input).
   std::uint64_t unbalanced_rows = 0;

@@ -4,6 +4,7 @@
 /// against the model's box, the band's width and the field source the model clips.
 #pragma once
 
+#include "tpmsfill/classify.hpp"
 #include "tpmsfill/compose.hpp"
 #include "tpmsfill/design.hpp"
 #include "tpmsfill/field.hpp"
@@ -28,5 +29,15 @@ ComposeOptions compose_options(const FillOptions& options, Progress* progress);
 /// The deepest depth (mm) any depth ramp of `design` reads (0: none): the distance below the
 /// surface beyond which every ramp is constant.
 double depth_reach(const LatticeDesign& design);
+
+/// What the classification found, into the report (fill, either path, and slice).
+/// @throws InputError  no node is inside
+void record_classification(const FillOptions& options, const Occupancy::PlaneCounts& counts,
+                           bool any_inside, FillReport& report);
+
+/// A structure's porosity is solved over its whole unit cube; the part sees only what the
+/// model covers of it, which may be mostly void or mostly solid: a warning with the numbers
+/// when the part's porosity `got` is more than 5 points from the target.
+void warn_structure_porosity(const LatticeDesign& design, double got, FillReport& report);
 
 }  // namespace tpmsfill::detail

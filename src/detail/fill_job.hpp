@@ -1,0 +1,100 @@
+/// @file fill_job.hpp
+/// @brief fill()'s state between its stages, shared by the whole-grid path (fill.cpp) and the
+/// slab path (fill_slabs.cpp).
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "detail/job_progress.hpp"
+#include "tpmsfill/classify.hpp"
+#include "tpmsfill/fill.hpp"
+#include "tpmsfill/report.hpp"
+#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/voxel.hpp"
+
+namespace tpmsfill::detail {
+
+// Times each stage into the report and announces its start and end to the job's progress
+// (which checks for cancelling at both, also for stages that report nothing themselves).
+class StageClock {
+ public:
+  StageClock(FillReport& report, detail::JobProgress& progress)
+      : report_(report), progress_(progress) {}
+  template <class F>
+  auto operator()(const char* name, F&& work) {
+    progress_.begin_stage(name);
+    const auto t0 = std::chrono::steady_clock::now();
+    if constexpr (std::is_void_v<decltype(work())>) {
+      work();
+      record(name, t0);
+      progress_.end_stage();
+    } else {
+      auto result = work();
+      record(name, t0);
+      progress_.end_stage();
+      return result;
+    }
+  }
+
+ private:
+  void record(const char* name, std::chrono::steady_clock::time_point t0) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report_.stages.push_back({name, s, peak_memory_mb()});
+  }
+  FillReport& report_;
+  detail::JobProgress& progress_;
+};
+
+// The job's state between stages: what later stages need of earlier ones.
+struct Job {
+  const TriangleSoup& model;
+  const FillOptions& options;
+  FillResult& result;
+  /// > 0: the field and marching cubes go slab by slab, this many node planes each
+  int slab_planes = 0;
+  FillReport& report;
+  detail::JobProgress job_progress;
+  Progress* progress;  ///< what the stages report to: job_progress, or null without a caller's
+  StageClock stage;
+  Grid grid;
+  Occupancy occupancy;
+  std::optional<MeshIndex> tree;
+  std::optional<Field> depth;
+  Field phi;  ///< the whole grid's (not in slabs)
+  /// In slabs: the inside and solid (φ < 0) masks as runs, what islands need of them
+  Regions inside_runs, solid_runs;
+  TriangleSoup mesh;
+
+  Job(const TriangleSoup& m, const FillOptions& o, FillResult& r,
+      std::vector<detail::PlannedStage> plan, int slabs)
+      : model(m),
+        options(o),
+        result(r),
+        slab_planes(slabs),
+        report(r.report),
+        job_progress(o.progress, std::move(plan)),
+        progress(job_progress.get()),
+        stage(r.report, job_progress) {}
+};
+
+/// How fill() will use memory: the whole grid at once (slab_planes 0) or slabs; the estimate;
+/// and, when nothing fits the budget, the refusal (thrown after the review).
+struct MemoryPlan {
+  int slab_planes = 0;
+  std::uint64_t bytes = 0;
+  std::string refusal;
+};
+
+/// The slab path: classification, field and marching cubes slab by slab, the masks islands
+/// need kept as runs (fill_slabs.cpp). Leaves job.mesh as the whole-grid path makes it.
+void mesh_in_slabs(Job& job);
+
+/// The stages of the slab path up to islands, for the job's plan.
+std::vector<PlannedStage> slab_stages(const FillOptions& options);
+
+}  // namespace tpmsfill::detail

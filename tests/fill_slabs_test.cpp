@@ -1,0 +1,171 @@
+// fill()'s slab path: a job split into slabs gives the whole grid's mesh bit for bit, and its
+// report the same figures, whatever the designs and inside rules; marching cubes fed slab by
+// slab numbers its points as on the whole field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
+#include <tpmsfill/marching_cubes.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+
+namespace {
+
+FillOptions job(double cell, double voxel) {
+  FillOptions o;
+  o.design.cell = {cell, cell, cell};
+  o.grid.voxel_size = voxel;
+  return o;
+}
+
+// The whole grid's result and slabs of each thickness give the same mesh and figures.
+void expect_same_in_slabs(const TriangleSoup& model, FillOptions o,
+                          std::initializer_list<int> thicknesses) {
+  o.slab_planes = 0;
+  const FillResult whole = fill(model, o);
+  ASSERT_EQ(whole.report.slab_planes, 0);
+  for (int planes : thicknesses) {
+    o.slab_planes = planes;
+    const FillResult slabs = fill(model, o);
+    SCOPED_TRACE("slabs of " + std::to_string(planes) + " planes");
+    EXPECT_EQ(slabs.report.slab_planes, std::min(planes, whole.report.grid.dims[2]));
+    ASSERT_EQ(slabs.mesh.points.size(), whole.mesh.points.size());
+    ASSERT_EQ(slabs.mesh.triangles.size(), whole.mesh.triangles.size());
+    EXPECT_TRUE(slabs.mesh.points == whole.mesh.points);
+    EXPECT_TRUE(slabs.mesh.triangles == whole.mesh.triangles);
+    const FillReport &a = whole.report, &b = slabs.report;
+    EXPECT_EQ(a.model_volume, b.model_volume);
+    EXPECT_EQ(a.band_nodes, b.band_nodes);
+    EXPECT_EQ(a.distance_queries, b.distance_queries);
+    EXPECT_EQ(a.rows, b.rows);
+    EXPECT_EQ(a.crossings, b.crossings);
+    EXPECT_EQ(a.islands_removed, b.islands_removed);
+    EXPECT_EQ(a.islands_volume, b.islands_volume);
+    EXPECT_EQ(a.cavities, b.cavities);
+    EXPECT_EQ(a.cleaned(), b.cleaned());
+    EXPECT_EQ(a.lattice_volume(), b.lattice_volume());
+    EXPECT_EQ(a.warnings, b.warnings);
+  }
+}
+
+}  // namespace
+
+TEST(SlabMarchingCubes, SlabsNumberPointsAsTheWholeField) {
+  const Grid grid{{-1, -1, -1}, 0.1, {23, 21, 27}};
+  Field f{grid, std::vector<float>(grid.node_count())};
+  for (int k = 0; k < 27; ++k)
+    for (int j = 0; j < 21; ++j)
+      for (int i = 0; i < 23; ++i) {
+        const Vec3 p = grid.node(i, j, k);
+        const bool border = i == 0 || j == 0 || k == 0 || i == 22 || j == 20 || k == 26;
+        f.values[grid.index(i, j, k)] =
+            border ? 1.0f
+                   : static_cast<float>(std::sin(7 * p.x) + std::cos(9 * p.y) * std::sin(5 * p.z) -
+                                        0.2);
+      }
+  const TriangleSoup whole = marching_cubes(f);
+  ASSERT_GT(whole.triangles.size(), 100u);
+  for (int per : {1, 2, 5, 26, 40}) {
+    SlabMarchingCubes mc(grid);
+    TriangleSoup mesh;
+    while (!mc.done()) {
+      const int first = mc.next_plane(), owned = std::min(per, 27 - first);
+      const int last = std::min(first + owned + 1, 26);
+      Grid g = grid;
+      g.z_offset = first;
+      g.dims[2] = last - first + 1;
+      const std::size_t layer = 23 * 21;
+      Field slab{g, std::vector<float>(f.values.begin() + first * layer,
+                                       f.values.begin() + (last + 1) * layer)};
+      mc.add(slab, owned, mesh);
+    }
+    EXPECT_TRUE(mesh.points == whole.points) << per;
+    EXPECT_TRUE(mesh.triangles == whole.triangles) << per;
+  }
+  // Planes out of turn are refused.
+  SlabMarchingCubes mc(grid);
+  TriangleSoup mesh;
+  Grid g = grid;
+  g.z_offset = 1;
+  g.dims[2] = 4;
+  EXPECT_THROW(mc.add(Field{g, std::vector<float>(g.node_count(), 1.0f)}, 2, mesh), InputError);
+}
+
+TEST(FillSlabs, GyroidInASphereIsTheSameInSlabs) {
+  expect_same_in_slabs(test::make_sphere({0, 0, 0}, 4, 4), job(2, 0.12), {1, 3, 7, 1000});
+}
+
+TEST(FillSlabs, SheetWithSkinAndWindowsIsTheSameInSlabs) {
+  FillOptions o = job(2.5, 0.1);
+  o.design.style = TpmsStyle::Sheet;
+  o.design.thickness = 0.3;
+  o.skin = 0.4;
+  o.skin_windows = true;
+  expect_same_in_slabs(test::make_torus(5, 2, 64, 32), o, {4, 9});
+}
+
+TEST(FillSlabs, DepthGradingAndBlendsAreTheSameInSlabs) {
+  FillOptions o = job(2, 0.1);
+  o.design.porosity = 0.6;
+  o.design.grading.push_back(
+      {Graded::Porosity,
+       Ramp{.shape = RampShape::Depth, .from = 0, .to = 1.5, .start = 0.4, .end = 0.8}});
+  Blend b;
+  b.tpms.type = TpmsType::Diamond;
+  b.tpms.cell = {2, 2, 2};
+  b.region.point = {0, 0, 1};
+  o.design.blends.push_back(b);
+  expect_same_in_slabs(test::make_box({-3, -3, -3}, {3, 3, 3}), o, {5});
+}
+
+TEST(FillSlabs, OpenScanParityAndFullFieldAreTheSameInSlabs) {
+  const TriangleSoup open = test::make_box_with_hole({0, 0, 0}, {5, 5, 5});
+  expect_same_in_slabs(open, job(2, 0.12), {6});  // auto: cleaned in both
+  FillOptions parity = job(2, 0.12);
+  parity.inside = InsideRule::Parity;
+  expect_same_in_slabs(test::make_torus(4, 1.5, 48, 24), parity, {6});
+  FillOptions full = job(2, 0.15);
+  full.full_field = true;
+  expect_same_in_slabs(test::make_sphere({0, 0, 0}, 3, 3), full, {8});
+}
+
+TEST(FillSlabs, IslandsAndCavitiesAreJudgedAsOnTheWholeGrid) {
+  // Two balls (one piece each, several islands at the rims) and a closed skin sealing voids.
+  const TriangleSoup two =
+      test::concat(test::make_sphere({0, 0, 0}, 3, 4), test::make_sphere({8, 0, 0}, 2, 4));
+  FillOptions o = job(1.5, 0.1);
+  o.design.level = 0.3;
+  expect_same_in_slabs(two, o, {5});
+  FillOptions skin = job(2, 0.1);
+  skin.skin = 0.3;
+  expect_same_in_slabs(test::make_sphere({0, 0, 0}, 3, 4), skin, {5});
+}
+
+TEST(FillSlabs, AJobOverTheBudgetGoesInSlabsOnItsOwn) {
+  // A coarse lattice on a fine grid: the grid, not the output, is most of the memory.
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 6, 4);
+  FillOptions o = job(6, 0.05);
+  const FillResult whole = fill(ball, o);
+  ASSERT_EQ(whole.report.slab_planes, 0);
+  // A budget below the whole grid's estimate by a quarter of its 8 bytes a node.
+  o.memory_budget = whole.report.estimated_memory_bytes - whole.report.samples * 2;
+  const FillResult slabs = fill(ball, o);
+  EXPECT_GT(slabs.report.slab_planes, 3);
+  EXPECT_LT(slabs.report.slab_planes, whole.report.grid.dims[2]);
+  EXPECT_LE(slabs.report.estimated_memory_bytes, o.memory_budget);
+  EXPECT_TRUE(slabs.mesh.points == whole.mesh.points);
+  EXPECT_TRUE(slabs.mesh.triangles == whole.mesh.triangles);
+  // --measure needs the whole grid: refused with the numbers, not silently dropped.
+  o.measure = true;
+  try {
+    fill(ball, o);
+    FAIL() << "no ResourceError";
+  } catch (const ResourceError& e) {
+    EXPECT_NE(std::string(e.what()).find("--measure needs the whole grid"), std::string::npos)
+        << e.what();
+  }
+}
