@@ -629,28 +629,31 @@ std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions&
   return plan_memory(m, options, resolve_design(options.design, m.bounds)).bytes;
 }
 
-FillResult fill(const TriangleSoup& input, const FillOptions& options) {
+namespace {
+
+// What every entry point settles first: the options checked, the model in millimetres (a copy
+// only when the input is in another unit), the design resolved, the memory plan.
+struct Setup {
+  std::optional<TriangleSoup> in_mm;
+  const TriangleSoup* model = nullptr;
+  detail::MemoryPlan plan;
+};
+
+void set_up(const TriangleSoup& input, const FillOptions& options, FillResult& result, Setup& s) {
   require_valid(options.units);
   require_valid(options.design);
   require_valid(ComposeOptions{.skin = options.skin});  // fail before any work
-  // The pipeline works in millimetres; a copy only when the input is in another unit.
-  std::optional<TriangleSoup> in_mm;
-  if (options.units.factor() != 1) in_mm = to_millimetres(input, options.units);
-  const TriangleSoup& model = in_mm ? *in_mm : input;
-  FillResult result;
+  if (options.units.factor() != 1) s.in_mm = to_millimetres(input, options.units);
+  s.model = s.in_mm ? &*s.in_mm : &input;
   result.resolved = options;
-  result.resolved.design = detail::describe_job(model, options, result.report);
-  const detail::MemoryPlan plan = plan_memory(model_size(model), options, result.resolved.design);
-  Job job(model, options, result, plan_stages(options, plan.slab_planes > 0), plan.slab_planes);
-  resolve(job, plan);
-  if (job.slab_planes > 0) {
-    detail::mesh_in_slabs(job);
-  } else {
-    classify(job);
-    compose(job);
-    job.mesh = job.stage("marching cubes",
-                         [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
-  }
+  result.resolved.design = detail::describe_job(*s.model, options, result.report);
+  s.plan = plan_memory(model_size(*s.model), options, result.resolved.design);
+}
+
+// Islands, measures, validation: the mesh as the field's stages left it, finished.
+void finish(Job& job) {
+  FillResult& result = job.result;
+  const FillOptions& options = job.options;
   job.stage("islands", [&] { remove_islands(job); });
   if (options.measure)
     result.report.measures = job.stage("measure", [&] {
@@ -664,6 +667,75 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
   job.job_progress.finish();
   result.mesh = std::move(job.mesh);
+}
+
+}  // namespace
+
+FillResult fill(const TriangleSoup& input, const FillOptions& options) {
+  FillResult result;
+  Setup s;
+  set_up(input, options, result, s);
+  Job job(*s.model, options, result, plan_stages(options, s.plan.slab_planes > 0),
+          s.plan.slab_planes);
+  resolve(job, s.plan);
+  if (job.slab_planes > 0) {
+    detail::mesh_in_slabs(job);
+  } else {
+    classify(job);
+    compose(job);
+    job.mesh = job.stage("marching cubes",
+                         [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
+  }
+  finish(job);
+  return result;
+}
+
+Grid fill_grid(const TriangleSoup& input, const FillOptions& options) {
+  require_valid(options.units);
+  const Box3 box = bounding_box(input);
+  const double f = options.units.factor();
+  return make_grid({f * box.min, f * box.max}, options.grid);
+}
+
+FillPart fill_part(const TriangleSoup& input, const FillOptions& options,
+                   const FillPartOptions& part) {
+  FillResult result;
+  Setup s;
+  set_up(input, options, result, s);
+  const auto t0 = std::chrono::steady_clock::now();
+  // The share goes in slabs as thick as the whole job's plan allows, or whole.
+  const int share = part.end_plane - part.first_plane;
+  Job job(*s.model, options, result, plan_stages(options, true),
+          s.plan.slab_planes > 0 ? std::min(s.plan.slab_planes, std::max(share, 1))
+                                 : std::max(share, 1));
+  resolve(job, s.plan);
+  if (part.first_plane < 0 || share < 1 || part.end_plane > job.grid.dims[2])
+    throw InputError("fill_part: planes " + std::to_string(part.first_plane) + " to " +
+                     std::to_string(part.end_plane) + " are not a range of the grid's " +
+                     std::to_string(job.grid.dims[2]));
+  FillPart p = detail::mesh_planes(job, part.first_plane, part.end_plane, part.any_unbalanced);
+  p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  job.job_progress.finish();
+  return p;
+}
+
+FillResult fill_parts(const TriangleSoup& input, const FillOptions& options,
+                      std::vector<FillPart> parts) {
+  FillResult result;
+  Setup s;
+  set_up(input, options, result, s);
+  int thickest = 1;
+  for (const FillPart& p : parts) thickest = std::max(thickest, p.end_plane - p.first_plane);
+  Job job(*s.model, options, result,
+          {{"review", 0.5}, {"join", 5}, {"islands", 6}, {"validate", 46}},
+          s.plan.slab_planes > 0 ? s.plan.slab_planes : thickest);
+  resolve(job, s.plan);
+  result.report.ranks = static_cast<int>(parts.size());
+  double slowest = 0;
+  for (const FillPart& p : parts) slowest = std::max(slowest, p.seconds);
+  result.report.stages.push_back({"parts (slowest)", slowest, 0});
+  job.stage("join", [&] { detail::join_parts(job, std::move(parts)); });
+  finish(job);
   return result;
 }
 

@@ -312,10 +312,12 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const M
   return soup;
 }
 
-SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options)
-    : grid_(grid), options_(options) {
+SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options, int first_plane)
+    : grid_(grid), options_(options), next_(first_plane) {
   require_cells(grid);
   if (grid.z_offset != 0) throw InputError("SlabMarchingCubes: give the whole grid");
+  if (first_plane < 0 || first_plane >= grid.dims[2])
+    throw InputError("SlabMarchingCubes: the first plane is not in the grid");
 }
 
 void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) {

@@ -143,6 +143,7 @@ std::string to_json(const FillReport& r) {
         {"cap_evaluations", r.cap_evaluations}}},
       {"estimated_memory_bytes", r.estimated_memory_bytes},
       {"slab_planes", r.slab_planes ? json(r.slab_planes) : json(nullptr)},
+      {"ranks", r.ranks},
       {"output",
        {{"vertices", r.vertices()},
         {"triangles", r.triangles()},

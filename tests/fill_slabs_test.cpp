@@ -169,3 +169,45 @@ TEST(FillSlabs, AJobOverTheBudgetGoesInSlabsOnItsOwn) {
         << e.what();
   }
 }
+
+TEST(FillParts, ThreePartsJoinIntoTheWholeGridsMesh) {
+  // As three processes would split it (MPI): each part alone, the auto rule agreed across
+  // them, joined in plane order.
+  for (const TriangleSoup& model :
+       {test::make_torus(5, 2, 64, 32), test::make_box_with_hole({0, 0, 0}, {5, 5, 5})}) {
+    FillOptions o = job(2, 0.12);
+    const FillResult whole = fill(model, o);
+    const int nz = fill_grid(model, o).dims[2];
+    ASSERT_EQ(nz, whole.report.grid.dims[2]);
+    const int cut[4] = {0, nz / 3, 2 * nz / 3 + 1, nz};
+    // The agreement: any part that finds the input open makes every part clean it.
+    bool any = false;
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<FillPart> parts;
+      for (int r = 0; r < 3; ++r)
+        parts.push_back(fill_part(
+            model, o,
+            {.first_plane = cut[r], .end_plane = cut[r + 1], .any_unbalanced = [&](bool mine) {
+               any = any || mine;
+               return pass == 0 ? mine : any;
+             }}));
+      if (pass == 0) continue;  // the first pass only learns whether any part is unbalanced
+      const FillResult joined = fill_parts(model, o, std::move(parts));
+      EXPECT_EQ(joined.report.ranks, 3);
+      EXPECT_TRUE(joined.mesh.points == whole.mesh.points);
+      EXPECT_TRUE(joined.mesh.triangles == whole.mesh.triangles);
+      EXPECT_EQ(joined.report.model_volume, whole.report.model_volume);
+      EXPECT_EQ(joined.report.band_nodes, whole.report.band_nodes);
+      EXPECT_EQ(joined.report.cleaned(), whole.report.cleaned());
+      EXPECT_EQ(joined.report.islands_removed, whole.report.islands_removed);
+    }
+  }
+  // Parts that leave a gap are refused.
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 3, 3);
+  const FillOptions o = job(2, 0.2);
+  const int nz = fill_grid(ball, o).dims[2];
+  std::vector<FillPart> gap;
+  gap.push_back(fill_part(ball, o, {.first_plane = 0, .end_plane = 5}));
+  gap.push_back(fill_part(ball, o, {.first_plane = 6, .end_plane = nz}));
+  EXPECT_THROW(fill_parts(ball, o, std::move(gap)), InputError);
+}

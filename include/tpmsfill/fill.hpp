@@ -11,9 +11,12 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <vector>
 
 #include "tpmsfill/classify.hpp"
+#include "tpmsfill/clean.hpp"
 #include "tpmsfill/design.hpp"
 #include "tpmsfill/grid.hpp"
 #include "tpmsfill/progress.hpp"
@@ -96,6 +99,47 @@ struct FillResult {
 /// @throws ValidationError  the output failed validation (nothing to write; a bug)
 /// @throws Cancelled        options.progress cancelled the job
 FillResult fill(const TriangleSoup& model, const FillOptions& options);
+
+/// One process's share of a fill split along z across processes (tpmsfill under mpirun): the
+/// field, marching cubes and the masks islands need for node planes [first_plane, end_plane)
+/// of the job's grid (fill_grid). Plain data, for the caller to send to the process that
+/// finishes the job with fill_parts().
+struct FillPart {
+  int first_plane = 0, end_plane = 0;
+  /// The points of its node layers, numbered from 0, and its cell layers' triangles; those of
+  /// its last cell layer may refer to the next part's first points (ids from points.size() on,
+  /// in that part's numbering shifted by points.size()).
+  TriangleSoup mesh;
+  Regions inside_runs, solid_runs;             ///< its planes' rows (append_runs)
+  std::vector<Occupancy::PlaneCounts> counts;  ///< per plane
+  std::vector<std::uint64_t> band_nodes;       ///< per plane
+  CleanReport clean;                           ///< when the input was cleaned (winding rule)
+  double seconds = 0;                          ///< the part's wall time
+};
+
+struct FillPartOptions {
+  int first_plane = 0, end_plane = 0;  ///< a range of fill_grid()'s node planes
+  /// The auto inside rule's decision across every part: given whether this part's planes find
+  /// the input open or inside out, whether any part's do (an MPI all-reduce). Unset: this
+  /// part decides alone (parts may then clean differently: give it for a split job).
+  std::function<bool(bool)> any_unbalanced = {};
+};
+
+/// The grid fill() samples for `model`, to split among processes.
+/// @throws InputError  as fill()'s options checks
+Grid fill_grid(const TriangleSoup& model, const FillOptions& options);
+
+/// One part of a split fill (see FillPart). Every process reads the same model and options.
+/// @throws InputError  as fill(); a range that is not within the grid
+FillPart fill_part(const TriangleSoup& model, const FillOptions& options,
+                   const FillPartOptions& part);
+
+/// The job finished from its parts, in plane order, covering the grid: islands, validation and
+/// the report, with the same mesh, bit for bit, as fill(model, options).
+/// @throws InputError       the parts do not cover the grid in order; as fill()
+/// @throws ValidationError  as fill()
+FillResult fill_parts(const TriangleSoup& model, const FillOptions& options,
+                      std::vector<FillPart> parts);
 
 /// Bytes fill() is estimated to need at most for `model` (in options.units), without
 /// allocating anything (beyond a copy in millimetres when the units are not): the whole grid's

@@ -61,9 +61,13 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid,
 /// and triangles in the same order), though no more than one slab of the field was held.
 class SlabMarchingCubes {
  public:
-  /// @param grid  the whole grid (z_offset 0)
-  /// @throws InputError  a grid dimension is below 2
-  explicit SlabMarchingCubes(const Grid& grid, const McOptions& options = {});
+  /// @param grid         the whole grid (z_offset 0)
+  /// @param first_plane  where to start: 0, or the first plane of one process's share of the
+  ///                     grid (its points are then numbered from 0, and its last cell layer's
+  ///                     triangles refer to the next share's first points from
+  ///                     mesh.points.size() on, as that share numbers them from 0)
+  /// @throws InputError  a grid dimension is below 2, or first_plane is not in the grid
+  explicit SlabMarchingCubes(const Grid& grid, const McOptions& options = {}, int first_plane = 0);
 
   /// Extracts node layers [next_plane(), next_plane() + owned) — their points and the
   /// triangles of their cell layers — appending them to `mesh`, which must hold what the

@@ -72,6 +72,8 @@ struct FillReport {
   std::uint64_t estimated_memory_bytes = 0;
   /// 0: the whole grid was held at once; else node planes per slab (FillOptions::slab_planes)
   int slab_planes = 0;
+  /// Processes the field and marching cubes were split among (fill_parts; MPI ranks)
+  int ranks = 1;
   // --- output (the written mesh's figures are its validation's) -------------------------
   double model_volume = 0;            ///< mm^3, enclosed by the input (measured along the rays)
   double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)

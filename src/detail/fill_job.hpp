@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -93,6 +94,15 @@ struct MemoryPlan {
 /// The slab path: classification, field and marching cubes slab by slab, the masks islands
 /// need kept as runs (fill_slabs.cpp). Leaves job.mesh as the whole-grid path makes it.
 void mesh_in_slabs(Job& job);
+
+/// The slab path's work on node planes [first, end) (all of them, or one process's share):
+/// `agree` settles the auto inside rule across shares (unset: this share alone).
+FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool)>& agree);
+
+/// Parts covering the grid in order into the job: the mesh, the runs and the report's
+/// classification figures, as mesh_in_slabs leaves them.
+/// @throws InputError  the parts do not cover the grid in order, or nothing is inside
+void join_parts(Job& job, std::vector<FillPart> parts);
 
 /// The stages of the slab path up to islands, for the job's plan.
 std::vector<PlannedStage> slab_stages(const FillOptions& options);
