@@ -15,5 +15,9 @@ if [[ "${1:-}" == "--sanitize" ]]; then
 fi
 
 bash scripts/setup.sh
-bash scripts/build.sh build
+# MPI is optional: where Open MPI is installed, the tool is built with it and the mpirun test
+# runs; elsewhere that test is skipped with a message.
+mpi=()
+command -v mpicxx > /dev/null && command -v mpirun > /dev/null && mpi=(-DTPMSFILL_MPI=ON)
+bash scripts/build.sh build "${mpi[@]}"
 ctest --test-dir build --output-on-failure --parallel "$(nproc)"

@@ -101,7 +101,7 @@ double estimate_bytes(const ModelSize& m, const FillOptions& o) {
 
 std::string gigabytes(double bytes) {
   char s[32];
-  std::snprintf(s, sizeof s, "%.2f GB", bytes / 1e9);
+  std::snprintf(s, sizeof s, "%.3g GB", bytes / 1e9);
   return s;
 }
 
@@ -148,6 +148,10 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   const double whole = estimate_bytes(m, o);
   const int nz = make_grid(bounds, o.grid).dims[2];
   if (o.slab_planes > 0) {
+    if (o.measure)
+      throw InputError(
+          "measures need the whole grid: they cannot be taken in slabs "
+          "(FillOptions::slab_planes)");
     const int planes = std::min(o.slab_planes, nz);
     return {planes, saturated_bytes(slab_bytes(m, o, d, planes)), {}};
   }
@@ -174,7 +178,9 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   auto least = [&](double voxel) {
     FillOptions t = o;
     t.grid.voxel_size = voxel;
-    return std::fmin(estimate_bytes(m, t), slab_bytes(m, t, d, kMinSlabPlanes));
+    // Measures need the whole grid: only its estimate counts for them.
+    return o.measure ? estimate_bytes(m, t)
+                     : std::fmin(estimate_bytes(m, t), slab_bytes(m, t, d, kMinSlabPlanes));
   };
   double lo = o.grid.voxel_size, hi = o.grid.voxel_size;
   do hi *= 2;
@@ -186,7 +192,8 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   char fit_text[64];
   std::snprintf(fit_text, sizeof fit_text, "%.4g mm", hi * 1.0001);
   const double need = least(o.grid.voxel_size);
-  const bool input_alone = static_cast<double>(triangles) * kBytesPerInputTriangle > budget;
+  const bool input_alone =
+      static_cast<double>(triangles) * kBytesPerInputTriangle + 64.0 * 1024 * 1024 > budget;
   return {0, saturated_bytes(need),
           "the job needs about " + gigabytes(need) + " but the memory budget is " +
               gigabytes(budget) +

@@ -239,6 +239,9 @@ std::string to_text(const FillReport& r) {
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
   s += "inside       " + inside_summary(r) + "\n";
+  if (r.slab_planes)
+    s += format("memory       slabs of %.0f node planes (the whole grid did not fit the budget)\n",
+                r.slab_planes);
   s += format("distances    %.3g queries", static_cast<double>(r.distance_queries)) +
        (r.full_field
             ? std::string(" (full field)\n")

@@ -202,8 +202,8 @@ void require_budget(const FillOptions& options, SliceReport& report, std::size_t
   char text[320];
   std::snprintf(
       text, sizeof text,
-      "slicing needs about %.2f GB (%zu layers at once, each a slab of %d planes of "
-      "%llu nodes) but the memory budget is %.2f GB; %s",
+      "slicing needs about %.3g GB (%zu layers at once, each a slab of %d planes of "
+      "%llu nodes) but the memory budget is %.3g GB; %s",
       bytes / 1e9, at_once, report.slab_planes, static_cast<unsigned long long>(report.plane_nodes),
       budget / 1e9,
       fixed > budget ? "the input alone exceeds it" : "a larger --voxel makes smaller planes");
@@ -266,15 +266,15 @@ void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double
 
 // The layers, a few at once (each parallel inside too), handed to the sink in order.
 void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start, double L,
-                  std::uint64_t count, SliceReport& report, const LayerSink& sink,
-                  Progress* progress) {
+                  std::uint64_t from, std::uint64_t to, bool whole, SliceReport& report,
+                  const LayerSink& sink, Progress* progress) {
   Occupancy::PlaneCounts totals;
   bool any_inside = false;
   const std::size_t at_once = detail::slabs_at_once();
   std::vector<Layer> batch;
   std::vector<detail::SampledPlanes> planes;
-  for (std::uint64_t first = 0; first < count; first += at_once) {
-    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(at_once, count - first));
+  for (std::uint64_t first = from; first < to; first += at_once) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(at_once, to - first));
     batch.assign(n, Layer{});
     planes.assign(n, {});
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t b) {
@@ -292,10 +292,12 @@ void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start
       record_layer(batch[b], planes[b], L, report, totals, any_inside);
       sink(batch[b]);
     }
-    detail::report_or_cancel(progress, static_cast<double>(first + n) / static_cast<double>(count));
+    detail::report_or_cancel(
+        progress, static_cast<double>(first + n - from) / static_cast<double>(to - from));
   }
-  // As fill reports it (the parity rule's warning; no volume refused), the sections' volume.
-  detail::record_classification(job.options, totals, any_inside, report.job);
+  // As fill reports it (the parity rule's warning; no volume refused, when this is the whole
+  // stack: a share of it may hold none), the sections' volume.
+  detail::record_classification(job.options, totals, any_inside || !whole, report.job);
 }
 
 }  // namespace
@@ -345,6 +347,12 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   report.plane_nodes = static_cast<std::uint64_t>(grid.dims[0]) * grid.dims[1];
   const double start = slice_options.start.value_or(r.input_bbox.min.z);
   const std::uint64_t count = layer_count(r.input_bbox, slice_options);
+  const std::uint64_t from = slice_options.first_layer,
+                      to = slice_options.end_layer ? slice_options.end_layer : count;
+  if (from >= to || to > count)
+    throw InputError("layers " + std::to_string(from) + " to " + std::to_string(to) +
+                     " are not a range of the " + std::to_string(count) + " layers");
+  const bool whole = from == 0 && to == count;
   warn_start(start, r);
   require_budget(options, report, detail::slabs_at_once(), detail::depth_reach(design) > 0,
                  model.triangles.size());
@@ -358,20 +366,21 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
     bool unbalanced = false;
     stage("classify", [&] {
       unbalanced = detail::any_unbalanced(
-          *indexed.tree, count,
+          *indexed.tree, to - from,
           [&](std::uint64_t m) {
-            return detail::widened(layer_plane(grid, layer_centre(start, L, m)), halo);
+            return detail::widened(layer_plane(grid, layer_centre(start, L, from + m)), halo);
           },
           job.get());
+      if (slice_options.any_unbalanced) unbalanced = slice_options.any_unbalanced(unbalanced);
     });
     if (unbalanced) detail::index_cleaned(model, indexed, r, stage);
   }
   stage("slice", [&] {
-    slice_layers({*indexed.tree, rule, options, design, halo}, grid, start, L, count, report, sink,
-                 job.get());
+    slice_layers({*indexed.tree, rule, options, design, halo}, grid, start, L, from, to, whole,
+                 report, sink, job.get());
   });
-  r.samples = report.plane_nodes * count;
-  detail::warn_structure_porosity(design, porosity(report), r);
+  r.samples = report.plane_nodes * (to - from);
+  if (whole) detail::warn_structure_porosity(design, porosity(report), r);
   job.finish();
   return report;
 }

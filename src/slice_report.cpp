@@ -31,7 +31,7 @@ std::string to_json(const SliceReport& r) {
   for (const char* mesh_only :
        {"valid", "problems", "output", "lattice_volume", "porosity", "specific_surface",
         "surface_density", "islands_removed", "islands_volume", "largest_islands", "measures",
-        "cavities", "cavities_volume", "validation", "full_field"})
+        "cavities", "cavities_volume", "validation", "full_field", "slab_planes"})
     job.erase(mesh_only);
   json layers = json::array();
   for (const LayerSummary& l : r.layers)

@@ -194,7 +194,7 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
     EXPECT_FALSE(std::filesystem::exists(dir / "lattice.stl")) << args;
   }
   EXPECT_EQ(
-      test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 64M", &out), 2);
+      test::run_command(cli() + " fill " + in + lattice + " --voxel 0.001 --memory 128M", &out), 2);
   EXPECT_NE(out.find("voxel size of"), std::string::npos) << out;
   EXPECT_EQ(test::run_command(
                 cli() + " fill " + in + lattice + " --recipe '" + (dir / "bad.json").string() + "'",

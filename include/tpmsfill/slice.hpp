@@ -62,6 +62,11 @@ struct SliceOptions {
   /// Height of the first layer's bottom, mm; unset: the model's lowest point. Layers are
   /// stacked from there until one's bottom reaches the model's top.
   std::optional<double> start = {};
+  /// Only layers [first_layer, end_layer) of the stack (end 0: to the top): one process's
+  /// share when a slice is split among several (MPI). The report then covers those layers.
+  std::uint64_t first_layer = 0, end_layer = 0;
+  /// The auto inside rule's decision across every share (as FillPartOptions::any_unbalanced).
+  std::function<bool(bool)> any_unbalanced = {};
   /// Stages "review", "spatial", ..., then "slice" per layer; unset: the FillOptions' progress.
   Progress* progress = nullptr;
 };

@@ -20,6 +20,8 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
+#include "cli/ranks.hpp"
+#include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
 
@@ -60,7 +62,8 @@ int run_fill(FillArgs args) {
   require_writable_outputs(inputs, outputs);
 
   std::unique_ptr<TerminalProgress> progress;
-  if (!args.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (!args.quiet && rank() == 0 && isatty(STDERR_FILENO))
+    progress = std::make_unique<TerminalProgress>();
   options.progress = progress.get();
 
   auto t0 = std::chrono::steady_clock::now();
@@ -69,7 +72,10 @@ int run_fill(FillArgs args) {
   for (const std::string& w : file.warnings)
     std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
 
-  FillResult result = fill(file.soup, options);
+  // Under mpirun each rank fills its share of the grid; rank 0 finishes and writes.
+  std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options);
+  if (!on_ranks) return kOk;
+  FillResult& result = *on_ranks;
   if (progress) progress->clear();
 
   // The mesh and the report are one outcome: both are written, or neither.

@@ -23,6 +23,8 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
+#include "cli/ranks.hpp"
+#include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
 
@@ -145,7 +147,8 @@ int run_slice(SliceArgs a) {
   require_writable_outputs(inputs, outputs);
 
   std::unique_ptr<TerminalProgress> progress;
-  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (!a.quiet && rank() == 0 && isatty(STDERR_FILENO))
+    progress = std::make_unique<TerminalProgress>();
   options.progress = progress.get();
   SliceOptions so = slice_options;
   so.progress = progress.get();
@@ -164,14 +167,22 @@ int run_slice(SliceArgs a) {
                          .pixel = a.pixel.value_or(0.05),
                          .label = fs::path(a.input).stem().string()};
 
+  // Under mpirun each rank slices its share of the layers: into the one staged folder rank 0
+  // made (a shared file system), or sent to rank 0 for a one-file format.
+  const bool root = rank() == 0;
   std::optional<StagedFolder> staged_folder;
   StagedOutputs staged;
-  if (folder) staged_folder.emplace(a.output);
-  const fs::path target = folder ? staged_folder->path() : staged.stage(a.output);
-  LayerFileWriter writer(target, files);
-  SliceReport report =
-      slice(file.soup, options, so, [&](const Layer& layer) { writer.add(layer); });
-  writer.finish();
+  if (folder && root) staged_folder.emplace(a.output);
+  const fs::path target = broadcast(
+      !root ? std::string() : (folder ? staged_folder->path() : staged.stage(a.output)).string());
+  std::optional<LayerFileWriter> writer;
+  if (root || folder) writer.emplace(target, files);
+  std::optional<SliceReport> on_ranks = slice_on_ranks(
+      file.soup, options, so, files.layer_count, [&](const Layer& layer) { writer->add(layer); },
+      folder);
+  if (writer) writer->finish();
+  if (!on_ranks) return kOk;
+  SliceReport& report = *on_ranks;
   if (progress) progress->clear();
 
   FillReport& job = report.job;

@@ -150,8 +150,8 @@ void add_job_options(CLI::App* sub, JobArgs& args) {
       ->check(between(1, 64, "1 to 64"));
   sub->add_option("--memory", args.memory,
                   "Memory to fit in, e.g. 8G or 512M (default: half of physical memory). fill "
-                  "goes slab by slab when the whole grid does not fit (the same output); a job "
-                  "that fits in no way is refused with the voxel size that would");
+                  "goes slab by slab when the whole grid does not fit (the same output); what "
+                  "fits in no way is refused, saying what would");
 }
 
 }  // namespace tpmsfill::cli

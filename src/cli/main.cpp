@@ -7,9 +7,12 @@
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/ranks.hpp"
 #include "cli/usage_errors.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using namespace tpmsfill::cli;
   CLI::App app{
       "tpmsfill fills triangle meshes with TPMS lattices and proves that what it writes is a "
@@ -94,4 +97,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "tpmsfill: internal error: %s\n", e.what());
     return kInternal;
   }
+}
+
+}  // namespace
+
+// Under mpirun every rank runs the command; an error on one stops them all.
+int main(int argc, char** argv) {
+  tpmsfill::cli::RanksSession session(argc, argv);
+  const int code = run(argc, argv);
+  if (code != 0 && tpmsfill::cli::ranks() > 1) tpmsfill::cli::abort_all(code);
+  return code;
 }
