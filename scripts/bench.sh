@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -27,13 +27,18 @@
 # 15. seed 004: `tpmsfill conformal` on the dome, the wave, Debian's Nefertiti face and blade at
 #     a voxel of H/10 (layout flips and distortion, cells on the surface, heights, time, memory),
 #     and the layout alone on libcgal-demo's other disks
+#  any:
+# 16. any size: the femur at 35 mm and a = 0.0175 mm (1.1e9 samples) filled with the whole grid
+#     and in slabs within --memory 4G (time, peak RSS, same bytes); sliced at 0.05 mm layers
+#     (time per layer, peak RSS, volume against fill's); under mpirun -n 1, 2, 3 (fill and slice
+#     at a = 0.05 mm; times, same bytes) where Open MPI is installed
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -366,4 +371,67 @@ PY
     echo "- $t thread(s): $wall s"
   done
   cmp -s "$tmp/face-1.stl" "$tmp/face-2.stl" && echo "- outputs byte-identical" || echo "- OUTPUTS DIFFER"
+fi
+
+if [[ "$section" == all || "$section" == any ]]; then
+  echo
+  echo "## 16. Any size: slabs and slices"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+  femur="$tmp/femur.off"
+  job=(--scale 35 --cell 2)
+  summary() {  # NAME: one line from the fill report
+    python3 - "$tmp/$1.json" "$1" "$wall" "$kb" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+print(f"| {sys.argv[2]} | {r['grid']['samples']:,} | {r['slab_planes'] or 'whole grid'} | "
+      f"{float(sys.argv[3]):.1f} | {float(sys.argv[4])/1024:.0f} | {r['output']['triangles']:,} | "
+      f"{r['valid']} | {r['lattice_volume'] + r['islands_volume']:.2f} |")
+PY
+  }
+  echo "| job | samples | slabs (planes) | wall s | peak MB | triangles | valid | volume with islands mm3 |"
+  echo "|---|---:|---:|---:|---:|---:|---|---:|"
+  # The whole grid needs about 7 GB: run it only where that leaves room.
+  if (($(free -g | awk '/Mem:/ {print $7}') >= 10)); then
+    timed ./build/tpmsfill fill "$femur" "$tmp/whole.stl" "${job[@]}" --voxel 0.0175 --memory 64G \
+      --quiet --report "$tmp/fill-whole.json"
+    summary fill-whole
+  fi
+  timed ./build/tpmsfill fill "$femur" "$tmp/slabs.stl" "${job[@]}" --voxel 0.0175 --memory 4G \
+    --quiet --report "$tmp/fill-slabs.json"
+  summary fill-slabs
+  [[ -f "$tmp/whole.stl" ]] && { cmp -s "$tmp/whole.stl" "$tmp/slabs.stl" &&
+    echo "- whole grid and slabs: STL byte-identical" || echo "- OUTPUTS DIFFER"; }
+  rm -f "$tmp/whole.stl"
+  timed ./build/tpmsfill slice "$femur" "$tmp/femur.cli" "${job[@]}" --voxel 0.0175 --layer 0.05 \
+    --binary --quiet --report "$tmp/slice.json"
+  python3 - "$tmp/slice.json" "$tmp/fill-slabs.json" "$wall" "$kb" "$(stat -c %s "$tmp/femur.cli")" <<'PY'
+import json, sys
+s, f = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+wall, kb, size = float(sys.argv[3]), float(sys.argv[4]), int(sys.argv[5])
+n = s["slice"]["layers"]
+kept = f["lattice_volume"] + f["islands_volume"]  # fill's lattice with its islands kept
+print(f"- slice, layers 0.05 mm, a = 0.0175 mm, binary CLI: {n} layers, {wall:.1f} s "
+      f"({1000*wall/n:.0f} ms a layer), {kb/1024:.0f} MB peak, {size/1e6:.0f} MB file, "
+      f"{s['slice']['contours']:,} contours; volume {s['slice']['volume']:.2f} mm3 against "
+      f"fill's {kept:.2f} (islands kept): {100*(s['slice']['volume']/kept-1):+.2f} %")
+PY
+  if command -v mpirun >/dev/null && grep -q "TPMSFILL_MPI:BOOL=ON" build/CMakeCache.txt; then
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    echo
+    # One thread a rank, so that the ranks, not the threads, share the cores.
+    echo "| mpirun -n (1 thread each) | fill a = 0.05 wall s | peak MB (largest process) | slice a = 0.05, L = 0.05 wall s |"
+    echo "|---:|---:|---:|---:|"
+    for n in 1 2 3; do
+      timed mpirun -n "$n" --oversubscribe ./build/tpmsfill fill "$femur" "$tmp/mpi-$n.stl" "${job[@]}" \
+        --voxel 0.05 --threads 1 --quiet
+      fw=$wall fk=$kb
+      timed mpirun -n "$n" --oversubscribe ./build/tpmsfill slice "$femur" "$tmp/mpi-$n.cli" "${job[@]}" \
+        --voxel 0.05 --layer 0.05 --threads 1 --quiet
+      echo "| $n | $fw | $((fk / 1024)) | $wall |"
+    done
+    cmp -s "$tmp/mpi-1.stl" "$tmp/mpi-3.stl" && cmp -s "$tmp/mpi-1.cli" "$tmp/mpi-3.cli" &&
+      echo "- 1, 2 and 3 ranks: STL and CLI byte-identical" || echo "- OUTPUTS DIFFER"
+  else
+    echo "- MPI: not built with -DTPMSFILL_MPI=ON or mpirun missing; skipped"
+  fi
 fi

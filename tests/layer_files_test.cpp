@@ -327,74 +327,8 @@ TEST(LayerFiles, SvgLayersAreOneVisibleFilePerLayer) {
 
 // --- PNG ------------------------------------------------------------------------------------
 
-struct Grey {
-  int width = 0, height = 0;
-  std::uint32_t phys_x = 0, phys_y = 0;
-  int phys_unit = -1;
-  std::vector<std::uint8_t> pixels;
-  int at(int x, int y) const { return pixels[std::size_t(y) * width + x]; }
-};
-
-std::uint32_t be32(const std::string& s, std::size_t at) {
-  return std::uint32_t(std::uint8_t(s[at])) << 24 | std::uint32_t(std::uint8_t(s[at + 1])) << 16 |
-         std::uint32_t(std::uint8_t(s[at + 2])) << 8 | std::uint32_t(std::uint8_t(s[at + 3]));
-}
-
-/// An 8-bit greyscale, non-interlaced PNG, checked chunk by chunk (CRCs included).
-Grey decode_grey(const std::string& bytes) {
-  Grey png;
-  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
-  std::string idat;
-  bool ended = false;
-  for (std::size_t at = 8; at + 12 <= bytes.size() && !ended;) {
-    const std::uint32_t length = be32(bytes, at);
-    const std::string type = bytes.substr(at + 4, 4), data = bytes.substr(at + 8, length);
-    const auto crc = crc32(0, reinterpret_cast<const Bytef*>(bytes.data() + at + 4), length + 4);
-    EXPECT_EQ(be32(bytes, at + 8 + length), crc) << type;
-    if (type == "IHDR") {
-      png.width = int(be32(data, 0));
-      png.height = int(be32(data, 4));
-      EXPECT_EQ(data.substr(8), std::string("\x08\x00\x00\x00\x00", 5));  // 8-bit grey
-    } else if (type == "pHYs") {
-      EXPECT_TRUE(idat.empty());  // pHYs must precede IDAT
-      png.phys_x = be32(data, 0);
-      png.phys_y = be32(data, 4);
-      png.phys_unit = data.at(8);
-    } else if (type == "IDAT") {
-      idat += data;
-    } else if (type == "IEND") {
-      ended = true;
-      EXPECT_EQ(at + 12, bytes.size());
-    }
-    at += 12 + length;
-  }
-  EXPECT_TRUE(ended);
-  const std::size_t stride = std::size_t(png.width);
-  std::vector<std::uint8_t> raw((stride + 1) * png.height);
-  uLongf raw_size = raw.size();
-  EXPECT_EQ(
-      uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()),
-      Z_OK);
-  EXPECT_EQ(raw_size, raw.size());
-  png.pixels.assign(stride * png.height, 0);
-  for (int y = 0; y < png.height; ++y) {
-    const std::uint8_t filter = raw[y * (stride + 1)];
-    EXPECT_LE(filter, 4);
-    const std::uint8_t* in = &raw[y * (stride + 1) + 1];
-    std::uint8_t* row = &png.pixels[y * stride];
-    for (std::size_t i = 0; i < stride; ++i) {
-      const int a = i >= 1 ? row[i - 1] : 0, b = y > 0 ? row[i - stride] : 0,
-                c = i >= 1 && y > 0 ? row[i - stride - 1] : 0;
-      const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
-      const int predictor = filter == 1   ? a
-                            : filter == 2 ? b
-                            : filter == 3 ? (a + b) / 2
-                            : filter == 4 ? (pa <= pb && pa <= pc ? a : (pb <= pc ? b : c))
-                                          : 0;
-      row[i] = std::uint8_t(in[i] + predictor);
-    }
-  }
-  return png;
+test::Png decode_grey(const std::string& bytes) {
+  return test::decode_png(bytes, 1);
 }
 
 /// A layer whose plane field is phi(x, y) on nodes every `spacing` over [x0, x1] × [y0, y1].
@@ -426,18 +360,18 @@ TEST(LayerFiles, PngOfADiskCoversItsArea) {
   o.pixel = kPixel;
   const auto files = write_layers(dir, o, {disk});
   ASSERT_EQ(files, std::vector<std::filesystem::path>{dir / "layer_00007.png"});
-  const Grey png = decode_grey(test::read_file(files[0]));
+  const test::Png png = decode_grey(test::read_file(files[0]));
   ASSERT_EQ(png.width, 200);  // 10 mm / 0.05 mm, not 201 for the quotient's rounding
   ASSERT_EQ(png.height, 200);
   EXPECT_EQ(png.phys_x, 20000u);  // pixels per metre
   EXPECT_EQ(png.phys_y, 20000u);
   EXPECT_EQ(png.phys_unit, 1);
   // The centre (5, 4) is column 100, row (10 − 4) / 0.05 = 120 from the top.
-  EXPECT_EQ(png.at(100, 120), 255);
-  EXPECT_EQ(png.at(99, 119), 255);
-  EXPECT_EQ(png.at(5, 5), 0);
-  EXPECT_EQ(png.at(100, 120 - 70), 0);    // 3.5 mm above the centre
-  EXPECT_EQ(png.at(100, 120 + 50), 255);  // 2.5 mm below it (a flipped image fails here)
+  EXPECT_EQ(png.value(100, 120), 255);
+  EXPECT_EQ(png.value(99, 119), 255);
+  EXPECT_EQ(png.value(5, 5), 0);
+  EXPECT_EQ(png.value(100, 120 - 70), 0);    // 3.5 mm above the centre
+  EXPECT_EQ(png.value(100, 120 + 50), 255);  // 2.5 mm below it (a flipped image fails here)
   double area = 0;
   for (const std::uint8_t v : png.pixels) area += v / 255.0 * kPixel * kPixel;
   EXPECT_NEAR(area, std::numbers::pi * kRadius * kRadius, 0.02 * std::numbers::pi * 9);
@@ -452,18 +386,18 @@ TEST(LayerFiles, PngIsBlackOutsideTheFieldAndRowZeroIsTheTop) {
   const Layer half = field_layer(0, 2, 2, 8, 8, 0.5, [](double, double y) { return y - 7.1; });
   LayerFileOptions o = options(LayerFormat::PngLayers);
   o.pixel = 0.25;
-  const Grey png = decode_grey(test::read_file(write_layers(dir, o, {half}).at(0)));
+  const test::Png png = decode_grey(test::read_file(write_layers(dir, o, {half}).at(0)));
   ASSERT_EQ(png.width, 40);
   ASSERT_EQ(png.height, 40);
-  EXPECT_EQ(png.at(20, 20), 255);  // (5.125, 4.875): inside the field, below y = 7
-  EXPECT_EQ(png.at(20, 8), 0);     // y = 7.875: above the boundary
-  EXPECT_EQ(png.at(4, 20), 0);     // x = 1.125: outside the field's nodes
-  EXPECT_EQ(png.at(20, 36), 0);    // y = 0.875: outside the field's nodes
+  EXPECT_EQ(png.value(20, 20), 255);  // (5.125, 4.875): inside the field, below y = 7
+  EXPECT_EQ(png.value(20, 8), 0);     // y = 7.875: above the boundary
+  EXPECT_EQ(png.value(4, 20), 0);     // x = 1.125: outside the field's nodes
+  EXPECT_EQ(png.value(20, 36), 0);    // y = 0.875: outside the field's nodes
   // Row 11's centre is at y = 7.125, φ = 0.025 = 0.1 pixel: coverage 0.5 − 0.1. Row 12's, at
   // y = 6.875, is 0.9 pixel inside: clamped to 1.
-  EXPECT_EQ(png.at(20, 11), 102);
-  EXPECT_EQ(png.at(20, 12), 255);
-  EXPECT_EQ(png.at(20, 10), 0);
+  EXPECT_EQ(png.value(20, 11), 102);
+  EXPECT_EQ(png.value(20, 12), 255);
+  EXPECT_EQ(png.value(20, 10), 0);
 }
 
 TEST(LayerFiles, PngWithoutAFieldIsRefusedUnlessTheLayerIsEmpty) {
@@ -471,7 +405,7 @@ TEST(LayerFiles, PngWithoutAFieldIsRefusedUnlessTheLayerIsEmpty) {
   LayerFileWriter writer(dir, options(LayerFormat::PngLayers));
   Layer empty;
   writer.add(empty);
-  const Grey png = decode_grey(test::read_file(dir / "layer_00000.png"));
+  const test::Png png = decode_grey(test::read_file(dir / "layer_00000.png"));
   EXPECT_EQ(std::count(png.pixels.begin(), png.pixels.end(), 0), 200 * 200);
   EXPECT_THROW(writer.add(two_layers()[1]), InputError);
 }

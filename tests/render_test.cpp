@@ -22,75 +22,16 @@ std::string render_png() {
   return TPMSFILL_RENDER_PNG;
 }
 
-/// A decoded 8-bit RGB PNG, rows top to bottom.
-struct Png {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;
-  const std::uint8_t* at(int x, int y) const { return &rgb[(std::size_t(y) * width + x) * 3]; }
-  bool background(int x, int y) const {
-    const std::uint8_t* p = at(x, y);
-    return p[0] == 255 && p[1] == 255 && p[2] == 255;
-  }
-};
+using Png = test::Png;
 
-std::uint32_t be32(const std::string& s, std::size_t at) {
-  return std::uint32_t(std::uint8_t(s[at])) << 24 | std::uint32_t(std::uint8_t(s[at + 1])) << 16 |
-         std::uint32_t(std::uint8_t(s[at + 2])) << 8 | std::uint32_t(std::uint8_t(s[at + 3]));
+bool background(const Png& png, int x, int y) {
+  const std::uint8_t* p = png.at(x, y);
+  return p[0] == 255 && p[1] == 255 && p[2] == 255;
 }
 
-/// Decodes what render_png writes (8-bit RGB, not interlaced); fails the test on anything else.
+/// Decodes what render_png writes (8-bit RGB); fails the test on anything else.
 Png decode(const std::string& bytes) {
-  Png png;
-  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
-  std::string idat;
-  bool ended = false;
-  for (std::size_t at = 8; at + 12 <= bytes.size() && !ended;) {
-    const std::uint32_t length = be32(bytes, at);
-    const std::string type = bytes.substr(at + 4, 4);
-    EXPECT_LE(at + 12 + length, bytes.size()) << type;
-    const std::string data = bytes.substr(at + 8, length);
-    const auto crc = crc32(0, reinterpret_cast<const Bytef*>(bytes.data() + at + 4), length + 4);
-    EXPECT_EQ(be32(bytes, at + 8 + length), crc) << type;
-    if (type == "IHDR") {
-      EXPECT_EQ(length, 13u);
-      png.width = int(be32(data, 0));
-      png.height = int(be32(data, 4));
-      EXPECT_EQ(data.substr(8), std::string("\x08\x02\x00\x00\x00", 5));
-    } else if (type == "IDAT") {
-      idat += data;
-    } else if (type == "IEND") {
-      ended = true;
-      EXPECT_EQ(at + 12, bytes.size());
-    }
-    at += 12 + length;
-  }
-  EXPECT_TRUE(ended);
-  const std::size_t stride = std::size_t(png.width) * 3;
-  std::vector<std::uint8_t> raw((stride + 1) * png.height);
-  uLongf raw_size = raw.size();
-  EXPECT_EQ(
-      uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()),
-      Z_OK);
-  EXPECT_EQ(raw_size, raw.size());
-  png.rgb.assign(stride * png.height, 0);
-  for (int y = 0; y < png.height; ++y) {
-    const std::uint8_t filter = raw[y * (stride + 1)];
-    EXPECT_LE(filter, 4);
-    const std::uint8_t* in = &raw[y * (stride + 1) + 1];
-    std::uint8_t* row = &png.rgb[y * stride];
-    for (std::size_t i = 0; i < stride; ++i) {
-      const int a = i >= 3 ? row[i - 3] : 0, b = y > 0 ? row[i - stride] : 0,
-                c = i >= 3 && y > 0 ? row[i - stride - 3] : 0;
-      const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
-      const int predictor = filter == 1   ? a
-                            : filter == 2 ? b
-                            : filter == 3 ? (a + b) / 2
-                            : filter == 4 ? (pa <= pb && pa <= pc ? a : (pb <= pc ? b : c))
-                                          : 0;
-      row[i] = std::uint8_t(in[i] + predictor);
-    }
-  }
-  return png;
+  return test::decode_png(bytes, 3);
 }
 
 struct Coverage {
@@ -102,7 +43,7 @@ Coverage coverage(const Png& png) {
   Coverage c;
   for (int y = 0; y < png.height; ++y)
     for (int x = 0; x < png.width; ++x)
-      if (!png.background(x, y)) {
+      if (!background(png, x, y)) {
         ++c.pixels;
         c.min_x = std::min(c.min_x, x);
         c.max_x = std::max(c.max_x, x);
@@ -153,8 +94,8 @@ TEST_F(RenderPng, SphereHeadOnIsADiscCoveringQuarterPiOfTheFittedSquare) {
   EXPECT_NEAR(c.min_x, kSize - 1 - c.max_x, 1);
   EXPECT_NEAR(c.min_y, kSize - 1 - c.max_y, 1);
   // Corners are background, the centre is lit (not background, not black).
-  EXPECT_TRUE(png.background(0, 0));
-  EXPECT_FALSE(png.background(kSize / 2, kSize / 2));
+  EXPECT_TRUE(background(png, 0, 0));
+  EXPECT_FALSE(background(png, kSize / 2, kSize / 2));
   EXPECT_GT(png.at(kSize / 2, kSize / 2)[0], 60);
 }
 
@@ -180,8 +121,8 @@ TEST_F(RenderPng, ElevationPastNinetyTurnsThePictureOver) {
     const Coverage c = coverage(png);
     std::array<int, 2> w{0, 0};
     for (int x = 0; x < png.width; ++x) {
-      w[0] += !png.background(x, c.min_y);
-      w[1] += !png.background(x, c.max_y);
+      w[0] += !background(png, x, c.min_y);
+      w[1] += !background(png, x, c.max_y);
     }
     return w;
   };

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -282,6 +283,80 @@ int run_command(const std::string& command, std::string* output) {
   int status = pclose(pipe);
   if (output) *output = std::move(out);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace tpmsfill::test
+
+namespace tpmsfill::test {
+namespace {
+
+std::uint32_t be32(const std::string& s, std::size_t at) {
+  return std::uint32_t(std::uint8_t(s[at])) << 24 | std::uint32_t(std::uint8_t(s[at + 1])) << 16 |
+         std::uint32_t(std::uint8_t(s[at + 2])) << 8 | std::uint32_t(std::uint8_t(s[at + 3]));
+}
+
+}  // namespace
+
+Png decode_png(const std::string& bytes, int channels) {
+  Png png;
+  png.channels = channels;
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  std::string idat;
+  bool ended = false;
+  for (std::size_t at = 8; at + 12 <= bytes.size() && !ended;) {
+    const std::uint32_t length = be32(bytes, at);
+    const std::string type = bytes.substr(at + 4, 4);
+    EXPECT_LE(at + 12 + length, bytes.size()) << type;
+    const std::string data = bytes.substr(at + 8, length);
+    const auto crc = crc32(0, reinterpret_cast<const Bytef*>(bytes.data() + at + 4), length + 4);
+    EXPECT_EQ(be32(bytes, at + 8 + length), crc) << type;
+    if (type == "IHDR") {
+      EXPECT_EQ(length, 13u);
+      png.width = int(be32(data, 0));
+      png.height = int(be32(data, 4));
+      const char colour = channels == 3 ? 2 : 0;  // RGB or grey, 8 bits, not interlaced
+      EXPECT_EQ(data.substr(8), std::string("\x08", 1) + colour + std::string(3, '\0'));
+    } else if (type == "pHYs") {
+      EXPECT_TRUE(idat.empty());  // pHYs must precede IDAT
+      png.phys_x = be32(data, 0);
+      png.phys_y = be32(data, 4);
+      png.phys_unit = data.at(8);
+    } else if (type == "IDAT") {
+      idat += data;
+    } else if (type == "IEND") {
+      ended = true;
+      EXPECT_EQ(at + 12, bytes.size());
+    }
+    at += 12 + length;
+  }
+  EXPECT_TRUE(ended);
+  const std::size_t stride = std::size_t(png.width) * channels;
+  std::vector<std::uint8_t> raw((stride + 1) * png.height);
+  uLongf raw_size = raw.size();
+  EXPECT_EQ(
+      uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()),
+      Z_OK);
+  EXPECT_EQ(raw_size, raw.size());
+  png.pixels.assign(stride * png.height, 0);
+  const std::size_t c = static_cast<std::size_t>(channels);
+  for (int y = 0; y < png.height; ++y) {
+    const std::uint8_t filter = raw[y * (stride + 1)];
+    EXPECT_LE(filter, 4);
+    const std::uint8_t* in = &raw[y * (stride + 1) + 1];
+    std::uint8_t* row = &png.pixels[y * stride];
+    for (std::size_t i = 0; i < stride; ++i) {
+      const int a = i >= c ? row[i - c] : 0, b = y > 0 ? row[i - stride] : 0,
+                d = i >= c && y > 0 ? row[i - stride - c] : 0;
+      const int p = a + b - d, pa = std::abs(p - a), pb = std::abs(p - b), pd = std::abs(p - d);
+      const int predictor = filter == 1   ? a
+                            : filter == 2 ? b
+                            : filter == 3 ? (a + b) / 2
+                            : filter == 4 ? (pa <= pb && pa <= pd ? a : (pb <= pd ? b : d))
+                                          : 0;
+      row[i] = std::uint8_t(in[i] + predictor);
+    }
+  }
+  return png;
 }
 
 }  // namespace tpmsfill::test

@@ -70,6 +70,23 @@ std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir,
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 std::string read_file(const std::filesystem::path& path);
 
+/// A decoded 8-bit PNG (greyscale or RGB, not interlaced), rows top to bottom, and its pHYs.
+struct Png {
+  int width = 0, height = 0, channels = 0;
+  std::uint32_t phys_x = 0, phys_y = 0;  ///< pixels per unit (pHYs), 0 when absent
+  int phys_unit = -1;                    ///< 1: metre; -1 when absent
+  std::vector<std::uint8_t> pixels;      ///< channels bytes per pixel
+  const std::uint8_t* at(int x, int y) const {
+    return &pixels[(std::size_t(y) * width + x) * channels];
+  }
+  int value(int x, int y) const { return at(x, y)[0]; }
+};
+
+/// Decodes what tpmsfill writes: checks the signature, every chunk's CRC, that pHYs precedes
+/// IDAT and that the image is 8-bit `channels`-channel (1 grey, 3 RGB); fails the test on
+/// anything else.
+Png decode_png(const std::string& bytes, int channels);
+
 /// Runs a shell command, returns its exit status (not the raw wait status); output goes to
 /// *output when given (stdout and stderr together).
 int run_command(const std::string& command, std::string* output = nullptr);
