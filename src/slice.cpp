@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -24,6 +25,7 @@
 #include "tpmsfill/review.hpp"
 #include "tpmsfill/spatial.hpp"
 #include "tpmsfill/units.hpp"
+#include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -185,15 +187,92 @@ Grid layer_plane(const Grid& grid, double z) {
   return {{grid.origin.x, grid.origin.y, z}, grid.spacing, {grid.dims[0], grid.dims[1], 1}};
 }
 
+// Depth below the surface for the layers' planes, which lie between fill's node planes. fill's
+// grid planes within the depth ramps' reach are classified once each as the layers rise, and
+// kept as 2D squared distance transforms; a layer node's depth is its distance to the nearest
+// outside node of those planes and of its own plane. That is exact over that set of nodes (a
+// 3D transform is the smallest of each plane's 2D one plus the height between), and costs a
+// layer a pass over the planes in reach instead of classifying them again.
+class DepthPlanes {
+ public:
+  DepthPlanes(const MeshIndex& tree, InsideRule rule, const Grid& grid, double reach)
+      : tree_(tree), rule_(rule), grid_(grid), reach_(reach) {}
+
+  // The grid planes layers in [z_lo, z_hi] read, classified; those below them dropped.
+  void prepare(double z_lo, double z_hi) {
+    const int lo = std::max(first(z_lo), 0), hi = std::min(last(z_hi), grid_.dims[2] - 1);
+    d2_.erase(d2_.begin(), d2_.lower_bound(lo));
+    std::vector<int> missing;
+    for (int k = lo; k <= hi; ++k)
+      if (!d2_.count(k)) missing.push_back(k);
+    std::vector<std::vector<float>> made(missing.size());
+    tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t m) {
+      Grid plane = grid_;
+      plane.z_offset = missing[m];
+      plane.dims[2] = 1;
+      Field d = planar_distances(classify_grid(tree_, plane, {.rule = rule_}).inside);
+      for (float& v : d.values) v *= v;
+      made[m] = std::move(d.values);
+    });
+    for (std::size_t m = 0; m < missing.size(); ++m) d2_[missing[m]] = std::move(made[m]);
+  }
+
+  Field depth(const Mask& inside) const {
+    Field out = planar_distances(inside);
+    const double z = inside.grid.coordinate(2, 0);
+    for (float& v : out.values) v *= v;
+    for (int k = first(z); k <= last(z); ++k) {
+      const double dz = z - grid_.coordinate(2, k);
+      const float h2 = static_cast<float>(dz * dz);
+      const auto it = d2_.find(k);
+      if (it == d2_.end()) {  // beyond the grid: every node there is outside
+        for (float& v : out.values) v = std::min(v, h2);
+        continue;
+      }
+      const std::vector<float>& d2 = it->second;
+      for (std::size_t n = 0; n < out.values.size(); ++n)
+        out.values[n] = std::min(out.values[n], d2[n] + h2);
+    }
+    for (float& v : out.values) v = std::sqrt(v);
+    return out;
+  }
+
+  // Distances within one plane. Beyond a one-plane grid the transform would see outside nodes
+  // one voxel above and below; counting them as inside leaves the plane's own nodes, and the
+  // plane's border nodes (fill's padding) are outside, so no distance reaches past it.
+  static Field planar_distances(const Mask& plane) {
+    return distance_transform(plane, /*beyond_grid_set=*/true);
+  }
+
+  // Planes held at most: those within reach above and below a layer, and a batch's spread.
+  static double planes_held(double reach, double spacing) { return 2 * (reach / spacing + 2) + 8; }
+
+ private:
+  int first(double z) const {
+    return static_cast<int>(std::ceil((z - reach_ - grid_.origin.z) / grid_.spacing));
+  }
+  int last(double z) const {
+    return static_cast<int>(std::floor((z + reach_ - grid_.origin.z) / grid_.spacing));
+  }
+
+  const MeshIndex& tree_;
+  InsideRule rule_;
+  const Grid& grid_;
+  double reach_;
+  std::map<int, std::vector<float>> d2_;
+};
+
 // Refuses a job whose layers at once do not fit: per layer, the slab's mask and band
-// temporaries (4 bytes a node, the depth's distance transform 4 more) and the plane's fields
-// and contour tables (about 40 bytes a node); the model and its tree.
+// temporaries (4 bytes a node) and the plane's fields and contour tables (about 40 bytes a
+// node, 8 more with depth); the depth ramps' grid planes (4 bytes a node each); the model and
+// its tree.
 void require_budget(const FillOptions& options, SliceReport& report, std::size_t at_once,
-                    bool depth, std::size_t model_triangles) {
-  const double bytes =
-      static_cast<double>(at_once) *
-          (static_cast<double>(report.plane_nodes) * (report.slab_planes * (depth ? 8 : 4) + 40)) +
-      static_cast<double>(model_triangles) * 260.0 + 64.0 * 1024 * 1024;
+                    double depth_planes, std::size_t model_triangles) {
+  const double plane = static_cast<double>(report.plane_nodes);
+  const double bytes = static_cast<double>(at_once) * plane *
+                           (report.slab_planes * 4 + 40 + (depth_planes > 0 ? 8 : 0)) +
+                       plane * depth_planes * 4 + static_cast<double>(model_triangles) * 260.0 +
+                       64.0 * 1024 * 1024;
   report.job.estimated_memory_bytes = static_cast<std::uint64_t>(std::min(bytes, 1.8e19));
   const double budget =
       static_cast<double>(options.memory_budget ? options.memory_budget : default_memory_budget());
@@ -267,7 +346,7 @@ void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double
 // The layers, a few at once (each parallel inside too), handed to the sink in order.
 void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start, double L,
                   std::uint64_t from, std::uint64_t to, bool whole, SliceReport& report,
-                  const LayerSink& sink, Progress* progress) {
+                  const LayerSink& sink, Progress* progress, DepthPlanes* depth) {
   Occupancy::PlaneCounts totals;
   bool any_inside = false;
   const std::size_t at_once = detail::slabs_at_once();
@@ -277,6 +356,7 @@ void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(at_once, to - first));
     batch.assign(n, Layer{});
     planes.assign(n, {});
+    if (depth) depth->prepare(layer_centre(start, L, first), layer_centre(start, L, first + n - 1));
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t b) {
       Layer& layer = batch[b];
       layer.index = first + b;
@@ -342,7 +422,10 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   });
   r.grid = grid;
   r.inside_rule = inside_name(rule);
-  const int halo = detail::halo_planes(options, design, grid.spacing);
+  // Depth ramps read fill's grid planes around each layer (DepthPlanes), so the layer's own
+  // slab needs only the band's reach.
+  const double reach = detail::depth_reach(design);
+  const int halo = detail::band_width(options, grid.spacing);
   report.slab_planes = 2 * halo + 1;
   report.plane_nodes = static_cast<std::uint64_t>(grid.dims[0]) * grid.dims[1];
   const double start = slice_options.start.value_or(r.input_bbox.min.z);
@@ -354,7 +437,8 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
                      " are not a range of the " + std::to_string(count) + " layers");
   const bool whole = from == 0 && to == count;
   warn_start(start, r);
-  require_budget(options, report, detail::slabs_at_once(), detail::depth_reach(design) > 0,
+  require_budget(options, report, detail::slabs_at_once(),
+                 reach > 0 ? DepthPlanes::planes_held(reach, grid.spacing) : 0,
                  model.triangles.size());
 
   detail::IndexedModel indexed;
@@ -376,8 +460,12 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
     if (unbalanced) detail::index_cleaned(model, indexed, r, stage);
   }
   stage("slice", [&] {
-    slice_layers({*indexed.tree, rule, options, design, halo}, grid, start, L, from, to, whole,
-                 report, sink, job.get());
+    std::optional<DepthPlanes> depth;
+    if (reach > 0) depth.emplace(*indexed.tree, rule, grid, reach);
+    detail::FieldPlanes field{*indexed.tree, rule, options, design, halo};
+    if (depth) field.depth = [&](const Mask& inside) { return depth->depth(inside); };
+    slice_layers(field, grid, start, L, from, to, whole, report, sink, job.get(),
+                 depth ? &*depth : nullptr);
   });
   r.samples = report.plane_nodes * (to - from);
   if (whole) detail::warn_structure_porosity(design, porosity(report), r);

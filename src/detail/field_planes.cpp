@@ -45,7 +45,9 @@ SampledPlanes sample_planes(const FieldPlanes& job, const Grid& planes) {
   // Depth below the surface: nodes beyond the slab count as inside, so the distance is exact
   // wherever it is within the halo, and deeper ones read the ramps' far end either way.
   std::optional<Field> depth;
-  if (depth_reach(job.design) > 0) {
+  if (depth_reach(job.design) > 0 && job.depth) {
+    depth = job.depth(out.inside);
+  } else if (depth_reach(job.design) > 0) {
     const Field edt = distance_transform(occ.inside, /*beyond_grid_set=*/true);
     depth = Field{
         planes, std::vector<float>(edt.values.begin() + first, edt.values.begin() + first + count)};

@@ -33,6 +33,10 @@ struct FieldPlanes {
   const FillOptions& options;
   const LatticeDesign& design;  ///< resolved (resolve_design)
   int halo = 1;                 ///< halo_planes()
+  /// Depth below the surface on the planes from their inside mask, for planes off fill()'s
+  /// grid (slice's layers): unset, the depth comes from the halo, which must then reach as deep
+  /// as the design's depth ramps (halo_planes()).
+  std::function<Field(const Mask& inside)> depth = {};
 };
 
 /// Planes on each side that make the planes' φ fill()'s: the band's half-width, and the depth
