@@ -15,13 +15,6 @@ using namespace tpmsfill;
 
 namespace {
 
-FillOptions job(double cell, double voxel) {
-  FillOptions o;
-  o.design.cell = {cell, cell, cell};
-  o.grid.voxel_size = voxel;
-  return o;
-}
-
 // The whole grid's result and slabs of each thickness give the same mesh and figures.
 void expect_same_in_slabs(const TriangleSoup& model, FillOptions o,
                           std::initializer_list<int> thicknesses) {
@@ -96,11 +89,12 @@ TEST(SlabMarchingCubes, SlabsNumberPointsAsTheWholeField) {
 }
 
 TEST(FillSlabs, GyroidInASphereIsTheSameInSlabs) {
-  expect_same_in_slabs(test::make_sphere({0, 0, 0}, 4, 4), job(2, 0.12), {1, 3, 7, 1000});
+  expect_same_in_slabs(test::make_sphere({0, 0, 0}, 4, 4), test::gyroid_options(2, 0.12),
+                       {1, 3, 7, 1000});
 }
 
 TEST(FillSlabs, SheetWithSkinAndWindowsIsTheSameInSlabs) {
-  FillOptions o = job(2.5, 0.1);
+  FillOptions o = test::gyroid_options(2.5, 0.1);
   o.design.style = TpmsStyle::Sheet;
   o.design.thickness = 0.3;
   o.skin = 0.4;
@@ -109,7 +103,7 @@ TEST(FillSlabs, SheetWithSkinAndWindowsIsTheSameInSlabs) {
 }
 
 TEST(FillSlabs, DepthGradingAndBlendsAreTheSameInSlabs) {
-  FillOptions o = job(2, 0.1);
+  FillOptions o = test::gyroid_options(2, 0.1);
   o.design.porosity = 0.6;
   o.design.grading.push_back(
       {Graded::Porosity,
@@ -124,11 +118,11 @@ TEST(FillSlabs, DepthGradingAndBlendsAreTheSameInSlabs) {
 
 TEST(FillSlabs, OpenScanParityAndFullFieldAreTheSameInSlabs) {
   const TriangleSoup open = test::make_box_with_hole({0, 0, 0}, {5, 5, 5});
-  expect_same_in_slabs(open, job(2, 0.12), {6});  // auto: cleaned in both
-  FillOptions parity = job(2, 0.12);
+  expect_same_in_slabs(open, test::gyroid_options(2, 0.12), {6});  // auto: cleaned in both
+  FillOptions parity = test::gyroid_options(2, 0.12);
   parity.inside = InsideRule::Parity;
   expect_same_in_slabs(test::make_torus(4, 1.5, 48, 24), parity, {6});
-  FillOptions full = job(2, 0.15);
+  FillOptions full = test::gyroid_options(2, 0.15);
   full.full_field = true;
   expect_same_in_slabs(test::make_sphere({0, 0, 0}, 3, 3), full, {8});
 }
@@ -137,10 +131,10 @@ TEST(FillSlabs, IslandsAndCavitiesAreJudgedAsOnTheWholeGrid) {
   // Two balls (one piece each, several islands at the rims) and a closed skin sealing voids.
   const TriangleSoup two =
       test::concat(test::make_sphere({0, 0, 0}, 3, 4), test::make_sphere({8, 0, 0}, 2, 4));
-  FillOptions o = job(1.5, 0.1);
+  FillOptions o = test::gyroid_options(1.5, 0.1);
   o.design.level = 0.3;
   expect_same_in_slabs(two, o, {5});
-  FillOptions skin = job(2, 0.1);
+  FillOptions skin = test::gyroid_options(2, 0.1);
   skin.skin = 0.3;
   expect_same_in_slabs(test::make_sphere({0, 0, 0}, 3, 4), skin, {5});
 }
@@ -148,7 +142,7 @@ TEST(FillSlabs, IslandsAndCavitiesAreJudgedAsOnTheWholeGrid) {
 TEST(FillSlabs, AJobOverTheBudgetGoesInSlabsOnItsOwn) {
   // A coarse lattice on a fine grid: the grid, not the output, is most of the memory.
   const TriangleSoup ball = test::make_sphere({0, 0, 0}, 6, 4);
-  FillOptions o = job(6, 0.05);
+  FillOptions o = test::gyroid_options(6, 0.05);
   const FillResult whole = fill(ball, o);
   ASSERT_EQ(whole.report.slab_planes, 0);
   // A budget below the whole grid's estimate by a quarter of its 8 bytes a node.
@@ -175,7 +169,7 @@ TEST(FillParts, ThreePartsJoinIntoTheWholeGridsMesh) {
   // them, joined in plane order.
   for (const TriangleSoup& model :
        {test::make_torus(5, 2, 64, 32), test::make_box_with_hole({0, 0, 0}, {5, 5, 5})}) {
-    FillOptions o = job(2, 0.12);
+    FillOptions o = test::gyroid_options(2, 0.12);
     const FillResult whole = fill(model, o);
     const int nz = fill_grid(model, o).dims[2];
     ASSERT_EQ(nz, whole.report.grid.dims[2]);
@@ -204,7 +198,7 @@ TEST(FillParts, ThreePartsJoinIntoTheWholeGridsMesh) {
   }
   // Parts that leave a gap are refused.
   const TriangleSoup ball = test::make_sphere({0, 0, 0}, 3, 3);
-  const FillOptions o = job(2, 0.2);
+  const FillOptions o = test::gyroid_options(2, 0.2);
   const int nz = fill_grid(ball, o).dims[2];
   std::vector<FillPart> gap;
   gap.push_back(fill_part(ball, o, {.first_plane = 0, .end_plane = 5}));

@@ -30,17 +30,10 @@ TriangleSoup block_with_rods() {
   return test::concat(s, test::make_box({4.4, 9, 4.4}, {5.6, 40, 5.6}));
 }
 
-FillOptions gyroid(double cell, double voxel) {
-  FillOptions o;
-  o.design.cell = {cell, cell, cell};
-  o.grid.voxel_size = voxel;
-  return o;
-}
-
 }  // namespace
 
 TEST(FillWarnings, IslandsThatAreWholeFeaturesAreListedAndWarned) {
-  const FillResult r = fill(block_with_rods(), gyroid(4, 0.1));
+  const FillResult r = fill(block_with_rods(), test::gyroid_options(4, 0.1));
   const FillReport& rep = r.report;
   ASSERT_GT(rep.islands_removed, 1u);
   // More than 5 % of the lattice went: warned, with the fraction and the fixes.
@@ -63,7 +56,7 @@ TEST(FillWarnings, IslandsThatAreWholeFeaturesAreListedAndWarned) {
   }
   EXPECT_LE(listed, rep.islands_volume * (1 + 1e-12));
   // Kept, they are in the output and nothing is warned about.
-  FillOptions keep = gyroid(4, 0.1);
+  FillOptions keep = test::gyroid_options(4, 0.1);
   keep.keep_islands = true;
   const FillResult kept = fill(block_with_rods(), keep);
   EXPECT_EQ(kept.report.islands_removed, 0u);
@@ -74,7 +67,7 @@ TEST(FillWarnings, IslandsThatAreWholeFeaturesAreListedAndWarned) {
 
 TEST(FillWarnings, ALatticeThatFallsApartIsNamedAsSuch) {
   // FRD at level 0.2 mm is a cloud of separate blobs: removal takes nearly everything.
-  FillOptions o = gyroid(2.5, 0.1);
+  FillOptions o = test::gyroid_options(2.5, 0.1);
   o.design.type = TpmsType::Frd;
   o.design.level = 0.2;
   const FillResult r = fill(test::make_box({0, 0, 0}, {8, 8, 8}), o);
@@ -90,7 +83,7 @@ TEST(FillWarnings, SealedVoidsAreWarnedWithOrWithoutWindows) {
   };
   const TriangleSoup model = test::make_box({1.2, 1.2, 1.2}, {10.8, 10.8, 10.8});
   for (int variant = 0; variant < 3; ++variant) {
-    FillOptions o = gyroid(3, 0.1);
+    FillOptions o = test::gyroid_options(3, 0.1);
     o.design.custom = function_source(pores);
     o.skin = variant > 0 ? 0.5 : 0;
     o.skin_windows = variant == 2;
@@ -106,7 +99,7 @@ TEST(FillWarnings, SealedVoidsAreWarnedWithOrWithoutWindows) {
 }
 
 TEST(FillWarnings, ReportSaysHowTheJobRan) {
-  FillOptions o = gyroid(2, 0.25);
+  FillOptions o = test::gyroid_options(2, 0.25);
   o.units = {.units = Units::Centimetre, .scale = 0.5};  // 4 cm × 0.5 = 20 mm
   o.design.rotation = rotation_from_euler({10, 20, 30});
   o.design.grading.push_back({Graded::Porosity, {.axis = {0, 0, 1}, .start = 0.5, .end = 0.8}});

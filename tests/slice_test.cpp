@@ -64,13 +64,6 @@ Sliced slice_all(const TriangleSoup& model, const FillOptions& fo, double layer)
   return s;
 }
 
-FillOptions gyroid_job(double cell, double voxel) {
-  FillOptions o;
-  o.design.cell = {cell, cell, cell};
-  o.grid.voxel_size = voxel;
-  return o;
-}
-
 }  // namespace
 
 TEST(TraceContours, DiskIsOneCounterClockwiseContourOfItsArea) {
@@ -164,7 +157,7 @@ TEST(ContourDefects, FindsCrossingsTouchesAndFolds) {
 
 TEST(Slice, VolumeMatchesFillsLatticeWithinOnePercent) {
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 5, 4);
-  FillOptions fo = gyroid_job(2.5, 0.1);
+  FillOptions fo = test::gyroid_options(2.5, 0.1);
   fo.keep_islands = true;  // a layer cannot tell an island: compare the same solid
   const FillResult filled = fill(sphere, fo);
   const Sliced s = slice_all(sphere, fo, 0.05);
@@ -181,7 +174,7 @@ TEST(Slice, VolumeMatchesFillsLatticeWithinOnePercent) {
 
 TEST(Slice, EachLayerIsTheSectionOfFillsMesh) {
   const TriangleSoup torus = test::make_torus(6, 2.5, 96, 48);
-  FillOptions fo = gyroid_job(2, 0.1);
+  FillOptions fo = test::gyroid_options(2, 0.1);
   fo.keep_islands = true;
   const FillResult filled = fill(torus, fo);
   const Sliced s = slice_all(torus, fo, 0.3);
@@ -206,7 +199,7 @@ TEST(Slice, ContoursAreOrientedAndTheSkinClosesTheSection) {
   // π(R² − z²) holding the lattice's holes.
   const double R = 5;
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, R, 5);
-  FillOptions fo = gyroid_job(2.5, 0.08);
+  FillOptions fo = test::gyroid_options(2.5, 0.08);
   fo.skin = 0.5;
   const Sliced s = slice_all(sphere, fo, 0.5);
   for (const Layer& layer : s.layers) {
@@ -228,7 +221,7 @@ TEST(Slice, DepthGradingReadsTheSameDepthAsFill) {
   // The depth below the surface comes from fill's grid planes around each layer: it must reach
   // as deep as the ramp does, or the graded porosity would differ from fill's.
   const TriangleSoup box = test::make_box({0, 0, 0}, {8, 8, 8});
-  FillOptions fo = gyroid_job(2, 0.1);
+  FillOptions fo = test::gyroid_options(2, 0.1);
   fo.keep_islands = true;
   fo.design.porosity = 0.6;
   fo.design.grading.push_back(
@@ -243,7 +236,7 @@ TEST(Slice, DepthGradingReadsTheSameDepthAsFill) {
 
 TEST(Slice, SameLayersWhateverTheThreadCount) {
   const TriangleSoup torus = test::make_torus(5, 2, 64, 32);
-  const FillOptions fo = gyroid_job(2, 0.15);
+  const FillOptions fo = test::gyroid_options(2, 0.15);
   auto run = [&](int threads) {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, threads);
     return slice_all(torus, fo, 0.4).layers;
@@ -260,7 +253,7 @@ TEST(Slice, SameLayersWhateverTheThreadCount) {
 TEST(Slice, OpenScanIsClassifiedAsFillDoes) {
   // A box with a hole: auto cleans and caps it, as fill does, and the volumes still agree.
   const TriangleSoup open = test::make_box_with_hole({0, 0, 0}, {6, 6, 6});
-  FillOptions fo = gyroid_job(2, 0.12);
+  FillOptions fo = test::gyroid_options(2, 0.12);
   fo.keep_islands = true;
   const FillResult filled = fill(open, fo);
   const Sliced s = slice_all(open, fo, 0.1);
@@ -272,7 +265,7 @@ TEST(Slice, OpenScanIsClassifiedAsFillDoes) {
 TEST(Slice, UnitsAndLayerRange) {
   // A model in centimetres comes out in millimetres, and layers cover its height exactly.
   const TriangleSoup cm = test::make_box({0, 0, 0}, {1, 1, 0.8});
-  FillOptions fo = gyroid_job(3, 0.2);
+  FillOptions fo = test::gyroid_options(3, 0.2);
   fo.units.units = Units::Centimetre;
   const Sliced s = slice_all(cm, fo, 0.5);
   ASSERT_EQ(s.layers.size(), 16u);
@@ -284,7 +277,7 @@ TEST(Slice, UnitsAndLayerRange) {
 
 TEST(Slice, RefusesBadOptionsAndPassesTheSinksErrorOn) {
   const TriangleSoup box = test::make_box({0, 0, 0}, {4, 4, 4});
-  const FillOptions fo = gyroid_job(2, 0.2);
+  const FillOptions fo = test::gyroid_options(2, 0.2);
   auto none = [](const Layer&) {};
   EXPECT_THROW(slice(box, fo, {.layer = 0}, none), InputError);
   EXPECT_THROW(slice(box, fo, {.layer = -1}, none), InputError);
@@ -309,7 +302,7 @@ TEST(Slice, CancelStopsBeforeTheNextLayers) {
   } stop;
   const TriangleSoup box = test::make_box({0, 0, 0}, {4, 4, 20});
   int layers = 0;
-  EXPECT_THROW(slice(box, gyroid_job(2, 0.2), {.layer = 0.1, .progress = &stop},
+  EXPECT_THROW(slice(box, test::gyroid_options(2, 0.2), {.layer = 0.1, .progress = &stop},
                      [&](const Layer&) { ++layers; }),
                Cancelled);
   EXPECT_LT(layers, 200);

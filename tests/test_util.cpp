@@ -360,3 +360,14 @@ Png decode_png(const std::string& bytes, int channels) {
 }
 
 }  // namespace tpmsfill::test
+
+namespace tpmsfill::test {
+
+FillOptions gyroid_options(double cell, double voxel) {
+  FillOptions o;
+  o.design.cell = {cell, cell, cell};
+  o.grid.voxel_size = voxel;
+  return o;
+}
+
+}  // namespace tpmsfill::test

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 #include <tpmsfill/design.hpp>
+#include <tpmsfill/fill.hpp>
 #include <tpmsfill/types.hpp>
 #include <vector>
 
@@ -69,6 +70,9 @@ std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir,
                                             std::uintmax_t max_bytes);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 std::string read_file(const std::filesystem::path& path);
+
+/// fill's defaults with a gyroid network of cubic cells `cell` mm and a grid of `voxel` mm.
+FillOptions gyroid_options(double cell, double voxel);
 
 /// A decoded 8-bit PNG (greyscale or RGB, not interlaced), rows top to bottom, and its pHYs.
 struct Png {
