@@ -42,8 +42,8 @@ using detail::StageClock;
 // composed field (plus the full distance field with --full-field).
 constexpr double kBytesPerNode = 8.0;
 constexpr double kBytesPerFullFieldNode = 4.0;
-// Bytes per input triangle: the soup (three points, STL-style), the tree's copy and nodes.
-constexpr double kBytesPerInputTriangle = 260.0;
+using detail::kBytesPerInputTriangle;
+using detail::kFixedBytes;
 // Bytes per output triangle: indices, half a vertex, validation's edge table and buckets.
 constexpr double kBytesPerOutputTriangle = 110.0;
 
@@ -91,7 +91,7 @@ double output_triangles(const ModelSize& m, const FillOptions& o) {
 double peak_bytes(const ModelSize& m, const FillOptions& o, double field_bytes) {
   const double out = output_triangles(m, o);
   return static_cast<double>(m.triangles) * kBytesPerInputTriangle +
-         std::fmax(field_bytes + 40 * out, kBytesPerOutputTriangle * out) + 64.0 * 1024 * 1024;
+         std::fmax(field_bytes + 40 * out, kBytesPerOutputTriangle * out) + kFixedBytes;
 }
 
 double estimate_bytes(const ModelSize& m, const FillOptions& o) {
@@ -133,8 +133,8 @@ double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign&
           2 * runs);
 }
 
-// Planes per slab at which the slab path needs no more than the whole grid: past it, slabs
-// gain nothing.
+// The thinnest slabs the plan chooses: thinner ones would spend more on their halos and
+// marching cubes' lookahead planes than on their own.
 constexpr int kMinSlabPlanes = 4;
 
 // The memory plan: the whole grid at once when it fits the budget (or slabs when asked), else
@@ -193,7 +193,7 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   std::snprintf(fit_text, sizeof fit_text, "%.4g mm", hi * 1.0001);
   const double need = least(o.grid.voxel_size);
   const bool input_alone =
-      static_cast<double>(triangles) * kBytesPerInputTriangle + 64.0 * 1024 * 1024 > budget;
+      static_cast<double>(triangles) * kBytesPerInputTriangle + kFixedBytes > budget;
   return {0, saturated_bytes(need),
           "the job needs about " + gigabytes(need) + " but the memory budget is " +
               gigabytes(budget) +

@@ -33,14 +33,19 @@ Mask owned_planes(const Mask& m, int owned) {
                  m.values.begin(), m.values.begin() + static_cast<std::ptrdiff_t>(g.node_count()))};
 }
 
+// The solid (φ < 0) of the first `owned` planes of a slab's field.
+Mask owned_solid(const Field& phi, int owned) {
+  Grid g = phi.grid;
+  g.dims[2] = owned;
+  Mask m{g, std::vector<std::uint8_t>(g.node_count())};
+  for (std::size_t n = 0; n < m.values.size(); ++n) m.values[n] = phi.values[n] < 0;
+  return m;
+}
+
 }  // namespace
 
 std::vector<PlannedStage> slab_stages(const FillOptions& o) {
-  const InsideRule rule = o.inside.value_or(InsideRule::Winding);
-  std::vector<PlannedStage> plan;
-  if (rule == InsideRule::Parity || !o.inside) plan.push_back({"spatial", 10});
-  if (!o.inside) plan.push_back({"classify", 5});
-  if (rule == InsideRule::Winding) plan.insert(plan.end(), {{"clean", 5}, {"spatial", 10}});
+  std::vector<PlannedStage> plan = index_stages(o);
   plan.push_back({"slabs", 35});
   return plan;
 }
@@ -49,36 +54,23 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
   const FillOptions& o = job.options;
   FillReport& r = job.report;
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
-  r.inside_rule = inside_name(rule);
   const LatticeDesign& design = job.result.resolved.design;
   const Grid& grid = job.grid;
   const int per_slab = job.slab_planes;
   const std::uint64_t slabs = static_cast<std::uint64_t>((end - first + per_slab - 1) / per_slab);
   const int halo = halo_planes(o, design, grid.spacing);
-  auto stage = [&](const char* name, auto&& work) { job.stage(name, work); };
 
   IndexedModel indexed;
-  if (rule == InsideRule::Parity || !o.inside)
-    stage("spatial", [&] { indexed.tree.emplace(build_index(job.model)); });
-  if (!o.inside) {
-    bool unbalanced = false;
-    stage("classify", [&] {
-      unbalanced = any_unbalanced(
-          *indexed.tree, slabs,
-          [&](std::uint64_t s) { return widened(slab_planes(grid, first, per_slab, s), halo); },
-          job.progress);
-      if (agree) unbalanced = agree(unbalanced);
-    });
-    if (unbalanced) index_cleaned(job.model, indexed, r, stage);
-  } else if (rule == InsideRule::Winding) {
-    index_cleaned(job.model, indexed, r, stage);
-  }
+  index_for_rule(
+      job.model, o, indexed, r, job.stage, slabs,
+      [&](std::uint64_t s) { return widened(slab_planes(grid, first, per_slab, s), halo); }, agree,
+      job.progress);
 
   FillPart part;
   part.first_plane = first;
   part.end_plane = end;
   part.clean = r.clean;
-  stage("slabs", [&] {
+  job.stage("slabs", [&] {
     const FieldPlanes field{*indexed.tree, rule, o, design, halo};
     SlabMarchingCubes mc(grid, {}, first);
     Grid share = grid;
@@ -94,10 +86,7 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
         part.band_nodes.push_back(sampled.band_per_plane[static_cast<std::size_t>(k)]);
       }
       append_runs(part.inside_runs, owned_planes(sampled.inside, owned));
-      Mask solid{sampled.phi.grid, std::vector<std::uint8_t>(sampled.phi.values.size())};
-      for (std::size_t n = 0; n < solid.values.size(); ++n)
-        solid.values[n] = sampled.phi.values[n] < 0;
-      append_runs(part.solid_runs, owned_planes(solid, owned));
+      append_runs(part.solid_runs, owned_solid(sampled.phi, owned));
       mc.add(sampled.phi, owned, part.mesh);
       report_or_cancel(job.progress, static_cast<double>(s + 1) / static_cast<double>(slabs));
     }

@@ -61,6 +61,16 @@ TriangleSoup make_sphere(Vec3 center, double radius, int levels) {
   return {std::move(p), std::move(f)};
 }
 
+namespace {
+
+// The quad a → b → c → d as two triangles, (a, b, c) and (a, c, d): the same turn as the quad.
+void add_quad(TriangleSoup& s, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+  s.triangles.push_back({a, b, c});
+  s.triangles.push_back({a, c, d});
+}
+
+}  // namespace
+
 TriangleSoup make_height_field(int n, double L, const std::function<double(double, double)>& z) {
   TriangleSoup s;
   for (int j = 0; j <= n; ++j)
@@ -70,10 +80,7 @@ TriangleSoup make_height_field(int n, double L, const std::function<double(doubl
     }
   auto id = [n](int i, int j) { return std::uint32_t(i + (n + 1) * j); };
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
+    for (int i = 0; i < n; ++i) add_quad(s, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
   return s;
 }
 
@@ -93,10 +100,8 @@ TriangleSoup make_spherical_cap(double R, double angle, int rings, int segments)
   };
   for (int k = 0; k < segments; ++k) s.triangles.push_back({0, id(1, k), id(1, k + 1)});
   for (int r = 1; r < rings; ++r)
-    for (int k = 0; k < segments; ++k) {
-      s.triangles.push_back({id(r, k), id(r + 1, k), id(r + 1, k + 1)});
-      s.triangles.push_back({id(r, k), id(r + 1, k + 1), id(r, k + 1)});
-    }
+    for (int k = 0; k < segments; ++k)
+      add_quad(s, id(r, k), id(r + 1, k), id(r + 1, k + 1), id(r, k + 1));
   return s;
 }
 
@@ -109,10 +114,8 @@ TriangleSoup make_open_cylinder(double R, double H, int segments, int rows) {
     }
   auto id = [segments](int j, int k) { return std::uint32_t(j * segments + (k % segments)); };
   for (int j = 0; j < rows; ++j)
-    for (int k = 0; k < segments; ++k) {
-      s.triangles.push_back({id(j, k), id(j, k + 1), id(j + 1, k + 1)});
-      s.triangles.push_back({id(j, k), id(j + 1, k + 1), id(j + 1, k)});
-    }
+    for (int k = 0; k < segments; ++k)
+      add_quad(s, id(j, k), id(j, k + 1), id(j + 1, k + 1), id(j + 1, k));
   return s;
 }
 
@@ -285,9 +288,6 @@ int run_command(const std::string& command, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-}  // namespace tpmsfill::test
-
-namespace tpmsfill::test {
 namespace {
 
 std::uint32_t be32(const std::string& s, std::size_t at) {
@@ -358,10 +358,6 @@ Png decode_png(const std::string& bytes, int channels) {
   }
   return png;
 }
-
-}  // namespace tpmsfill::test
-
-namespace tpmsfill::test {
 
 FillOptions gyroid_options(double cell, double voxel) {
   FillOptions o;

@@ -14,6 +14,7 @@
 #include <tpmsfill/units.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/job_files.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -171,8 +172,7 @@ int run_check(const CheckArgs& args) {
     for (const auto& [key, value] : facts.items()) j[key] = value;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    for (const std::string& w : file.warnings)
-      std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+    print_warnings(file.warnings);
     print_text(args.input, file, check);
     if (!hint.empty()) std::printf("hint: %s\n", hint.c_str());
   }

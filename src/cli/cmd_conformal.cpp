@@ -74,8 +74,7 @@ int run_conformal(const ConformalArgs& a) {
   if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
   const MeshFile file = read_mesh_file(a.input);
-  for (const std::string& w : file.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(file.warnings);
   ModelUnits units;
   if (a.units) units.units = units_from_name(*a.units);
   if (a.scale) units.scale = *a.scale;
@@ -97,10 +96,7 @@ int run_conformal(const ConformalArgs& a) {
   if (progress) progress->clear();
 
   FillReport& report = result.fill;
-  report.input_path = a.input;
-  report.input_sha256 = sha256_of_file(a.input);
-  report.command_line = command_line();
-  report.version = TPMSFILL_VERSION;
+  record_provenance(report, a.input);
   StagedOutputs staged;
   write_mesh(staged.stage(a.output), result.mesh, {.format = format_from_extension(a.output)});
   if (!a.report.empty()) write_file_atomically(staged.stage(a.report), to_json(result));
@@ -109,8 +105,7 @@ int run_conformal(const ConformalArgs& a) {
     std::printf("%s -> %s\n%s", a.input.c_str(), a.output.c_str(), to_text(result).c_str());
     if (!a.report.empty()) std::printf("report       %s\n", a.report.c_str());
   }
-  for (const std::string& w : report.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(report.warnings);
   return kOk;
 }
 

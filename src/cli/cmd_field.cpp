@@ -137,8 +137,7 @@ int run_fit(const FieldArgs& a) {
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
   const VolumeFile in = read_volume_file(a.input);
-  for (const std::string& w : in.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(in.warnings);
   const ScalarVolume& v = in.volume;
   std::array<int, 3> counts{};
   for (int ax = 0; ax < 3; ++ax)
@@ -270,8 +269,7 @@ int run_info(const FieldArgs& a) {
     std::printf("voxel        none (the unit cube)\n");
   std::printf("values       %.6g to %.6g, %s\n", *lo, *hi,
               std::string(field_sign_name(v.sign)).c_str());
-  for (const std::string& w : file.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(file.warnings);
   return kOk;
 }
 
@@ -321,8 +319,7 @@ int run_mesh(const FieldArgs& a) {
     std::printf("storage      ITDF %s, binary STL %s: %.0fx smaller\n", kib(itdf).c_str(),
                 kib(stl).c_str(), double(stl) / double(itdf));
   }
-  for (const std::string& w : r.report.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(r.report.warnings);
   return kOk;
 }
 

@@ -69,8 +69,7 @@ int run_fill(FillArgs args) {
   auto t0 = std::chrono::steady_clock::now();
   MeshFile file = read_mesh_file(args.input);
   const StageTime read{"read", seconds_since(t0), peak_memory_mb()};
-  for (const std::string& w : file.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(file.warnings);
 
   // Under mpirun each rank fills its share of the grid; rank 0 finishes and writes.
   std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options);
@@ -85,10 +84,7 @@ int run_fill(FillArgs args) {
              {.format = format_from_extension(args.output)});
   FillReport& report = result.report;
   report.recipe = recipe_json(result.resolved);
-  report.input_path = args.input;
-  report.input_sha256 = sha256_of_file(args.input);
-  report.command_line = command_line();
-  report.version = TPMSFILL_VERSION;
+  record_provenance(report, args.input);
   report.stages.insert(report.stages.begin(), read);
   report.stages.push_back({"write", seconds_since(t0), peak_memory_mb()});
   if (!args.report.empty()) write_file_atomically(staged.stage(args.report), to_json(report));
@@ -98,8 +94,7 @@ int run_fill(FillArgs args) {
     std::printf("%s -> %s\n%s", args.input.c_str(), args.output.c_str(), to_text(report).c_str());
     if (!args.report.empty()) std::printf("report       %s\n", args.report.c_str());
   }
-  for (const std::string& w : report.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(report.warnings);
   return kOk;
 }
 

@@ -62,8 +62,7 @@ int run_repair(const RepairArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   MeshFile file = read_mesh_file(args.input);
   file.soup = to_millimetres(std::move(file.soup), units);
-  for (const std::string& w : file.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(file.warnings);
   const RepairResult result = repair_mesh(file.soup, options);
   if (progress) progress->clear();
   const RepairReport& report = result.report;
@@ -89,8 +88,7 @@ int run_repair(const RepairArgs& args) {
     std::printf("time     %.2f s\n", seconds);
   }
   std::fflush(stdout);  // the report first, then what it warns about
-  for (const std::string& w : report.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(report.warnings);
   if (report.valid() && !valid) {
     std::fflush(stdout);
     const RepairDeviation& d = report.deviation;

@@ -154,8 +154,7 @@ int run_slice(SliceArgs a) {
   so.progress = progress.get();
 
   const MeshFile file = read_mesh_file(a.input);
-  for (const std::string& w : file.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(file.warnings);
   // The writer needs the part's box and layer count before the first layer arrives.
   Box3 box = bounding_box(file.soup);
   const double f = options.units.factor();
@@ -187,10 +186,7 @@ int run_slice(SliceArgs a) {
 
   FillReport& job = report.job;
   job.recipe = recipe_json(report.resolved);
-  job.input_path = a.input;
-  job.input_sha256 = sha256_of_file(a.input);
-  job.command_line = command_line();
-  job.version = TPMSFILL_VERSION;
+  record_provenance(job, a.input);
   const std::string json = to_json(report);
   if (folder) write_file_atomically(target / "index.json", json);
   if (!a.report.empty()) write_file_atomically(staged.stage(a.report), json);
@@ -202,8 +198,7 @@ int run_slice(SliceArgs a) {
                 std::string(layer_format_name(format)).c_str(), to_text(report).c_str());
     if (!a.report.empty()) std::printf("report       %s\n", a.report.c_str());
   }
-  for (const std::string& w : job.warnings)
-    std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  print_warnings(job.warnings);
   return kOk;
 }
 

@@ -159,4 +159,15 @@ const std::string& command_line() {
   return stored_command_line();
 }
 
+void record_provenance(FillReport& report, const std::string& input) {
+  report.input_path = input;
+  report.input_sha256 = sha256_of_file(input);
+  report.command_line = command_line();
+  report.version = TPMSFILL_VERSION;
+}
+
+void print_warnings(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+}
+
 }  // namespace tpmsfill::cli

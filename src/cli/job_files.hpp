@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <tpmsfill/report.hpp>
 #include <utility>
 #include <vector>
 
@@ -44,6 +45,12 @@ class StagedOutputs {
 /// SHA-256 of a file's bytes as stored, lower-case hex.
 /// @throws IoError  the file cannot be read
 std::string sha256_of_file(const std::filesystem::path& path);
+
+/// Where a report came from: the input's path and SHA-256, the command line, the version.
+void record_provenance(FillReport& report, const std::string& input);
+
+/// One "tpmsfill: warning: ..." line on stderr for each.
+void print_warnings(const std::vector<std::string>& warnings);
 
 /// The command line as typed, each argument shell-quoted where it needs to be; set once by
 /// main().

@@ -75,6 +75,15 @@ SampledPlanes sample_planes(const FieldPlanes& job, const Grid& planes) {
   return out;
 }
 
+std::vector<PlannedStage> index_stages(const FillOptions& o) {
+  const InsideRule rule = o.inside.value_or(InsideRule::Winding);
+  std::vector<PlannedStage> plan;
+  if (rule == InsideRule::Parity || !o.inside) plan.push_back({"spatial", 10});
+  if (!o.inside) plan.push_back({"classify", 5});
+  if (rule == InsideRule::Winding) plan.insert(plan.end(), {{"clean", 5}, {"spatial", 10}});
+  return plan;
+}
+
 std::size_t slabs_at_once() {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   return std::clamp<std::size_t>(cores, 1, 8);

@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "detail/job_progress.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/design.hpp"
@@ -94,5 +95,30 @@ bool any_unbalanced(const MeshIndex& tree, std::uint64_t count,
 /// Slabs or layers worked on at once: enough to keep the cores busy between the stages' own
 /// parallel loops, few enough that their memory stays small.
 std::size_t slabs_at_once();
+
+/// The stages index_for_rule() runs for the options' inside rule, for a job's plan.
+std::vector<PlannedStage> index_stages(const FillOptions& options);
+
+/// The model indexed as fill's inside rule needs it: as it is for parity and auto, cleaned and
+/// capped for winding, and for auto too when a row of one of `count` slabs (grid_of(s)) finds
+/// it open or inside out (the test's stage "classify"; `agree`, when set, settles the answer
+/// across processes). `stage(name, work)` runs and times each step.
+template <class Stage>
+void index_for_rule(const TriangleSoup& model, const FillOptions& o, IndexedModel& m,
+                    FillReport& report, Stage&& stage, std::uint64_t count,
+                    const std::function<Grid(std::uint64_t)>& grid_of,
+                    const std::function<bool(bool)>& agree, Progress* progress) {
+  const InsideRule rule = o.inside.value_or(InsideRule::Winding);
+  report.inside_rule = inside_name(rule);
+  if (rule == InsideRule::Winding && o.inside) return index_cleaned(model, m, report, stage);
+  stage("spatial", [&] { m.tree.emplace(build_index(model)); });
+  if (o.inside) return;  // parity
+  bool unbalanced = false;
+  stage("classify", [&] {
+    unbalanced = any_unbalanced(*m.tree, count, grid_of, progress);
+    if (agree) unbalanced = agree(unbalanced);
+  });
+  if (unbalanced) index_cleaned(model, m, report, stage);
+}
 
 }  // namespace tpmsfill::detail

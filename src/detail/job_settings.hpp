@@ -14,6 +14,11 @@
 
 namespace tpmsfill::detail {
 
+/// Memory estimates' shared terms: per input triangle the soup (three points, STL-style), the
+/// tree's copy and nodes; and a fixed allowance for the process and its libraries.
+inline constexpr double kBytesPerInputTriangle = 260.0;
+inline constexpr double kFixedBytes = 64.0 * 1024 * 1024;
+
 /// The options' settings into `report` (units, input, design, grading, cell, level, skin,
 /// porosities) and the design resolved against the model's box (resolve_design), returned.
 /// @param model  in millimetres
