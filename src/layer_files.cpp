@@ -350,7 +350,7 @@ void check_options(const LayerFileOptions& o) {
   if (pixels_over(extent, o.pixel) > kMaxImageSide) {
     throw InputError("a " + readable(o.pixel) + " mm pixel makes images of over " +
                      std::to_string(kMaxImageSide) + " pixels a side for a " + readable(extent) +
-                     " mm part; a pixel of at least " + shortest(extent / kMaxImageSide) +
+                     " mm part; a pixel of at least " + readable(extent / kMaxImageSide * 1.0001) +
                      " mm fits");
   }
 }

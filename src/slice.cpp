@@ -4,7 +4,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -14,6 +13,7 @@
 #include <utility>
 
 #include "detail/field_planes.hpp"
+#include "detail/fill_job.hpp"
 #include "detail/job_progress.hpp"
 #include "detail/job_settings.hpp"
 #include "detail/stage_progress.hpp"
@@ -146,10 +146,6 @@ double layer_centre(double start, double L, std::uint64_t m) {
   return start + (static_cast<double>(m) + 0.5) * L;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 std::vector<Contour> trace_contours(const Field& plane) {
@@ -168,12 +164,16 @@ std::vector<Contour> trace_contours(const Field& plane) {
   return Tracer(plane).trace();
 }
 
-std::uint64_t layer_count(const Box3& model, const SliceOptions& options) {
-  const double L = options.layer;
-  if (!(L > 0) || !std::isfinite(L))
+void require_valid(const SliceOptions& options) {
+  if (!(options.layer > 0) || !std::isfinite(options.layer))
     throw InputError("the layer thickness must be a positive number of millimetres");
   if (options.start && !std::isfinite(*options.start))
     throw InputError("the first layer's height must be a finite number of millimetres");
+}
+
+std::uint64_t layer_count(const Box3& model, const SliceOptions& options) {
+  require_valid(options);
+  const double L = options.layer;
   const double span = model.max.z - options.start.value_or(model.min.z);
   const double n = std::ceil(span / L);
   if (n > 1e9) throw InputError("more than a billion layers: is the layer thickness in mm?");
@@ -271,27 +271,57 @@ void require_budget(const FillOptions& options, SliceReport& report, std::size_t
   const double plane = static_cast<double>(report.plane_nodes);
   const double bytes = static_cast<double>(at_once) * plane *
                            (report.slab_planes * 4 + 40 + (depth_planes > 0 ? 8 : 0)) +
-                       plane * depth_planes * 4 + static_cast<double>(model_triangles) * 260.0 +
-                       64.0 * 1024 * 1024;
+                       plane * depth_planes * 4 +
+                       static_cast<double>(model_triangles) * detail::kBytesPerInputTriangle +
+                       detail::kFixedBytes;
   report.job.estimated_memory_bytes = static_cast<std::uint64_t>(std::min(bytes, 1.8e19));
   const double budget =
       static_cast<double>(options.memory_budget ? options.memory_budget : default_memory_budget());
   if (bytes <= budget) return;
-  const double fixed = static_cast<double>(model_triangles) * 260.0 + 64.0 * 1024 * 1024;
+  const double fixed =
+      static_cast<double>(model_triangles) * detail::kBytesPerInputTriangle + detail::kFixedBytes;
+  // The rest grows with the plane's nodes, about as 1/voxel²: the voxel that fits.
+  char fit[120] = "the input alone exceeds it";
+  if (fixed < budget)
+    std::snprintf(fit, sizeof fit, "a --voxel of %.4g mm or more fits",
+                  report.job.grid.spacing * std::sqrt((bytes - fixed) / (budget - fixed)) * 1.02);
   char text[320];
-  std::snprintf(
-      text, sizeof text,
-      "slicing needs about %.3g GB (%zu layers at once, each a slab of %d planes of "
-      "%llu nodes) but the memory budget is %.3g GB; %s",
-      bytes / 1e9, at_once, report.slab_planes, static_cast<unsigned long long>(report.plane_nodes),
-      budget / 1e9,
-      fixed > budget ? "the input alone exceeds it" : "a larger --voxel makes smaller planes");
+  std::snprintf(text, sizeof text,
+                "slicing needs about %.3g GB (%zu layers at once, each a slab of %d planes of "
+                "%llu nodes) but the memory budget is %.3g GB; %s",
+                bytes / 1e9, at_once, report.slab_planes,
+                static_cast<unsigned long long>(report.plane_nodes), budget / 1e9, fit);
   throw ResourceError(text);
 }
 
-// Layers that start above the model's bottom leave its lowest part out: say how much.
-void warn_start(double start, FillReport& r) {
+// Layers that start above the model's bottom leave its lowest part out, ones far below it are
+// empty, and layers a millimetre thick are no printer's (a thickness meant in µm): say so.
+void warn_layers(double start, double L, FillReport& r) {
   const double bottom = r.input_bbox.min.z, top = r.input_bbox.max.z;
+  if (start < top && start + 0.5 * L > top) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "layers %g mm thick: the first one's centre (z = %g mm) lies above the model's "
+                  "top (%g mm), so no layer meets it (--layer is in mm: 30 um is --layer 0.03)",
+                  L, start + 0.5 * L, top);
+    throw InputError(text);
+  }
+  if (L >= 1) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "layers %g mm thick make %.0f layer(s) of this %.3g mm tall model: printers use "
+                  "0.02 to 0.2 mm (--layer is in mm: 30 um is --layer 0.03)",
+                  L, std::ceil((top - std::min(start, top)) / L), top - bottom);
+    r.warnings.push_back(text);
+  }
+  if (start < bottom - L) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "layers start at z = %g mm, %.4g mm below the model's bottom (%g mm): the first "
+                  "%.0f layer(s) are empty",
+                  start, bottom - start, bottom, std::floor((bottom - start) / L));
+    r.warnings.push_back(text);
+  }
   if (start >= top) {
     char text[160];
     std::snprintf(text, sizeof text,
@@ -306,11 +336,6 @@ void warn_start(double start, FillReport& r) {
                 "are not sliced",
                 start, bottom, start - bottom);
   r.warnings.push_back(text);
-}
-
-// 1 − the layers' volume over the model's.
-double porosity(const SliceReport& report) {
-  return report.job.model_volume > 0 ? 1.0 - report.volume / report.job.model_volume : 0.0;
 }
 
 // A layer's figures into the report, after the exact check of its contours.
@@ -388,7 +413,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   require_valid(options.design);
   require_valid(ComposeOptions{.skin = options.skin});
   const double L = slice_options.layer;
-  layer_count(Box3{{0, 0, 0}, {1, 1, 1}}, slice_options);  // the options' checks, before work
+  require_valid(slice_options);  // before any work
   std::optional<TriangleSoup> in_mm;
   if (options.units.factor() != 1) in_mm = to_millimetres(input, options.units);
   const TriangleSoup& model = in_mm ? *in_mm : input;
@@ -397,18 +422,11 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   FillReport& r = report.job;
   report.layer = L;
   const InsideRule rule = options.inside.value_or(InsideRule::Winding);
-  std::vector<detail::PlannedStage> plan{{"review", 0.5}, {"spatial", 5}};
-  if (!options.inside) plan.push_back({"classify", 5});
-  if (rule == InsideRule::Winding) plan.insert(plan.end(), {{"clean", 5}, {"spatial", 5}});
+  std::vector<detail::PlannedStage> plan{{"review", 0.5}};
+  for (detail::PlannedStage& s : detail::index_stages(options)) plan.push_back(std::move(s));
   plan.push_back({"slice", 85});
   detail::JobProgress job(slice_options.progress ? slice_options.progress : options.progress, plan);
-  auto stage = [&](const char* name, auto&& work) {
-    job.begin_stage(name);
-    const auto t0 = std::chrono::steady_clock::now();
-    work();
-    r.stages.push_back({name, seconds_since(t0), peak_memory_mb()});
-    job.end_stage();
-  };
+  detail::StageClock stage(r, job);
 
   report.resolved = options;
   LatticeDesign& design = report.resolved.design;
@@ -421,7 +439,6 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
       r.warnings.push_back(std::move(w));
   });
   r.grid = grid;
-  r.inside_rule = inside_name(rule);
   // Depth ramps read fill's grid planes around each layer (DepthPlanes), so the layer's own
   // slab needs only the band's reach.
   const double reach = detail::depth_reach(design);
@@ -436,29 +453,19 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
     throw InputError("layers " + std::to_string(from) + " to " + std::to_string(to) +
                      " are not a range of the " + std::to_string(count) + " layers");
   const bool whole = from == 0 && to == count;
-  warn_start(start, r);
+  warn_layers(start, L, r);
   require_budget(options, report, detail::slabs_at_once(),
                  reach > 0 ? DepthPlanes::planes_held(reach, grid.spacing) : 0,
                  model.triangles.size());
 
-  detail::IndexedModel indexed;
-  stage("spatial", [&] { indexed.tree.emplace(build_index(model)); });
-  if (rule == InsideRule::Winding && options.inside)
-    detail::index_cleaned(model, indexed, r, stage);
   // Auto: the input as it is, unless a row of some layer's slab finds it open or inside out.
-  if (!options.inside) {
-    bool unbalanced = false;
-    stage("classify", [&] {
-      unbalanced = detail::any_unbalanced(
-          *indexed.tree, to - from,
-          [&](std::uint64_t m) {
-            return detail::widened(layer_plane(grid, layer_centre(start, L, from + m)), halo);
-          },
-          job.get());
-      if (slice_options.any_unbalanced) unbalanced = slice_options.any_unbalanced(unbalanced);
-    });
-    if (unbalanced) detail::index_cleaned(model, indexed, r, stage);
-  }
+  detail::IndexedModel indexed;
+  detail::index_for_rule(
+      model, options, indexed, r, stage, to - from,
+      [&](std::uint64_t m) {
+        return detail::widened(layer_plane(grid, layer_centre(start, L, from + m)), halo);
+      },
+      slice_options.any_unbalanced, job.get());
   stage("slice", [&] {
     std::optional<DepthPlanes> depth;
     if (reach > 0) depth.emplace(*indexed.tree, rule, grid, reach);
@@ -468,7 +475,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
                  depth ? &*depth : nullptr);
   });
   r.samples = report.plane_nodes * (to - from);
-  if (whole) detail::warn_structure_porosity(design, porosity(report), r);
+  if (whole) detail::warn_structure_porosity(design, report.porosity(), r);
   job.finish();
   return report;
 }

@@ -18,10 +18,6 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
   return s;
 }
 
-double porosity(const SliceReport& r) {
-  return r.job.model_volume > 0 ? 1.0 - r.volume / r.job.model_volume : 0.0;
-}
-
 }  // namespace
 
 std::string to_json(const SliceReport& r) {
@@ -49,7 +45,7 @@ std::string to_json(const SliceReport& r) {
                   {"holes", r.holes},
                   {"points", r.points},
                   {"volume", r.volume},
-                  {"porosity", porosity(r)},
+                  {"porosity", r.porosity()},
                   {"islands", "kept: a layer cannot tell a floating piece (fill removes them)"},
                   {"segment_pairs_checked", r.segment_pairs_checked},
                   {"contours_simple", true},
@@ -70,7 +66,7 @@ std::string to_text(const SliceReport& r) {
        format(", %.0f points\n", static_cast<double>(r.points));
   s += format("volume       lattice %.1f mm3 (sum of area x layer), model %.1f mm3\n", r.volume,
               j.model_volume);
-  s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * porosity(r),
+  s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
               100 * j.unclipped_porosity);
   s += format(
       "contours     closed, outer counter-clockwise, holes clockwise; %.3g segment "

@@ -307,3 +307,26 @@ TEST(Slice, CancelStopsBeforeTheNextLayers) {
                Cancelled);
   EXPECT_LT(layers, 200);
 }
+
+TEST(Slice, WarnsOfLayersNoPrinterUsesAndOfEmptyOnes) {
+  // A thickness meant in µm (30 mm layers) and a start far below the model: each a warning
+  // with the numbers, never a silent result.
+  const TriangleSoup box = test::make_box({0, 0, 0}, {6, 6, 6});
+  const FillOptions fo = test::gyroid_options(2, 0.2);
+  auto none = [](const Layer&) {};
+  const SliceReport thick = slice(box, fo, {.layer = 2}, none);
+  ASSERT_EQ(thick.layers.size(), 3u);
+  ASSERT_EQ(thick.job.warnings.size(), 1u);
+  EXPECT_NE(thick.job.warnings[0].find("--layer is in mm"), std::string::npos);
+  try {  // so thick that no layer's centre meets the model: refused, saying why
+    slice(box, fo, {.layer = 30}, none);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no layer meets it"), std::string::npos) << e.what();
+  }
+  const SliceReport low = slice(box, fo, {.layer = 0.5, .start = -10}, none);
+  ASSERT_EQ(low.job.warnings.size(), 1u);
+  EXPECT_NE(low.job.warnings[0].find("the first 20 layer(s) are empty"), std::string::npos)
+      << low.job.warnings[0];
+  EXPECT_TRUE(slice(box, fo, {.layer = 0.5}, none).job.warnings.empty());
+}

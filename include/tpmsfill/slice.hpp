@@ -95,6 +95,8 @@ struct SliceReport {
   std::uint64_t contours = 0, holes = 0, points = 0;
   /// Σ area × layer, mm³: the lattice's volume as printed.
   double volume = 0;
+  /// 1 − volume / the model's volume (0 without a model volume).
+  double porosity() const { return job.model_volume > 0 ? 1.0 - volume / job.model_volume : 0.0; }
   /// Pairs of contour segments tested for crossing or touching with exact predicates.
   std::uint64_t segment_pairs_checked = 0;
   std::uint64_t plane_nodes = 0;  ///< nodes per plane
@@ -115,6 +117,9 @@ using LayerSink = std::function<void(const Layer& layer)>;
 /// @throws whatever the sink throws
 SliceReport slice(const TriangleSoup& model, const FillOptions& fill_options,
                   const SliceOptions& options, const LayerSink& sink);
+
+/// @throws InputError  a layer thickness that is not positive, or a start that is not finite
+void require_valid(const SliceOptions& options);
 
 /// Layers slice() makes for a model with this box (mm): from the start (or the box's bottom)
 /// until one's bottom reaches its top, at least one.
