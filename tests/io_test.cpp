@@ -7,8 +7,12 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <span>
+#include <string>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
+#include <tuple>
+#include <vector>
 
 #include "test_util.hpp"
 
@@ -173,6 +177,326 @@ TEST(IoWrite, FailedWriteLeavesOldFileAndNoTemporary) {
   fs::permissions(dir, fs::perms::owner_all);
   EXPECT_EQ(test::read_file(file), "old content");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+// ---- MeshWriter: piece by piece ----------------------------------------------------------
+
+namespace {
+
+// Every name in `dir`, sorted: temporaries included (they start with a dot).
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Points [begin, end), or triangles [begin, end), as one call.
+struct Piece {
+  bool points;
+  std::size_t begin, end;
+};
+
+// Points in 3 pieces and triangles in 4, in the given order of the 7 (P0..P2, T0..T3).
+std::vector<Piece> pieces(const TriangleSoup& mesh, const std::string& order) {
+  const std::size_t np = mesh.points.size(), nt = mesh.triangles.size();
+  const std::size_t p[] = {0, np / 3, 2 * np / 3, np};
+  const std::size_t t[] = {0, nt / 5, nt / 2, 3 * nt / 4, nt};
+  std::vector<Piece> out;
+  for (std::size_t i = 0; i + 1 < order.size(); i += 2) {
+    const int k = order[i + 1] - '0';
+    out.push_back(order[i] == 'P' ? Piece{true, p[k], p[k + 1]} : Piece{false, t[k], t[k + 1]});
+  }
+  return out;
+}
+
+// The orders tried: triangles before, among and after their points.
+const char* const kOrders[] = {"T0P0T1P1T2P2T3", "P0P1P2T0T1T2T3", "T0T1T2T3P0P1P2",
+                               "P0T0T1P1P2T2T3"};
+
+// Triangles [begin, end), with a window of just the ids they use.
+void add_triangle_piece(MeshWriter& writer, const TriangleSoup& mesh, std::size_t begin,
+                        std::size_t end) {
+  const std::span<const Triangle> triangles(mesh.triangles.data() + begin, end - begin);
+  std::uint32_t lo = UINT32_MAX, hi = 0;
+  for (const Triangle& t : triangles)
+    for (std::uint32_t v : t) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  if (triangles.empty()) lo = hi = 0;
+  writer.add_triangles(triangles, std::span(mesh.points).subspan(lo, hi - lo + 1), lo);
+}
+
+void write_in_pieces(const fs::path& file, const TriangleSoup& mesh,
+                     const std::vector<Piece>& order, const WriteOptions& options) {
+  MeshWriter writer(file, mesh.points.size(), mesh.triangles.size(), options);
+  for (const Piece& piece : order) {
+    if (piece.points)
+      writer.add_points(std::span(mesh.points).subspan(piece.begin, piece.end - piece.begin));
+    else
+      add_triangle_piece(writer, mesh, piece.begin, piece.end);
+  }
+  writer.commit();
+}
+
+struct FormatCase {
+  const char* name;
+  WriteOptions options;
+};
+const FormatCase kFormats[] = {{"m.stl", {}},
+                               {"m.stl", {.format = MeshFormat::StlAscii}},
+                               {"m.obj", {}},
+                               {"m.off", {}},
+                               {"m.ply", {}}};
+
+}  // namespace
+
+TEST(IoMeshWriter, PiecesGiveTheBytesOfWriteMeshInEveryFormat) {
+  const fs::path dir = test::scratch_dir();
+  for (const TriangleSoup& mesh :
+       {test::make_torus(5, 1.3, 24, 12), test::make_sphere({1, 2, 3}, 2.7, 2)}) {
+    for (const FormatCase& format : kFormats) {
+      const std::string label = std::string(format_name(format.options.format)) + " " + format.name;
+      const fs::path whole = dir / "whole" / format.name;
+      fs::create_directories(whole.parent_path());
+      write_mesh(whole, mesh, format.options);
+      const std::string expected = test::read_file(whole);
+      for (const char* order : kOrders) {
+        const fs::path file = dir / "pieces" / format.name;
+        fs::remove_all(file.parent_path());
+        fs::create_directories(file.parent_path());
+        write_in_pieces(file, mesh, pieces(mesh, order), format.options);
+        EXPECT_TRUE(test::read_file(file) == expected) << label << " " << order;
+        // Nothing but the file: the temporary was renamed, the faces' one never had a name.
+        EXPECT_EQ(listing(file.parent_path()), std::vector<std::string>{format.name});
+        const TriangleSoup back = read_mesh(file);
+        if (format_from_extension(file) == MeshFormat::StlBinary) {
+          // STL stores three float points per facet.
+          const TriangleSoup unshared = test::unshare_points(mesh);
+          EXPECT_EQ(back.triangles, unshared.triangles) << label;
+          EXPECT_EQ(corner_positions(back, true), corner_positions(unshared, true)) << label;
+        } else {
+          EXPECT_EQ(back.points, mesh.points) << label;
+          EXPECT_EQ(back.triangles, mesh.triangles) << label;
+        }
+      }
+    }
+  }
+}
+
+TEST(IoMeshWriter, PiecesLongerThanOneBufferGiveTheSameBytes) {
+  // 360,000 triangles: pieces are formatted a buffer of 2^18 at a time.
+  const fs::path dir = test::scratch_dir();
+  const TriangleSoup mesh = test::make_torus(5, 1.3, 600, 300);
+  fs::create_directories(dir / "whole");
+  for (const char* name : {"m.stl", "m.obj", "m.ply"}) {
+    write_mesh(dir / "whole" / name, mesh);
+    write_in_pieces(dir / name, mesh, pieces(mesh, "T0T1P0T2P1P2T3"), {});
+    EXPECT_TRUE(test::read_file(dir / name) == test::read_file(dir / "whole" / name)) << name;
+  }
+  // A bad corner in the second buffer is named by its index in the whole mesh.
+  TriangleSoup bad = mesh;
+  bad.triangles[300000][2] = static_cast<std::uint32_t>(mesh.points.size());
+  MeshWriter writer(dir / "bad.obj", mesh.points.size(), mesh.triangles.size());
+  writer.add_points(mesh.points);
+  try {
+    writer.add_triangles(bad.triangles, mesh.points, 0);
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("triangle 300000 refers to point 180000,"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "bad.obj"));
+}
+
+TEST(IoMeshWriter, EmptyPiecesAndAnEmptyMeshChangeNothing) {
+  const fs::path dir = test::scratch_dir();
+  const TriangleSoup box = test::make_box({0, 0, 0}, {1, 2, 3});
+  for (const FormatCase& format : kFormats) {
+    fs::create_directories(dir / "whole");
+    fs::create_directories(dir / "pieces");
+    write_mesh(dir / "whole" / format.name, TriangleSoup{}, format.options);
+    {
+      MeshWriter writer(dir / "pieces" / format.name, 0, 0, format.options);
+      writer.add_points({});
+      writer.add_triangles({}, {}, 0);
+      writer.commit();
+    }
+    EXPECT_EQ(test::read_file(dir / "pieces" / format.name),
+              test::read_file(dir / "whole" / format.name));
+    MeshWriter writer(dir / "pieces" / format.name, box.points.size(), box.triangles.size(),
+                      format.options);
+    writer.add_triangles({}, {}, 0);
+    writer.add_points(box.points);
+    writer.add_points({});
+    writer.add_triangles(box.triangles, box.points, 0);
+    writer.add_triangles({}, {}, 0);
+    writer.commit();
+    write_mesh(dir / "whole" / format.name, box, format.options);
+    EXPECT_EQ(test::read_file(dir / "pieces" / format.name),
+              test::read_file(dir / "whole" / format.name));
+  }
+}
+
+TEST(IoMeshWriter, WrongCountsThrowAndLeaveNoFile) {
+  const fs::path dir = test::scratch_dir();
+  const TriangleSoup mesh = test::make_torus(5, 1.3, 12, 6);
+  const std::size_t np = mesh.points.size(), nt = mesh.triangles.size();
+  for (const FormatCase& format : kFormats) {
+    const fs::path file = dir / format.name;
+    // Fewer than declared, found at commit (with faces waiting for their points, too).
+    for (const auto& [points, triangles, order] :
+         {std::tuple{np + 1, nt, "T0P0T1P1T2P2T3"}, std::tuple{np, nt + 1, "P0P1P2T0T1T2T3"},
+          std::tuple{np + 1, nt + 1, "T0T1T2T3P0P1P2"}}) {
+      MeshWriter writer(file, points, triangles, format.options);
+      for (const Piece& piece : pieces(mesh, order)) {
+        if (piece.points)
+          writer.add_points(std::span(mesh.points).subspan(piece.begin, piece.end - piece.begin));
+        else
+          add_triangle_piece(writer, mesh, piece.begin, piece.end);
+      }
+      try {
+        writer.commit();
+        ADD_FAILURE() << "no exception";
+      } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind("cannot write " + file.string() + ": only ", 0), 0u) << what;
+        EXPECT_NE(what.find("declared"), std::string::npos) << what;
+      }
+      EXPECT_TRUE(fs::is_empty(dir)) << format.name << " " << order;
+      // Dead: every later call is refused, and nothing appears.
+      EXPECT_THROW(writer.commit(), InputError);
+      EXPECT_THROW(writer.add_points({}), InputError);
+      EXPECT_TRUE(fs::is_empty(dir));
+    }
+    // More than declared, found when added.
+    {
+      MeshWriter writer(file, np - 1, nt, format.options);
+      EXPECT_THROW(writer.add_points(mesh.points), InputError);
+      EXPECT_TRUE(fs::is_empty(dir)) << format.name;
+      EXPECT_THROW(writer.add_triangles(mesh.triangles, mesh.points, 0), InputError);
+    }
+    {
+      MeshWriter writer(file, np, nt - 1, format.options);
+      writer.add_points(mesh.points);
+      EXPECT_THROW(writer.add_triangles(mesh.triangles, mesh.points, 0), InputError);
+      EXPECT_TRUE(fs::is_empty(dir)) << format.name;
+    }
+    EXPECT_TRUE(fs::is_empty(dir));
+  }
+}
+
+TEST(IoMeshWriter, CornerOutsideTheWindowOrThePointsThrows) {
+  const fs::path dir = test::scratch_dir();
+  const TriangleSoup box = test::make_box({0, 0, 0}, {1, 2, 3});
+  const std::span<const Vec3> points(box.points);
+  for (const FormatCase& format : kFormats) {
+    const fs::path file = dir / format.name;
+    {
+      // The window starts one id too late for some corner.
+      MeshWriter writer(file, 8, 12, format.options);
+      writer.add_points(points);
+      try {
+        writer.add_triangles(box.triangles, points.subspan(1), 1);
+        ADD_FAILURE() << "no exception";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("outside the window of points [1, 8)"),
+                  std::string::npos)
+            << e.what();
+      }
+      EXPECT_TRUE(fs::is_empty(dir)) << format.name;
+      EXPECT_THROW(writer.add_triangles(box.triangles, points, 0), InputError);
+      EXPECT_THROW(writer.commit(), InputError);
+    }
+    {
+      // A window too short at the end, before any point was added.
+      MeshWriter writer(file, 8, 12, format.options);
+      EXPECT_THROW(writer.add_triangles(box.triangles, points.first(7), 0), InputError);
+      EXPECT_TRUE(fs::is_empty(dir)) << format.name;
+    }
+    {
+      // A corner past the declared points, however wide the window: write_mesh's message.
+      TriangleSoup bad = box;
+      bad.triangles[3][1] = 8;
+      bad.points.push_back({9, 9, 9});
+      MeshWriter writer(file, 8, 12, format.options);
+      try {
+        writer.add_triangles(bad.triangles, bad.points, 0);
+        ADD_FAILURE() << "no exception";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), "cannot write " + file.string() +
+                                             ": triangle 3 refers to point 8, but there are "
+                                             "only 8 points");
+      }
+      EXPECT_TRUE(fs::is_empty(dir)) << format.name;
+    }
+  }
+}
+
+TEST(IoMeshWriter, TargetUntouchedUntilCommitAndWhenNeverCommitted) {
+  const fs::path dir = test::scratch_dir();
+  const TriangleSoup mesh = test::make_sphere({0, 0, 0}, 1, 1);
+  for (const FormatCase& format : kFormats) {
+    const fs::path file = dir / format.name;
+    test::write_file(file, "old content");
+    {
+      // Everything added, never committed: the folder is as it was.
+      MeshWriter writer(file, mesh.points.size(), mesh.triangles.size(), format.options);
+      add_triangle_piece(writer, mesh, 0, 10);  // the faces wait in an unnamed temporary
+      writer.add_points(mesh.points);
+      add_triangle_piece(writer, mesh, 10, mesh.triangles.size());
+      EXPECT_EQ(test::read_file(file), "old content");
+      EXPECT_EQ(listing(dir).size(), 2u);  // the target and the temporary beside it
+    }
+    EXPECT_EQ(listing(dir), std::vector<std::string>{format.name});
+    EXPECT_EQ(test::read_file(file), "old content");
+    {
+      MeshWriter writer(file, mesh.points.size(), mesh.triangles.size(), format.options);
+      add_triangle_piece(writer, mesh, 0, 10);
+      writer.add_points(mesh.points);
+      add_triangle_piece(writer, mesh, 10, mesh.triangles.size());
+      EXPECT_EQ(test::read_file(file), "old content");
+      writer.commit();
+      EXPECT_EQ(listing(dir), std::vector<std::string>{format.name});
+      // Committed: later calls are refused and change nothing.
+      EXPECT_THROW(writer.add_points({}), InputError);
+      EXPECT_THROW(writer.commit(), InputError);
+    }
+    const std::string written = test::read_file(file);
+    write_mesh(file, mesh, format.options);
+    EXPECT_TRUE(written == test::read_file(file)) << format.name;
+    fs::remove(file);
+  }
+}
+
+TEST(IoMeshWriter, BadFormatOrCountsAreInputErrorsAndMissingFolderIoError) {
+  const fs::path dir = test::scratch_dir();
+  const std::uint64_t too_many = std::uint64_t{1} << 32;
+  try {
+    MeshWriter writer(dir / "m.xyz", 8, 12);
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "cannot write " + (dir / "m.xyz").string() +
+                                         ": unknown extension (use .stl, .obj, .ply or .off)");
+  }
+  EXPECT_THROW(MeshWriter(dir / "m.stl", 3, too_many), InputError);
+  EXPECT_THROW(MeshWriter(dir / "m.ply", too_many, 1), InputError);
+  EXPECT_TRUE(fs::is_empty(dir));
+  // The same counts fit the other formats (the writers are dropped uncommitted).
+  MeshWriter(dir / "m.stl", too_many, too_many, {.format = MeshFormat::StlAscii});
+  MeshWriter(dir / "m.ply", 3, too_many);
+  MeshWriter(dir / "m.obj", too_many, too_many);
+  EXPECT_TRUE(fs::is_empty(dir));
+  const fs::path missing = dir / "no" / "such" / "m.obj";
+  try {
+    MeshWriter writer(missing, 8, 12);
+    ADD_FAILURE() << "no exception";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
 }
 
 TEST(IoFormat, NamesAndExtensions) {

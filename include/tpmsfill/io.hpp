@@ -8,11 +8,14 @@
 /// gzip-compressed data and UTF-16 text (with a byte-order mark) are unwrapped transparently.
 ///
 /// Writers write a temporary file in the target folder and rename it over the target, so a
-/// failed write leaves nothing behind and never a half-written file.
+/// failed write leaves nothing behind and never a half-written file. MeshWriter writes a mesh
+/// too large to hold in memory piece by piece, with the bytes write_mesh would write.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -80,13 +83,72 @@ struct WriteOptions {
   MeshFormat format = MeshFormat::Auto;
 };
 
-/// Writes a soup, atomically: to a temporary file beside `path`, then renamed over it.
+/// Writes a soup, atomically: to a temporary file beside `path`, then renamed over it (a
+/// MeshWriter given the whole soup in one piece).
 /// Coordinates are written so they read back bit-identical (binary STL: as float, its format).
 /// @throws IoError     the folder is not writable, the disk is full, ...
 /// @throws InputError  no format could be taken from the extension, or the soup has an
 ///                     index out of range or more points than the format can hold
 void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
                 const WriteOptions& options = {});
+
+/// Writes a mesh piece by piece, for meshes too large to hold whole: the same bytes as
+/// write_mesh() of the whole mesh, and as atomic (a temporary beside `path` until commit()).
+/// The counts come first (formats with a header need them); then points in id order and
+/// triangles in order, in pieces, interleaved as the caller makes them.
+///
+/// STL stores coordinates per facet, so its points are only counted. OBJ, OFF and PLY store
+/// all points before the first face: faces that arrive before the last point go to a second
+/// temporary (unlinked at once, so never left behind), copied after the points when the last
+/// one is added; faces that arrive after it cost nothing extra (write_mesh's case).
+///
+/// After any exception from add_points(), add_triangles() or commit() the writer is dead: its
+/// temporaries are removed at once and every later call throws InputError. Destroying a writer
+/// that was not committed removes its temporaries and leaves `path` untouched. Not thread-safe:
+/// one thread calls at a time (a piece is formatted in parallel inside).
+class MeshWriter {
+ public:
+  /// Creates the temporary and writes the header.
+  /// @param[in] path       the file to write; its extension gives the format unless options do
+  /// @param[in] points     how many points add_points() will add, in all
+  /// @param[in] triangles  how many triangles add_triangles() will add, in all
+  /// @throws InputError  no format could be taken from the extension, or the counts are too many
+  ///                     for the format (binary STL's triangles, PLY's points: 32 bits)
+  /// @throws IoError     the folder is not writable, the disk is full, ...
+  MeshWriter(const std::filesystem::path& path, std::uint64_t points, std::uint64_t triangles,
+             const WriteOptions& options = {});
+  /// Without commit(): every temporary removed, `path` untouched.
+  ~MeshWriter();
+  MeshWriter(const MeshWriter&) = delete;
+  MeshWriter& operator=(const MeshWriter&) = delete;
+
+  /// The next points (ids continue from those added before). The last of them brings in the
+  /// faces that were waiting for them (see above).
+  /// @throws InputError  more points than declared, or the writer is dead or committed
+  /// @throws IoError     the disk is full, ...
+  void add_points(std::span<const Vec3> points);
+
+  /// The next triangles. Their corners are point ids (< the declared point count); `window`
+  /// holds the positions of ids [first_id, first_id + window.size()), which must cover every
+  /// corner (STL stores coordinates per facet; the check is the same for every format, so a
+  /// caller's bug shows whatever it writes). The points need not have been added yet.
+  /// @throws InputError  more triangles than declared, a corner not below the declared point
+  ///                     count or outside the window, or the writer is dead or committed
+  /// @throws IoError     the disk is full, ...
+  void add_triangles(std::span<const Triangle> triangles, std::span<const Vec3> window,
+                     std::uint64_t first_id);
+
+  /// Checks that the declared counts were added, flushes, renames over `path`.
+  /// @throws InputError  fewer points or triangles than declared, or the writer is dead or
+  ///                     committed already
+  /// @throws IoError     the last write, the flush or the rename failed
+  void commit();
+
+ private:
+  struct State;
+  State& open_state();
+  std::unique_ptr<State> state_;
+};
 
 /// Writes bytes (a report, say) the way write_mesh writes a mesh: to a temporary file beside
 /// `path`, flushed, then renamed over it, so `path` is never half-written.

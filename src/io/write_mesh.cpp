@@ -1,5 +1,8 @@
-// Writers: the whole file is formatted in memory, then written to a temporary file beside the
-// target and renamed over it, so readers of the target never see a half-written mesh.
+// Writers, piece by piece: a header with the counts, then points, then triangles, then a
+// footer, each piece formatted into a buffer and written to a temporary file beside the target
+// that is renamed over it at the end, so readers of the target never see a half-written mesh.
+// write_mesh is a MeshWriter given the whole soup in one piece of each.
+
 // GCC 12 at -O3 warns falsely (-Wrestrict, GCC bug 105651) inside <string> on `"literal" +
 // std::string` once inlined. The warning is located in the library header, so it can only be
 // silenced before the first include.
@@ -17,10 +20,13 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <utility>
 
 #include "detail/index_limits.hpp"
 #include "detail/parallel.hpp"
-#include "detail/soup_indices.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
@@ -46,10 +52,17 @@ void append_le(std::string& out, T value) {
   out.append(bytes.data(), bytes.size());
 }
 
+// Positions of the ids [first, first + points.size()): all that a piece of triangles sees of
+// the points.
+struct Window {
+  std::span<const Vec3> points;
+  std::uint64_t first = 0;
+  const Vec3& operator[](std::uint32_t id) const { return points[id - first]; }
+};
+
 // Unit normal of a triangle as floats (zero for a degenerate one), as STL stores it.
-std::array<float, 3> facet_normal(const TriangleSoup& soup, const Triangle& t) {
-  const Vec3 n =
-      cross(soup.points[t[1]] - soup.points[t[0]], soup.points[t[2]] - soup.points[t[0]]);
+std::array<float, 3> facet_normal(const Window& points, const Triangle& t) {
+  const Vec3 n = cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
   const double length = norm(n);
   if (!(length > 0) || !std::isfinite(length)) return {0, 0, 0};
   return {static_cast<float>(n.x / length), static_cast<float>(n.y / length),
@@ -64,56 +77,6 @@ char* put_le(char* out, T value) {
   return out + bytes.size();
 }
 
-std::string format_stl_binary(const TriangleSoup& soup) {
-  // Fixed 50 bytes per facet: sized once and filled in parallel (outputs reach millions).
-  std::string out(84 + 50 * soup.triangles.size(), '\0');
-  // Must not start with "solid": readers that trust the first word would take it for ASCII.
-  std::string header = "binary STL written by tpmsfill";
-  header.resize(80, ' ');
-  out.replace(0, 80, header);
-  put_le(out.data() + 80, static_cast<std::uint32_t>(soup.triangles.size()));
-  detail::parallel_for(soup.triangles.size(), 4096, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const Triangle& t = soup.triangles[i];
-      char* at = out.data() + 84 + 50 * i;
-      for (const float c : facet_normal(soup, t)) at = put_le(at, c);
-      for (const std::uint32_t v : t) {
-        const Vec3& p = soup.points[v];
-        at = put_le(at, static_cast<float>(p.x));
-        at = put_le(at, static_cast<float>(p.y));
-        at = put_le(at, static_cast<float>(p.z));
-      }
-      put_le(at, std::uint16_t{0});
-    }
-  });
-  return out;
-}
-
-// Floats, like binary STL: both STL flavours then read back the same coordinates.
-std::string format_stl_ascii(const TriangleSoup& soup) {
-  std::string out = "solid tpmsfill\n";
-  for (const Triangle& t : soup.triangles) {
-    out += "facet normal";
-    for (const float c : facet_normal(soup, t)) {
-      out += ' ';
-      append_number(out, c);
-    }
-    out += "\nouter loop\n";
-    for (const std::uint32_t v : t) {
-      const Vec3& p = soup.points[v];
-      out += "vertex";
-      for (const double c : {p.x, p.y, p.z}) {
-        out += ' ';
-        append_number(out, static_cast<float>(c));
-      }
-      out += '\n';
-    }
-    out += "endloop\nendfacet\n";
-  }
-  out += "endsolid tpmsfill\n";
-  return out;
-}
-
 void append_xyz(std::string& out, const Vec3& p) {
   append_number(out, p.x);
   out += ' ';
@@ -123,137 +86,457 @@ void append_xyz(std::string& out, const Vec3& p) {
   out += '\n';
 }
 
-std::string format_obj(const TriangleSoup& soup) {
-  std::string out = "# written by tpmsfill\n";
-  for (const Vec3& p : soup.points) {
-    out += "v ";
-    append_xyz(out, p);
-  }
-  for (const Triangle& t : soup.triangles) {
-    out += 'f';
-    for (const std::uint32_t v : t) {
+// ---- the formats, piece by piece ------------------------------------------------------------
+// A file is format_header, then append_points over the points in order, then append_triangles
+// over the triangles in order, then format_footer: however the pieces are cut, the bytes are
+// those of the whole mesh in one piece.
+
+// OBJ, OFF and PLY list every point before the first face; STL has no points of its own.
+bool indexed(MeshFormat format) {
+  return format == MeshFormat::Obj || format == MeshFormat::Off || format == MeshFormat::Ply;
+}
+
+std::string format_header(MeshFormat format, std::uint64_t points, std::uint64_t triangles) {
+  std::string out;
+  switch (format) {
+    case MeshFormat::Auto:
+    case MeshFormat::StlBinary:
+      // Must not start with "solid": readers that trust the first word would take it for ASCII.
+      out = "binary STL written by tpmsfill";
+      out.resize(80, ' ');
+      append_le(out, static_cast<std::uint32_t>(triangles));
+      break;
+    case MeshFormat::StlAscii:
+      out = "solid tpmsfill\n";
+      break;
+    case MeshFormat::Obj:
+      out = "# written by tpmsfill\n";
+      break;
+    case MeshFormat::Off:
+      out = "OFF\n";
+      append_u64(out, points);
       out += ' ';
-      append_u64(out, std::uint64_t{v} + 1);
+      append_u64(out, triangles);
+      out += " 0\n";
+      break;
+    case MeshFormat::Ply:
+      out = "ply\nformat binary_little_endian 1.0\ncomment written by tpmsfill\nelement vertex ";
+      append_u64(out, points);
+      out += "\nproperty double x\nproperty double y\nproperty double z\nelement face ";
+      append_u64(out, triangles);
+      out += "\nproperty list uchar uint vertex_indices\nend_header\n";
+      break;
+  }
+  return out;
+}
+
+void append_points(MeshFormat format, std::string& out, std::span<const Vec3> points) {
+  switch (format) {
+    case MeshFormat::Auto:
+    case MeshFormat::StlBinary:
+    case MeshFormat::StlAscii:
+      break;  // STL stores the coordinates with each facet
+    case MeshFormat::Obj:
+      for (const Vec3& p : points) {
+        out += "v ";
+        append_xyz(out, p);
+      }
+      break;
+    case MeshFormat::Off:
+      for (const Vec3& p : points) append_xyz(out, p);
+      break;
+    case MeshFormat::Ply:
+      out.reserve(out.size() + 24 * points.size());
+      for (const Vec3& p : points) {
+        append_le(out, p.x);
+        append_le(out, p.y);
+        append_le(out, p.z);
+      }
+      break;
+  }
+}
+
+// Precondition: `window` holds every corner.
+void append_triangles(MeshFormat format, std::string& out, std::span<const Triangle> triangles,
+                      const Window& window) {
+  switch (format) {
+    case MeshFormat::Auto:
+    case MeshFormat::StlBinary: {
+      // Fixed 50 bytes per facet: sized once and filled in parallel (outputs reach millions).
+      const std::size_t start = out.size();
+      out.resize(start + 50 * triangles.size());
+      char* const facets = out.data() + start;
+      detail::parallel_for(triangles.size(), 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const Triangle& t = triangles[i];
+          char* at = facets + 50 * i;
+          for (const float c : facet_normal(window, t)) at = put_le(at, c);
+          for (const std::uint32_t v : t) {
+            const Vec3& p = window[v];
+            at = put_le(at, static_cast<float>(p.x));
+            at = put_le(at, static_cast<float>(p.y));
+            at = put_le(at, static_cast<float>(p.z));
+          }
+          put_le(at, std::uint16_t{0});
+        }
+      });
+      break;
     }
-    out += '\n';
-  }
-  return out;
-}
-
-std::string format_off(const TriangleSoup& soup) {
-  std::string out = "OFF\n";
-  append_u64(out, soup.points.size());
-  out += ' ';
-  append_u64(out, soup.triangles.size());
-  out += " 0\n";
-  for (const Vec3& p : soup.points) append_xyz(out, p);
-  for (const Triangle& t : soup.triangles) {
-    out += '3';
-    for (const std::uint32_t v : t) {
-      out += ' ';
-      append_u64(out, v);
-    }
-    out += '\n';
-  }
-  return out;
-}
-
-std::string format_ply(const TriangleSoup& soup) {
-  std::string out =
-      "ply\nformat binary_little_endian 1.0\ncomment written by tpmsfill\nelement vertex ";
-  append_u64(out, soup.points.size());
-  out += "\nproperty double x\nproperty double y\nproperty double z\nelement face ";
-  append_u64(out, soup.triangles.size());
-  out += "\nproperty list uchar uint vertex_indices\nend_header\n";
-  out.reserve(out.size() + 24 * soup.points.size() + 13 * soup.triangles.size());
-  for (const Vec3& p : soup.points) {
-    append_le(out, p.x);
-    append_le(out, p.y);
-    append_le(out, p.z);
-  }
-  for (const Triangle& t : soup.triangles) {
-    out += '\3';
-    for (const std::uint32_t v : t) append_le(out, v);
-  }
-  return out;
-}
-
-std::string os_error() {
-  return std::strerror(errno);
-}
-
-// Temporary file beside the target, synced, then renamed over it. On any failure the temporary
-// is removed and the target is untouched.
-
-}  // namespace
-
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
-  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
-  std::string temp = (folder / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
-  const int fd = ::mkstemp(temp.data());
-  if (fd < 0)
-    throw IoError("cannot write " + path.string() + ": cannot create a temporary file in " +
-                  folder.string() + ": " + os_error());
-  auto fail = [&](const std::string& what) {
-    const std::string reason = os_error();
-    ::close(fd);
-    ::unlink(temp.c_str());
-    throw IoError("cannot write " + path.string() + ": " + what + ": " + reason);
-  };
-  // mkstemp creates 0600; a mesh is an ordinary document.
-  if (::fchmod(fd, 0644) != 0) fail("cannot set permissions");
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail("write failed");
-    done += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) fail("flush failed");
-  if (::close(fd) != 0) {
-    const std::string reason = os_error();
-    ::unlink(temp.c_str());
-    throw IoError("cannot write " + path.string() + ": close failed: " + reason);
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    ::unlink(temp.c_str());
-    throw IoError("cannot write " + path.string() + ": rename failed: " + ec.message());
+    case MeshFormat::StlAscii:
+      // Floats, like binary STL: both STL flavours then read back the same coordinates.
+      for (const Triangle& t : triangles) {
+        out += "facet normal";
+        for (const float c : facet_normal(window, t)) {
+          out += ' ';
+          append_number(out, c);
+        }
+        out += "\nouter loop\n";
+        for (const std::uint32_t v : t) {
+          const Vec3& p = window[v];
+          out += "vertex";
+          for (const double c : {p.x, p.y, p.z}) {
+            out += ' ';
+            append_number(out, static_cast<float>(c));
+          }
+          out += '\n';
+        }
+        out += "endloop\nendfacet\n";
+      }
+      break;
+    case MeshFormat::Obj:
+      for (const Triangle& t : triangles) {
+        out += 'f';
+        for (const std::uint32_t v : t) {
+          out += ' ';
+          append_u64(out, std::uint64_t{v} + 1);
+        }
+        out += '\n';
+      }
+      break;
+    case MeshFormat::Off:
+      for (const Triangle& t : triangles) {
+        out += '3';
+        for (const std::uint32_t v : t) {
+          out += ' ';
+          append_u64(out, v);
+        }
+        out += '\n';
+      }
+      break;
+    case MeshFormat::Ply:
+      out.reserve(out.size() + 13 * triangles.size());
+      for (const Triangle& t : triangles) {
+        out += '\3';
+        for (const std::uint32_t v : t) append_le(out, v);
+      }
+      break;
   }
 }
 
-void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
-                const WriteOptions& options) {
+std::string_view format_footer(MeshFormat format) {
+  return format == MeshFormat::StlAscii ? "endsolid tpmsfill\n" : "";
+}
+
+// Points or triangles formatted per buffer: enough that writes and parallel loops are few and
+// long, few enough that the buffer stays small beside the mesh (binary STL: 13 MB).
+constexpr std::size_t kChunk = std::size_t{1} << 18;
+
+// The format write_mesh and MeshWriter write to `path`, or InputError if there is none or it
+// cannot number that many elements.
+MeshFormat writable_format(const std::filesystem::path& path, const WriteOptions& options,
+                           std::uint64_t points, std::uint64_t triangles) {
   MeshFormat format = options.format;
   if (format == MeshFormat::Auto) format = format_from_extension(path);
   if (format == MeshFormat::Auto)
     throw InputError("cannot write " + path.string() +
                      ": unknown extension (use .stl, .obj, .ply or .off)");
-  detail::require_indices_in_range(soup, "cannot write " + path.string() + ": ");
-  if ((format == MeshFormat::StlBinary && !detail::fits_32bit_ids(soup.triangles.size())) ||
-      (format == MeshFormat::Ply && !detail::fits_32bit_ids(soup.points.size())))
+  if ((format == MeshFormat::StlBinary && !detail::fits_32bit_ids(triangles)) ||
+      (format == MeshFormat::Ply && !detail::fits_32bit_ids(points)))
     throw InputError("cannot write " + path.string() + ": too many elements for the format");
-  std::string bytes;
-  switch (format) {
-    case MeshFormat::Auto:
-    case MeshFormat::StlBinary:
-      bytes = format_stl_binary(soup);
-      break;
-    case MeshFormat::StlAscii:
-      bytes = format_stl_ascii(soup);
-      break;
-    case MeshFormat::Obj:
-      bytes = format_obj(soup);
-      break;
-    case MeshFormat::Ply:
-      bytes = format_ply(soup);
-      break;
-    case MeshFormat::Off:
-      bytes = format_off(soup);
-      break;
+  return format;
+}
+
+// ---- files ----------------------------------------------------------------------------------
+
+std::string os_error() {
+  return std::strerror(errno);
+}
+
+// IoError "cannot write <target>: <what>: <errno's text>"; call it before errno changes.
+[[noreturn]] void throw_os_error(const std::filesystem::path& target, const std::string& what) {
+  throw IoError("cannot write " + target.string() + ": " + what + ": " + os_error());
+}
+
+// A new empty file beside `target`, named "." + its name + ".tmp-XXXXXX" (one left by a crash
+// is then recognisable); `name` receives its name.
+int create_temporary(const std::filesystem::path& target, std::string& name) {
+  const std::filesystem::path folder = target.has_parent_path() ? target.parent_path() : ".";
+  name = (folder / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
+  const int fd = ::mkstemp(name.data());
+  if (fd < 0)
+    throw IoError("cannot write " + target.string() + ": cannot create a temporary file in " +
+                  folder.string() + ": " + os_error());
+  return fd;
+}
+
+// All of `bytes`, across partial writes and signals.
+void write_all(int fd, std::string_view bytes, const std::filesystem::path& target) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;  // no progress and no reason given
+      throw_os_error(target, "write failed");
+    }
+    done += static_cast<std::size_t>(n);
   }
-  write_file_atomically(path, bytes);
+}
+
+// Appends the first `size` bytes of `from` at `to`'s offset: in the kernel where the file
+// system can (no copy through user space), through a buffer where it cannot.
+void copy_all(int from, int to, std::uint64_t size, const std::filesystem::path& target) {
+  if (::lseek(from, 0, SEEK_SET) != 0) throw_os_error(target, "read failed");
+  while (size > 0) {
+    const ssize_t n = ::copy_file_range(
+        from, nullptr, to, nullptr,
+        static_cast<std::size_t>(std::min<std::uint64_t>(size, std::uint64_t{1} << 30)), 0);
+    if (n < 0 && errno == EINTR) continue;
+    // Not supported here (EXDEV, ENOSYS, EINVAL, ...): the loop below goes on from the offsets
+    // reached, and reports any real failure itself.
+    if (n <= 0) break;
+    size -= static_cast<std::uint64_t>(n);
+  }
+  if (size == 0) return;
+  std::string buffer(std::min<std::uint64_t>(size, std::uint64_t{4} << 20), '\0');
+  while (size > 0) {
+    const ssize_t n =
+        ::read(from, buffer.data(),
+               static_cast<std::size_t>(std::min<std::uint64_t>(size, buffer.size())));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;  // the temporary is shorter than what was written to it
+      throw_os_error(target, "read failed");
+    }
+    write_all(to, {buffer.data(), static_cast<std::size_t>(n)}, target);
+    size -= static_cast<std::uint64_t>(n);
+  }
+}
+
+// A temporary file beside the target (mode 0644) that commit() flushes and renames over it.
+// Destroyed uncommitted (a failure included), it is closed and removed and the target is
+// untouched.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
+    fd_ = create_temporary(target_, temp_);
+    // mkstemp creates 0600; a mesh is an ordinary document.
+    if (::fchmod(fd_, 0644) != 0) {
+      const std::string reason = os_error();
+      discard();
+      throw IoError("cannot write " + target_.string() + ": cannot set permissions: " + reason);
+    }
+  }
+  ~AtomicFile() { discard(); }
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  int fd() const { return fd_; }
+  void write(std::string_view bytes) { write_all(fd_, bytes, target_); }
+
+  void commit() {
+    if (::fsync(fd_) != 0) throw_os_error(target_, "flush failed");
+    // Closed whatever close() says (POSIX leaves the descriptor unusable either way).
+    if (::close(std::exchange(fd_, -1)) != 0) throw_os_error(target_, "close failed");
+    std::error_code ec;
+    std::filesystem::rename(temp_, target_, ec);
+    if (ec) throw IoError("cannot write " + target_.string() + ": rename failed: " + ec.message());
+    temp_.clear();
+  }
+
+ private:
+  void discard() noexcept {
+    if (fd_ >= 0) ::close(std::exchange(fd_, -1));
+    if (!temp_.empty()) ::unlink(temp_.c_str());
+    temp_.clear();
+  }
+
+  std::filesystem::path target_;
+  std::string temp_;  // empty once renamed or removed
+  int fd_ = -1;
+};
+
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+  AtomicFile file(path);
+  file.write(bytes);
+  file.commit();
+}
+
+// ---- MeshWriter -----------------------------------------------------------------------------
+
+struct MeshWriter::State {
+  State(const std::filesystem::path& target, MeshFormat format_, std::uint64_t points_,
+        std::uint64_t triangles_)
+      : path(target), format(format_), points(points_), triangles(triangles_) {
+    file.emplace(path);
+  }
+  ~State() { close_sidecar(); }
+
+  [[noreturn]] void refuse(const std::string& why) const {
+    throw InputError("cannot write " + path.string() + ": " + why);
+  }
+  [[noreturn]] void refuse_corner(std::uint64_t triangle, std::uint32_t v,
+                                  const Window& window) const {
+    const std::string which =
+        "triangle " + std::to_string(triangle) + " refers to point " + std::to_string(v);
+    if (v >= points) refuse(which + ", but there are only " + std::to_string(points) + " points");
+    refuse(which + ", outside the window of points [" + std::to_string(window.first) + ", " +
+           std::to_string(window.first + window.points.size()) + ") given with it");
+  }
+  void add_points(std::span<const Vec3> more);
+  void add_triangles(std::span<const Triangle> more, const Window& window);
+  void commit();
+  // Everything removed at once after a failure; later calls are refused.
+  void die() noexcept {
+    dead = true;
+    close_sidecar();
+    file.reset();
+    buffer = {};
+  }
+  void close_sidecar() noexcept {
+    if (sidecar >= 0) ::close(std::exchange(sidecar, -1));
+  }
+
+  const std::filesystem::path path;
+  const MeshFormat format;
+  const std::uint64_t points, triangles;  // declared
+  std::uint64_t points_added = 0, triangles_added = 0;
+  std::optional<AtomicFile> file;  // empty once committed or dead
+  bool dead = false;
+  // Faces that came before the last point (OBJ, OFF, PLY only): a temporary beside the target,
+  // unlinked as soon as it is made, appended after the last point.
+  int sidecar = -1;
+  std::uint64_t sidecar_bytes = 0;
+  std::string buffer;  // one chunk, formatted
+};
+
+void MeshWriter::State::add_points(std::span<const Vec3> more) {
+  if (more.size() > points - points_added)
+    refuse(std::to_string(points_added + more.size()) + " points added, but " +
+           std::to_string(points) + " were declared");
+  if (indexed(format))
+    for (std::size_t begin = 0; begin < more.size(); begin += kChunk) {
+      buffer.clear();
+      append_points(format, buffer, more.subspan(begin, std::min(kChunk, more.size() - begin)));
+      file->write(buffer);
+    }
+  points_added += more.size();
+  if (points_added == points && sidecar >= 0) {
+    // The last point is in: the faces that came early follow it, later ones go straight on.
+    copy_all(sidecar, file->fd(), sidecar_bytes, path);
+    close_sidecar();
+  }
+}
+
+void MeshWriter::State::add_triangles(std::span<const Triangle> more, const Window& window) {
+  if (more.size() > triangles - triangles_added)
+    refuse(std::to_string(triangles_added + more.size()) + " triangles added, but " +
+           std::to_string(triangles) + " were declared");
+  int fd = file->fd();
+  if (indexed(format) && points_added < points) {
+    if (sidecar < 0) {
+      std::string name;
+      sidecar = create_temporary(path, name);
+      if (::unlink(name.c_str()) != 0) {
+        const std::string reason = os_error();
+        close_sidecar();
+        throw IoError("cannot write " + path.string() + ": cannot remove " + name + ": " + reason);
+      }
+    }
+    fd = sidecar;
+  }
+  for (std::size_t begin = 0; begin < more.size(); begin += kChunk) {
+    const auto chunk = more.subspan(begin, std::min(kChunk, more.size() - begin));
+    // Checked before it is formatted, which trusts every corner to be in the window.
+    for (std::size_t i = 0; i < chunk.size(); ++i)
+      for (const std::uint32_t v : chunk[i])
+        if (v >= points || v < window.first || v - window.first >= window.points.size())
+          refuse_corner(triangles_added + begin + i, v, window);
+    buffer.clear();
+    append_triangles(format, buffer, chunk, window);
+    write_all(fd, buffer, path);
+    if (fd == sidecar) sidecar_bytes += buffer.size();
+  }
+  triangles_added += more.size();
+}
+
+void MeshWriter::State::commit() {
+  if (points_added < points)
+    refuse("only " + std::to_string(points_added) + " of the " + std::to_string(points) +
+           " declared points were added");
+  if (triangles_added < triangles)
+    refuse("only " + std::to_string(triangles_added) + " of the " + std::to_string(triangles) +
+           " declared triangles were added");
+  file->write(format_footer(format));
+  file->commit();
+  file.reset();
+  buffer = {};
+}
+
+MeshWriter::MeshWriter(const std::filesystem::path& path, std::uint64_t points,
+                       std::uint64_t triangles, const WriteOptions& options)
+    : state_(std::make_unique<State>(path, writable_format(path, options, points, triangles),
+                                     points, triangles)) {
+  state_->file->write(format_header(state_->format, points, triangles));
+}
+
+MeshWriter::~MeshWriter() = default;
+
+MeshWriter::State& MeshWriter::open_state() {
+  if (state_->dead) state_->refuse("an earlier error ended this MeshWriter");
+  if (!state_->file) state_->refuse("this MeshWriter was committed already");
+  return *state_;
+}
+
+void MeshWriter::add_points(std::span<const Vec3> points) {
+  State& state = open_state();
+  try {
+    state.add_points(points);
+  } catch (...) {
+    state.die();
+    throw;
+  }
+}
+
+void MeshWriter::add_triangles(std::span<const Triangle> triangles, std::span<const Vec3> window,
+                               std::uint64_t first_id) {
+  State& state = open_state();
+  try {
+    state.add_triangles(triangles, Window{window, first_id});
+  } catch (...) {
+    state.die();
+    throw;
+  }
+}
+
+void MeshWriter::commit() {
+  State& state = open_state();
+  try {
+    state.commit();
+  } catch (...) {
+    state.die();
+    throw;
+  }
+}
+
+void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
+                const WriteOptions& options) {
+  MeshWriter writer(path, soup.points.size(), soup.triangles.size(), options);
+  writer.add_points(soup.points);
+  writer.add_triangles(soup.triangles, soup.points, 0);
+  writer.commit();
 }
 
 }  // namespace tpmsfill
