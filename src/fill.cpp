@@ -111,12 +111,17 @@ std::uint64_t saturated_bytes(double bytes) {
                          : static_cast<std::uint64_t>(bytes);
 }
 
+// Streaming's fixed buffers: three records of validation windows, the spill file's and the
+// writer's buffers, and the component labels of a heavily fragmented lattice.
+constexpr double kStreamBytes = 64e6;
+
 // Bytes the slab path needs with slabs of `planes` node planes: per node of a slab and its
 // halo the classification, the band's temporaries (and the depth's distance transform); per
 // node of the slab φ and the inside copy; the masks islands need as runs (about two inside
 // runs per row, two solid runs per cell along it); the input and the output as the whole
 // grid's path.
-double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign& d, int planes) {
+double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign& d, int planes,
+                  bool streamed) {
   const Box3& bounds = m.bounds;
   const Grid g = make_grid(bounds, o.grid);
   const double plane = static_cast<double>(g.dims[0]) * g.dims[1];
@@ -127,10 +132,15 @@ double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign&
   const double runs = static_cast<double>(g.row_count()) * 12.0 *
                       (2 + 2 * bounds.size().x / std::fmax(cell, g.spacing));
   // The runs are copied once more when islands label them.
-  return peak_bytes(
-      m, o,
+  const double field =
       plane * (widened * (depth ? 8.0 : 4.0) + (planes + 2) * (o.full_field ? 10.0 : 6.0)) +
-          2 * runs);
+      2 * runs;
+  if (!streamed) return peak_bytes(m, o, field);
+  // Streamed, only one slab's share of the output is held (marching cubes' triangles and
+  // points, their labels), beside the three records validation reads and the writer's buffers.
+  const double share = std::fmin(1.0, (planes + 2.0) / std::max(g.dims[2], 1));
+  return static_cast<double>(m.triangles) * kBytesPerInputTriangle + field +
+         48 * share * output_triangles(m, o) + kStreamBytes + kFixedBytes;
 }
 
 // The thinnest slabs the plan chooses: thinner ones would spend more on their halos and
@@ -140,7 +150,8 @@ constexpr int kMinSlabPlanes = 4;
 // The memory plan: the whole grid at once when it fits the budget (or slabs when asked), else
 // slabs as thick as fit; when nothing fits, the refusal to throw after the review, naming a
 // voxel size that fits.
-detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const LatticeDesign& d) {
+detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const LatticeDesign& d,
+                               bool streamed) {
   const Box3& bounds = m.bounds;
   const std::uint64_t triangles = m.triangles;
   const double budget =
@@ -153,22 +164,22 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
           "measures need the whole grid: they cannot be taken in slabs "
           "(FillOptions::slab_planes)");
     const int planes = std::min(o.slab_planes, nz);
-    return {planes, saturated_bytes(slab_bytes(m, o, d, planes)), {}};
+    return {planes, saturated_bytes(slab_bytes(m, o, d, planes, streamed)), {}};
   }
   if (whole <= budget) return {0, saturated_bytes(whole), {}};
   // The thickest slabs that fit (bytes grow with the thickness until validation's peak, the
   // output's, dominates): bisect.
-  int fit = slab_bytes(m, o, d, kMinSlabPlanes) <= budget ? kMinSlabPlanes : 0;
+  int fit = slab_bytes(m, o, d, kMinSlabPlanes, streamed) <= budget ? kMinSlabPlanes : 0;
   if (fit) {
     int lo = kMinSlabPlanes, hi = nz;
-    if (slab_bytes(m, o, d, hi) <= budget) lo = hi;
+    if (slab_bytes(m, o, d, hi, streamed) <= budget) lo = hi;
     while (hi - lo > 1) {
       const int mid = lo + (hi - lo) / 2;
-      (slab_bytes(m, o, d, mid) <= budget ? lo : hi) = mid;
+      (slab_bytes(m, o, d, mid, streamed) <= budget ? lo : hi) = mid;
     }
     fit = lo;
   }
-  if (fit && !o.measure) return {fit, saturated_bytes(slab_bytes(m, o, d, fit)), {}};
+  if (fit && !o.measure) return {fit, saturated_bytes(slab_bytes(m, o, d, fit, streamed)), {}};
   if (o.measure && fit)
     return {0, saturated_bytes(whole),
             "--measure needs the whole grid in memory, about " + gigabytes(whole) +
@@ -179,8 +190,9 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
     FillOptions t = o;
     t.grid.voxel_size = voxel;
     // Measures need the whole grid: only its estimate counts for them.
-    return o.measure ? estimate_bytes(m, t)
-                     : std::fmin(estimate_bytes(m, t), slab_bytes(m, t, d, kMinSlabPlanes));
+    return o.measure
+               ? estimate_bytes(m, t)
+               : std::fmin(estimate_bytes(m, t), slab_bytes(m, t, d, kMinSlabPlanes, streamed));
   };
   double lo = o.grid.voxel_size, hi = o.grid.voxel_size;
   do hi *= 2;
@@ -205,11 +217,13 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
 // the femur's and the tube's stage tables averaged (docs/benchmarks.md §4; measure and the full
 // field from the femur's). The auto inside rule plans the clean and the second classification
 // it may need; they are credited when skipped, so the overall fraction does not go back.
-std::vector<detail::PlannedStage> plan_stages(const FillOptions& o, bool slabs) {
+std::vector<detail::PlannedStage> plan_stages(const FillOptions& o, bool slabs,
+                                              bool streamed = false) {
   std::vector<detail::PlannedStage> plan{{"review", 0.5}};
   if (slabs) {
     for (detail::PlannedStage& s : detail::slab_stages(o)) plan.push_back(std::move(s));
-    plan.insert(plan.end(), {{"islands", 6}, {"validate", 46}});
+    plan.insert(plan.end(),
+                {{"islands", 6}, {streamed ? detail::kValidateAndWrite : "validate", 46}});
     return plan;
   }
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
@@ -263,12 +277,11 @@ IslandMasks island_masks(const Job& job) {
 // Islands: lattice components that are not the largest piece within their part of the model
 // (a 26-connected region of inside nodes). A component is located by a solid corner (φ < 0
 // implies the node is inside) of the cell holding its first triangle: its node index, or none.
-std::vector<std::uint64_t> solid_nodes(const TriangleSoup& mesh, const Components& comps,
-                                       const Grid& g, const IslandMasks& masks) {
-  std::vector<std::uint64_t> node(comps.info.size(), UINT64_MAX);
-  for (std::size_t c = 0; c < comps.info.size(); ++c) {
-    const Triangle& t = mesh.triangles[comps.info[c].first_triangle];
-    const Vec3 centroid = (1.0 / 3.0) * (mesh.points[t[0]] + mesh.points[t[1]] + mesh.points[t[2]]);
+std::vector<std::uint64_t> solid_nodes(const std::vector<Vec3>& first_centroid, const Grid& g,
+                                       const IslandMasks& masks) {
+  std::vector<std::uint64_t> node(first_centroid.size(), UINT64_MAX);
+  for (std::size_t c = 0; c < first_centroid.size(); ++c) {
+    const Vec3 centroid = first_centroid[c];
     int cell[3];
     for (int axis = 0; axis < 3; ++axis)
       cell[axis] =
@@ -283,10 +296,10 @@ std::vector<std::uint64_t> solid_nodes(const TriangleSoup& mesh, const Component
   return node;
 }
 
-std::vector<bool> main_bodies(const TriangleSoup& mesh, const Components& comps, const Grid& g,
+std::vector<bool> main_bodies(const detail::ComponentFacts& comps, const Grid& g,
                               const IslandMasks& masks) {
   const std::uint32_t none = detail::kNoIndex;
-  const std::vector<std::uint64_t> node = solid_nodes(mesh, comps, g, masks);
+  const std::vector<std::uint64_t> node = solid_nodes(comps.first_centroid, g, masks);
   auto region_of = [&](const Regions& r, std::size_t c) {
     if (node[c] == UINT64_MAX) return none;
     const std::uint64_t n = node[c], nx = g.dims[0], ny = g.dims[1];
@@ -413,8 +426,8 @@ void compose(Job& job) {
 
 // Sealed voids hold unfused powder or resin: say how many, whatever sealed them. Voids
 // smaller than a voxel are marching cubes' specks between nearly touching surfaces, not pores.
-void warn_cavities(const FillOptions& o, const Components& comps, const std::vector<bool>& keep,
-                   double voxel, FillReport& r) {
+void warn_cavities(const FillOptions& o, const detail::ComponentFacts& comps,
+                   const std::vector<bool>& keep, double voxel, FillReport& r) {
   std::uint64_t count = 0;
   double volume = 0;
   for (std::size_t c = 0; c < comps.info.size(); ++c)
@@ -472,65 +485,41 @@ void warn_islands(const FillOptions& o, double lattice_before, FillReport& r) {
                             (o.skin > 0 ? "" : ", a --skin") + " or --keep-islands keeps them"));
 }
 
-// Cavities are counted (a closed skin seals them in); islands, the pieces that are not the
-// main body of their part of the model, are removed unless kept, the largest listed.
+// Islands of the mesh held whole: its components, judged, and the islands dropped.
 void remove_islands(Job& job) {
-  const FillOptions& o = job.options;
-  FillReport& r = job.report;
   const Components comps = mesh_components(job.mesh);
-  double lattice_before = 0;
-  for (const auto& c : comps.info) lattice_before += c.volume;
-  std::vector<bool> keep(comps.info.size(), true);
-  if (!o.keep_islands && comps.info.size() >= 2)
-    keep = main_bodies(job.mesh, comps, job.grid, island_masks(job));
-  for (std::size_t c = 0; c < keep.size(); ++c)
-    if (keep[c] && comps.info[c].volume < 0)
-      ++r.cavities, r.cavities_volume -= comps.info[c].volume;
-  warn_cavities(o, comps, keep, job.grid.spacing, r);
-  // An island is a removed piece of positive volume; the cavities it enclosed go with it, so
-  // the volume removed is the signed sum.
-  std::vector<RemovedIsland> removed(comps.info.size());
-  for (std::size_t t = 0; t < job.mesh.triangles.size(); ++t)
-    if (const std::uint32_t c = comps.triangle_component[t]; !keep[c])
-      for (std::uint32_t v : job.mesh.triangles[t]) removed[c].bbox.extend(job.mesh.points[v]);
-  for (std::size_t c = 0; c < keep.size(); ++c)
-    if (!keep[c]) {
-      r.islands_volume += comps.info[c].volume;
-      if (comps.info[c].volume < 0) continue;
-      ++r.islands_removed;
-      removed[c].volume = comps.info[c].volume;
-      r.largest_islands.push_back(removed[c]);
-    }
-  // Largest first; equal volumes keep component order, so the list is deterministic.
-  std::stable_sort(
-      r.largest_islands.begin(), r.largest_islands.end(),
-      [](const RemovedIsland& a, const RemovedIsland& b) { return a.volume > b.volume; });
-  if (r.largest_islands.size() > 10) r.largest_islands.resize(10);
-  if (std::find(keep.begin(), keep.end(), false) != keep.end()) {
-    job.mesh = keep_components(job.mesh, comps, keep);
-    if (r.islands_removed) warn_islands(o, lattice_before, r);
+  detail::ComponentFacts facts;
+  facts.info = comps.info;
+  for (const Components::Info& c : comps.info) {
+    const Triangle& t = job.mesh.triangles[c.first_triangle];
+    const TriangleSoup& m = job.mesh;
+    facts.first_centroid.push_back((1.0 / 3.0) *
+                                   (m.points[t[0]] + m.points[t[1]] + m.points[t[2]]));
   }
+  facts.boxes = [&](const std::vector<bool>& keep) {
+    std::vector<Box3> box(comps.info.size());
+    for (std::size_t t = 0; t < job.mesh.triangles.size(); ++t)
+      if (const std::uint32_t c = comps.triangle_component[t]; !keep[c])
+        for (std::uint32_t v : job.mesh.triangles[t]) box[c].extend(job.mesh.points[v]);
+    return box;
+  };
+  const std::vector<bool> keep = detail::judge_islands(job, facts);
+  if (std::find(keep.begin(), keep.end(), false) != keep.end())
+    job.mesh = keep_components(job.mesh, comps, keep);
 }
 
 // Nothing is returned that failed validation.
 void validate(Job& job) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
-  if (job.mesh.triangles.empty())
-    throw InputError(
-        "the lattice is empty: no part of the model is thicker than the lattice's "
-        "struts at this voxel size (try a smaller --voxel or a larger --cell)");
+  if (job.mesh.triangles.empty()) throw InputError(detail::kEmptyLattice);
   if (o.float_coordinates) detail::round_to_float(job.mesh);
   r.validation = job.stage("validate", [&] {
     return validate_mesh(job.mesh, {.self_intersections = o.check_self_intersections,
                                     .cell_grid = job.grid,
                                     .progress = job.progress});
   });
-  if (!r.validation.valid()) {
-    std::string why;
-    for (const std::string& p : r.validation.problems()) why += (why.empty() ? "" : "; ") + p;
-    throw ValidationError("the lattice failed validation, nothing was written: " + why);
-  }
+  detail::require_valid_lattice(r.validation);
 }
 
 // A structure's porosity is solved over its whole unit cube; the part sees only what the
@@ -538,6 +527,47 @@ void validate(Job& job) {
 }  // namespace
 
 namespace detail {
+
+void require_valid_lattice(const ValidationReport& v) {
+  if (v.valid()) return;
+  std::string why;
+  for (const std::string& p : v.problems()) why += (why.empty() ? "" : "; ") + p;
+  throw ValidationError("the lattice failed validation, nothing was written: " + why);
+}
+
+// Cavities are counted (a closed skin seals them in); islands, the pieces that are not the
+// main body of their part of the model, are to be removed unless kept, the largest listed.
+std::vector<bool> judge_islands(const Job& job, const ComponentFacts& comps) {
+  const FillOptions& o = job.options;
+  FillReport& r = job.report;
+  double lattice_before = 0;
+  for (const auto& c : comps.info) lattice_before += c.volume;
+  std::vector<bool> keep(comps.info.size(), true);
+  if (!o.keep_islands && comps.info.size() >= 2)
+    keep = main_bodies(comps, job.grid, island_masks(job));
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    if (keep[c] && comps.info[c].volume < 0)
+      ++r.cavities, r.cavities_volume -= comps.info[c].volume;
+  warn_cavities(o, comps, keep, job.grid.spacing, r);
+  if (std::find(keep.begin(), keep.end(), false) == keep.end()) return keep;
+  // An island is a removed piece of positive volume; the cavities it enclosed go with it, so
+  // the volume removed is the signed sum.
+  const std::vector<Box3> box = comps.boxes(keep);
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    if (!keep[c]) {
+      r.islands_volume += comps.info[c].volume;
+      if (comps.info[c].volume < 0) continue;
+      ++r.islands_removed;
+      r.largest_islands.push_back({comps.info[c].volume, box[c]});
+    }
+  // Largest first; equal volumes keep component order, so the list is deterministic.
+  std::stable_sort(
+      r.largest_islands.begin(), r.largest_islands.end(),
+      [](const RemovedIsland& a, const RemovedIsland& b) { return a.volume > b.volume; });
+  if (r.largest_islands.size() > 10) r.largest_islands.resize(10);
+  if (r.islands_removed) warn_islands(o, lattice_before, r);
+  return keep;
+}
 
 void warn_structure_porosity(const LatticeDesign& d, double got, FillReport& r) {
   if (!d.structure || !r.porosity_target) return;
@@ -633,7 +663,7 @@ std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions&
   require_valid(options.units);
   const ModelSize m =
       model_size(options.units.factor() != 1 ? to_millimetres(model, options.units) : model);
-  return plan_memory(m, options, resolve_design(options.design, m.bounds)).bytes;
+  return plan_memory(m, options, resolve_design(options.design, m.bounds), false).bytes;
 }
 
 namespace {
@@ -646,7 +676,8 @@ struct Setup {
   detail::MemoryPlan plan;
 };
 
-void set_up(const TriangleSoup& input, const FillOptions& options, FillResult& result, Setup& s) {
+void set_up(const TriangleSoup& input, const FillOptions& options, FillResult& result, Setup& s,
+            bool streamed = false) {
   require_valid(options.units);
   require_valid(options.design);
   require_valid(ComposeOptions{.skin = options.skin});  // fail before any work
@@ -654,7 +685,7 @@ void set_up(const TriangleSoup& input, const FillOptions& options, FillResult& r
   s.model = s.in_mm ? &*s.in_mm : &input;
   result.resolved = options;
   result.resolved.design = detail::describe_job(*s.model, options, result.report);
-  s.plan = plan_memory(model_size(*s.model), options, result.resolved.design);
+  s.plan = plan_memory(model_size(*s.model), options, result.resolved.design, streamed);
 }
 
 // Islands, measures, validation: the mesh as the field's stages left it, finished.
@@ -676,12 +707,8 @@ void finish(Job& job) {
   result.mesh = std::move(job.mesh);
 }
 
-}  // namespace
-
-FillResult fill(const TriangleSoup& input, const FillOptions& options) {
-  FillResult result;
-  Setup s;
-  set_up(input, options, result, s);
+// The job with its mesh held: the whole grid, or slabs.
+void fill_in_memory(const FillOptions& options, const Setup& s, FillResult& result) {
   Job job(*s.model, options, result, plan_stages(options, s.plan.slab_planes > 0),
           s.plan.slab_planes);
   resolve(job, s.plan);
@@ -694,6 +721,41 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
                          [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
   }
   finish(job);
+}
+
+}  // namespace
+
+FillResult fill(const TriangleSoup& input, const FillOptions& options) {
+  FillResult result;
+  Setup s;
+  set_up(input, options, result, s);
+  fill_in_memory(options, s, result);
+  return result;
+}
+
+FillResult fill_to_file(const TriangleSoup& input, const FillOptions& options,
+                        const std::filesystem::path& path, const WriteOptions& write) {
+  if (write.format == MeshFormat::Auto && format_from_extension(path) == MeshFormat::Auto)
+    throw InputError("cannot write " + path.string() +
+                     ": unknown extension (use .stl, .obj, .ply or .off)");
+  FillResult result;
+  Setup s;
+  set_up(input, options, result, s, true);
+  if (s.plan.slab_planes == 0) {  // the whole grid fits, with its mesh: fill() as it is
+    fill_in_memory(options, s, result);
+    const auto t0 = std::chrono::steady_clock::now();
+    write_mesh(path, result.mesh, write);
+    result.report.stages.push_back(
+        {"write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+         peak_memory_mb()});
+    result.mesh = {};
+    return result;
+  }
+  Job job(*s.model, options, result, plan_stages(options, true, true), s.plan.slab_planes);
+  resolve(job, s.plan);
+  detail::fill_streamed(job, path, write);
+  detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
+  job.job_progress.finish();
   return result;
 }
 
@@ -720,7 +782,7 @@ FillPart fill_part(const TriangleSoup& input, const FillOptions& options,
     throw InputError("fill_part: planes " + std::to_string(part.first_plane) + " to " +
                      std::to_string(part.end_plane) + " are not a range of the grid's " +
                      std::to_string(job.grid.dims[2]));
-  FillPart p = detail::mesh_planes(job, part.first_plane, part.end_plane, part.any_unbalanced);
+  FillPart p = detail::mesh_planes(job, part.first_plane, part.end_plane, part.any_unbalanced, {});
   p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   job.job_progress.finish();
   return p;

@@ -50,7 +50,8 @@ std::vector<PlannedStage> slab_stages(const FillOptions& o) {
   return plan;
 }
 
-FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool)>& agree) {
+FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool)>& agree,
+                     const AfterSlab& after_slab) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
@@ -88,6 +89,7 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
       append_runs(part.inside_runs, owned_planes(sampled.inside, owned));
       append_runs(part.solid_runs, owned_solid(sampled.phi, owned));
       mc.add(sampled.phi, owned, part.mesh);
+      if (after_slab) after_slab(mc, part.mesh);
       report_or_cancel(job.progress, static_cast<double>(s + 1) / static_cast<double>(slabs));
     }
   });
@@ -155,7 +157,7 @@ void join_parts(Job& job, std::vector<FillPart> parts) {
 
 void mesh_in_slabs(Job& job) {
   std::vector<FillPart> parts;
-  parts.push_back(mesh_planes(job, 0, job.grid.dims[2], {}));
+  parts.push_back(mesh_planes(job, 0, job.grid.dims[2], {}, {}));
   join_parts(job, std::move(parts));
 }
 

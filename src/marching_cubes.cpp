@@ -43,6 +43,9 @@ struct Extractor {
   std::size_t sx, sy, sz;  // index strides
   const detail::McTables& tables;
   std::size_t first_node = 0;
+  // Point id p is written to points[p - id_base]: a slab's caller may have consumed (and
+  // dropped) the points below id_base.
+  std::uint32_t id_base = 0;
 
   float v(std::size_t n) const { return values[kSlab ? n - first_node : n]; }  // n: grid node
   bool inside(std::size_t n) const { return v(n) < iso; }  // == iso counts as outside
@@ -153,7 +156,7 @@ struct Extractor {
                                has_z && (v(row + i + sz) < iso) != in};
         for (int a = 0; a < 3; ++a)
           if (cross[a]) {
-            if (points) points[id] = edge_point(i, j, k, a);
+            if (points) points[id - id_base] = edge_point(i, j, k, a);
             ids.edge[a][m0 + i] = id++;
           }
       }
@@ -189,7 +192,7 @@ struct Extractor {
             const int e = std::countr_zero(m), c0 = tables.edge_corners[e][0];
             sum = sum + edge_point(i + (c0 & 1), j + (c0 >> 1 & 1), k + (c0 >> 2), e / 4);
           }
-          points[centroid] = (1.0 / n) * sum;
+          points[centroid - id_base] = (1.0 / n) * sum;
           slot[12 + cc] = centroid++;
         }
         for (int t = 0; t < mc.triangle_count; ++t)
@@ -200,14 +203,23 @@ struct Extractor {
   }
 };
 
-// Both passes over node layers [kb, ke), appended to `soup`, which holds every point and
-// triangle of the layers below kb (its point count is layer kb's first id). with_layers(b, e,
-// f) calls f(extractor) with an extractor that reads node layers b .. e + 1 (those that
-// exist): all that counting the layers [b, e) and numbering them and the next one need (a
-// node's +z edge reaches the layer above).
+// Where each layer's points and triangles start: first_vertex[k] is node layer kb + k's first
+// point id, first_triangle[k] cell layer kb + k's first triangle (index into the soup); the
+// last entries are the ends.
+struct LayerStarts {
+  std::vector<std::size_t> first_vertex, first_triangle;
+};
+
+// Both passes over node layers [kb, ke), appended to `soup`, which holds the points of the
+// layers below kb from id `id_base` on (its point count plus id_base is layer kb's first id)
+// and any triangles. with_layers(b, e, f) calls f(extractor) with an extractor that reads node
+// layers b .. e + 1 (those that exist), writing points from id_base on: all that counting the
+// layers [b, e) and numbering them and the next one need (a node's +z edge reaches the layer
+// above).
 template <class WithLayers>
-void extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count_grain,
-             detail::ProgressCounter& progress, const WithLayers& with_layers, TriangleSoup& soup) {
+LayerStarts extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count_grain,
+                    detail::ProgressCounter& progress, const WithLayers& with_layers,
+                    TriangleSoup& soup, std::uint32_t id_base = 0) {
   const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
   const std::size_t n = ke - kb;
   std::vector<LayerCounts> counts(n);
@@ -221,7 +233,7 @@ void extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count
   });
 
   // Layer k's vertices: its edge vertices, then the centroid vertices of cell layer k.
-  std::vector<std::size_t> first_vertex(n + 1, soup.points.size()),
+  std::vector<std::size_t> first_vertex(n + 1, id_base + soup.points.size()),
       first_triangle(n + 1, soup.triangles.size());
   for (std::size_t k = 0; k < n; ++k) {
     first_vertex[k + 1] = first_vertex[k] + counts[k].edge_vertices + counts[k].centroids;
@@ -230,7 +242,7 @@ void extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count
   if (!detail::fits_32bit_ids(first_vertex[n]))
     throw InputError("marching_cubes: more than 2^32 - 1 vertices; use a coarser grid");
 
-  soup.points.resize(first_vertex[n]);
+  soup.points.resize(first_vertex[n] - id_base);
   soup.triangles.resize(first_triangle[n]);
   // Ranges of several layers, so that each task numbers the layer above its range only once.
   detail::parallel_for(n, 8, [&](std::size_t b, std::size_t e) {
@@ -255,6 +267,7 @@ void extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count
       }
     });
   });
+  return {std::move(first_vertex), std::move(first_triangle)};
 }
 
 void require_cells(const Grid& grid) {
@@ -265,11 +278,11 @@ void require_cells(const Grid& grid) {
 // An extractor over `values`, which start at grid node `first_node` (0: the whole field).
 template <bool kSlab>
 Extractor<kSlab> extractor(const Grid& grid, const float* values, float iso,
-                           std::size_t first_node = 0) {
+                           std::size_t first_node = 0, std::uint32_t id_base = 0) {
   const std::size_t sy = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t sz = sy * static_cast<std::size_t>(grid.dims[1]);
   return {grid, values, iso, grid.dims[0],        grid.dims[1], grid.dims[2],
-          1,    sy,     sz,  detail::mc_tables(), first_node};
+          1,    sy,     sz,  detail::mc_tables(), first_node,   id_base};
 }
 
 }  // namespace
@@ -313,11 +326,31 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const M
 }
 
 SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options, int first_plane)
-    : grid_(grid), options_(options), next_(first_plane) {
+    : grid_(grid), options_(options), first_(first_plane), next_(first_plane) {
   require_cells(grid);
   if (grid.z_offset != 0) throw InputError("SlabMarchingCubes: give the whole grid");
   if (first_plane < 0 || first_plane >= grid.dims[2])
     throw InputError("SlabMarchingCubes: the first plane is not in the grid");
+  first_point_.push_back(0);
+  first_triangle_.push_back(0);
+}
+
+std::uint64_t SlabMarchingCubes::first_point(int k) const {
+  if (k < first_ || k > next_) throw InputError("SlabMarchingCubes: that layer is not made yet");
+  return first_point_[static_cast<std::size_t>(k - first_)];
+}
+
+std::uint64_t SlabMarchingCubes::first_triangle(int k) const {
+  if (k < first_ || k > next_) throw InputError("SlabMarchingCubes: that layer is not made yet");
+  return first_triangle_[static_cast<std::size_t>(k - first_)];
+}
+
+void SlabMarchingCubes::drop_points(TriangleSoup& mesh, std::uint64_t below) {
+  if (below < dropped_ || below > dropped_ + mesh.points.size())
+    throw InputError("SlabMarchingCubes: those points are not held");
+  mesh.points.erase(mesh.points.begin(),
+                    mesh.points.begin() + static_cast<std::ptrdiff_t>(below - dropped_));
+  dropped_ = below;
 }
 
 void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) {
@@ -330,12 +363,21 @@ void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) 
     throw InputError("SlabMarchingCubes: the slab is not the grid's next planes (" +
                      std::to_string(next_) + " on, with the one or two above)");
   const std::size_t layer = static_cast<std::size_t>(grid_.dims[0]) * grid_.dims[1];
+  const auto base = static_cast<std::uint32_t>(dropped_);
   const auto ex = extractor<true>(grid_, planes.values.data(), options_.iso,
-                                  static_cast<std::size_t>(next_) * layer);
+                                  static_cast<std::size_t>(next_) * layer, base);
   detail::ProgressCounter progress(nullptr, "marching cubes", 1);
-  extract(
+  const std::size_t triangles_before = mesh.triangles.size();
+  const LayerStarts starts = extract(
       grid_, next_, next_ + owned, 1, progress,
-      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, mesh);
+      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, mesh, base);
+  // Triangle starts count every triangle made, whatever the caller has taken from `mesh`.
+  const std::uint64_t made = first_triangle_.back();
+  for (int k = 1; k <= owned; ++k) {
+    first_point_.push_back(starts.first_vertex[static_cast<std::size_t>(k)]);
+    first_triangle_.push_back(made + starts.first_triangle[static_cast<std::size_t>(k)] -
+                              triangles_before);
+  }
   next_ += owned;
 }
 

@@ -2,6 +2,7 @@
 #include "tpmsfill/report.hpp"
 
 #include <sys/resource.h>
+#include <algorithm>
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -219,11 +220,16 @@ std::string settings_text(const FillReport& r) {
 std::string closing_text(const FillReport& r) {
   std::string s;
   for (const std::string& w : r.warnings) s += "warning      " + w + "\n";
-  s += "stage            seconds   peak MB\n";
+  // The names' column is as wide as the longest name (at least 14).
+  std::size_t width = 14;
+  for (const StageTime& t : r.stages) width = std::max(width, t.name.size());
+  auto padded = [&](const std::string& name) {
+    return "  " + name + std::string(width - name.size(), ' ');
+  };
+  s += "stage" + std::string(width - 2, ' ') + "seconds   peak MB\n";
   for (const StageTime& t : r.stages)
-    s += "  " + t.name + std::string(t.name.size() < 14 ? 14 - t.name.size() : 0, ' ') +
-         format(" %8.3f  %8.0f\n", t.seconds, t.peak_memory_mb);
-  s += format("  total          %8.3f\n", r.total_seconds());
+    s += padded(t.name) + format(" %8.3f  %8.0f\n", t.seconds, t.peak_memory_mb);
+  s += padded("total") + format(" %8.3f\n", r.total_seconds());
   return s;
 }
 

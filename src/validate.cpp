@@ -27,6 +27,7 @@
 #include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
 #include "detail/stage_progress.hpp"
+#include "detail/validate_window.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -164,17 +165,18 @@ EdgeFacts merge(const std::vector<EdgeFacts>& partial, std::size_t max_examples)
   return all;
 }
 
-/// Edges and fans from a vertex -> corner table, per fixed chunk of vertices.
-EdgeFacts edge_facts(const TriangleSoup& mesh, std::size_t max_examples,
-                     detail::ProgressCounter& progress) {
-  const std::size_t np = mesh.points.size();
+/// Edges and fans at vertices [first, end) from a vertex -> corner table, per fixed chunk of
+/// vertices.
+EdgeFacts edge_facts(const TriangleSoup& mesh, std::size_t first, std::size_t end,
+                     std::size_t max_examples, detail::ProgressCounter& progress) {
+  const std::size_t np = end;
   const CornerTable table = corner_table(mesh);
-  const std::size_t chunks = chunk_count(np);
+  const std::size_t chunks = chunk_count(end - first);
   std::vector<EdgeFacts> partial(chunks);
   detail::parallel_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
     VertexScratch scratch;
     for (std::size_t c = cb; c < ce; ++c) {
-      const std::size_t vb = c * kChunk, ve = std::min(np, vb + kChunk);
+      const std::size_t vb = first + c * kChunk, ve = std::min(np, vb + kChunk);
       for (std::size_t v = vb; v < ve; ++v)
         classify_vertex(mesh, table, v, max_examples, scratch, partial[c]);
       progress.add(ve - vb);
@@ -183,9 +185,11 @@ EdgeFacts edge_facts(const TriangleSoup& mesh, std::size_t max_examples,
   return merge(partial, max_examples);
 }
 
-/// Referenced points whose position an earlier referenced point already has (bit-identical,
-/// -0.0 == +0.0): sort position hashes, then compare positions within equal hashes.
-std::uint64_t duplicate_points(const TriangleSoup& mesh, const std::vector<std::uint8_t>& used) {
+/// Referenced points in [first, end) whose position an earlier referenced point already has
+/// (bit-identical, -0.0 == +0.0): sort position hashes, then compare positions within equal
+/// hashes.
+std::uint64_t duplicate_points(const TriangleSoup& mesh, const std::vector<std::uint8_t>& used,
+                               std::size_t first, std::size_t end) {
   auto bits = [](double c) {
     return c == 0.0 ? std::uint64_t{0} : std::bit_cast<std::uint64_t>(c);
   };
@@ -211,7 +215,7 @@ std::uint64_t duplicate_points(const TriangleSoup& mesh, const std::vector<std::
     std::size_t j = i + 1;
     while (j < keys.size() && keys[j].first == keys[i].first) ++j;
     for (std::size_t a = i + 1; a < j; ++a)
-      for (std::size_t b = i; b < a; ++b)
+      for (std::size_t b = i; b < a && keys[a].second >= first && keys[a].second < end; ++b)
         if (mesh.points[keys[a].second] == mesh.points[keys[b].second]) {
           ++duplicates;
           break;
@@ -223,9 +227,8 @@ std::uint64_t duplicate_points(const TriangleSoup& mesh, const std::vector<std::
 
 // --- the report, step by step ------------------------------------------------------------
 
-/// Degenerate triangles (repeated corner or collinear, exact): per triangle a flag.
-std::vector<std::uint8_t> record_degenerates(ValidationReport& r, const TriangleSoup& mesh,
-                                             std::size_t max_examples) {
+/// Per triangle: degenerate (repeated corner or collinear, exact)?
+std::vector<std::uint8_t> degenerate_flags(const TriangleSoup& mesh) {
   const std::size_t nt = mesh.triangles.size();
   std::vector<std::uint8_t> degenerate(nt, 0);
   detail::parallel_for(nt, kChunk, [&](std::size_t b, std::size_t e) {
@@ -236,7 +239,14 @@ std::vector<std::uint8_t> record_degenerates(ValidationReport& r, const Triangle
                                                               detail::to_cgal(mesh.points[tri[2]]));
     }
   });
-  for (std::size_t t = 0; t < nt; ++t)
+  return degenerate;
+}
+
+/// Degenerate triangles: per triangle a flag.
+std::vector<std::uint8_t> record_degenerates(ValidationReport& r, const TriangleSoup& mesh,
+                                             std::size_t max_examples) {
+  std::vector<std::uint8_t> degenerate = degenerate_flags(mesh);
+  for (std::size_t t = 0; t < degenerate.size(); ++t)
     if (degenerate[t] && r.degenerate_triangles++ < max_examples)
       r.degenerate_examples.push_back(static_cast<std::uint32_t>(t));
   return degenerate;
@@ -245,7 +255,7 @@ std::vector<std::uint8_t> record_degenerates(ValidationReport& r, const Triangle
 /// Border, non-manifold and inconsistent edges, pinched vertices.
 void record_edges(ValidationReport& r, const TriangleSoup& mesh, std::size_t max_examples,
                   detail::ProgressCounter& progress) {
-  EdgeFacts edges = edge_facts(mesh, max_examples, progress);
+  EdgeFacts edges = edge_facts(mesh, 0, mesh.points.size(), max_examples, progress);
   r.border_edges = edges.border;
   r.non_manifold_edges = edges.non_manifold;
   r.inconsistent_edges = edges.inconsistent;
@@ -329,11 +339,50 @@ ValidationReport validate_mesh(const TriangleSoup& mesh, const ValidateOptions& 
   const std::vector<std::uint8_t> degenerate = record_degenerates(r, mesh, options.max_examples);
   progress.add(nt);
   record_edges(r, mesh, options.max_examples, progress);
-  r.duplicate_points = duplicate_points(mesh, used);
+  r.duplicate_points = duplicate_points(mesh, used, 0, np);
   record_volume(r, mesh, used);
   if (options.self_intersections) record_self_intersections(r, mesh, degenerate, options, progress);
   progress.finish();
   return r;
 }
 
+namespace detail {
+
+WindowValidation validate_window(const TriangleSoup& window,
+                                 std::array<std::size_t, 2> owned_points,
+                                 std::size_t first_owned_triangle,
+                                 const std::optional<Grid>& cell_grid, std::size_t max_examples,
+                                 bool self_intersections) {
+  require_32bit_mesh(window, "validate");
+  WindowValidation w;
+  const auto [pb, pe] = owned_points;
+  const std::vector<std::uint8_t> used = used_points(window);
+  w.vertices = static_cast<std::uint64_t>(std::count(used.begin() + static_cast<std::ptrdiff_t>(pb),
+                                                     used.begin() + static_cast<std::ptrdiff_t>(pe),
+                                                     std::uint8_t{1}));
+  const std::vector<std::uint8_t> degenerate = degenerate_flags(window);
+  for (std::size_t t = first_owned_triangle; t < degenerate.size(); ++t)
+    if (degenerate[t] && w.degenerate++ < max_examples)
+      w.degenerate_examples.push_back(static_cast<std::uint32_t>(t));
+  ProgressCounter none(nullptr, "validate", 1);
+  EdgeFacts edges = edge_facts(window, pb, pe, max_examples, none);
+  w.border = edges.border;
+  w.non_manifold = edges.non_manifold;
+  w.inconsistent = edges.inconsistent;
+  w.pinched = edges.pinched_vertices;
+  w.border_examples = std::move(edges.border_examples);
+  w.non_manifold_examples = std::move(edges.non_manifold_examples);
+  w.inconsistent_examples = std::move(edges.inconsistent_examples);
+  w.duplicates = duplicate_points(window, used, pb, pe);
+  if (self_intersections) {
+    SelfIntersections found = find_self_intersections(window, degenerate, cell_grid, none);
+    w.searched_by_cells = found.by_cells;
+    for (const TrianglePair& p : found.pairs)  // sorted: the first max_examples are the least
+      if (p[1] >= first_owned_triangle && w.intersecting_pairs++ < max_examples)
+        w.intersection_examples.push_back(p);
+  }
+  return w;
+}
+
+}  // namespace detail
 }  // namespace tpmsfill

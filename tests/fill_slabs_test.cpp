@@ -1,12 +1,15 @@
 // fill()'s slab path: a job split into slabs gives the whole grid's mesh bit for bit, and its
 // report the same figures, whatever the designs and inside rules; marching cubes fed slab by
-// slab numbers its points as on the whole field.
+// slab numbers its points as on the whole field; fill_to_file streaming the slabs writes the
+// bytes write_mesh writes of the held mesh.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
+#include <tpmsfill/io.hpp>
 #include <tpmsfill/marching_cubes.hpp>
 
 #include "test_util.hpp"
@@ -204,4 +207,89 @@ TEST(FillParts, ThreePartsJoinIntoTheWholeGridsMesh) {
   gap.push_back(fill_part(ball, o, {.first_plane = 0, .end_plane = 5}));
   gap.push_back(fill_part(ball, o, {.first_plane = 6, .end_plane = nz}));
   EXPECT_THROW(fill_parts(ball, o, std::move(gap)), InputError);
+}
+
+namespace {
+
+// fill_to_file in slabs writes what write_mesh writes of fill()'s mesh, byte for byte, in every
+// format, with the same validation figures, and leaves nothing else in the folder.
+void expect_streamed_as_held(const TriangleSoup& model, FillOptions o, int planes,
+                             const std::string& name) {
+  const std::filesystem::path dir = test::scratch_dir() / name;
+  std::filesystem::create_directories(dir);
+  o.slab_planes = 0;
+  const FillResult held = fill(model, o);
+  o.slab_planes = planes;
+  for (const char* ext : {".stl", ".ply", ".obj", ".off"}) {
+    SCOPED_TRACE(std::string("streamed to ") + ext);
+    const std::filesystem::path expected = dir / (std::string("held") + ext),
+                                streamed = dir / (std::string("streamed") + ext);
+    write_mesh(expected, held.mesh);
+    const FillResult s = fill_to_file(model, o, streamed);
+    EXPECT_TRUE(s.mesh.triangles.empty());
+    EXPECT_EQ(s.report.slab_planes, std::min(planes, held.report.grid.dims[2]));
+    EXPECT_TRUE(test::read_file(streamed) == test::read_file(expected));
+    const ValidationReport &a = held.report.validation, &b = s.report.validation;
+    EXPECT_TRUE(b.valid());
+    EXPECT_EQ(a.vertices, b.vertices);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.components, b.components);
+    EXPECT_EQ(a.volume, b.volume);  // the same sums in the same order
+    EXPECT_EQ(a.area, b.area);
+    EXPECT_EQ(a.outward, b.outward);
+    EXPECT_EQ(a.self_intersecting_pairs, b.self_intersecting_pairs);
+    EXPECT_EQ(a.searched_by_cells, b.searched_by_cells);
+    EXPECT_EQ(held.report.islands_removed, s.report.islands_removed);
+    EXPECT_EQ(held.report.islands_volume, s.report.islands_volume);
+    EXPECT_EQ(held.report.cavities, s.report.cavities);
+    EXPECT_EQ(held.report.warnings, s.report.warnings);
+    ASSERT_EQ(held.report.largest_islands.size(), s.report.largest_islands.size());
+    for (std::size_t i = 0; i < held.report.largest_islands.size(); ++i) {
+      EXPECT_EQ(held.report.largest_islands[i].volume, s.report.largest_islands[i].volume);
+      EXPECT_TRUE(held.report.largest_islands[i].bbox.min == s.report.largest_islands[i].bbox.min);
+      EXPECT_TRUE(held.report.largest_islands[i].bbox.max == s.report.largest_islands[i].bbox.max);
+    }
+  }
+  // The spill file and the writer's temporaries are gone: only the outputs remain.
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    ++files;
+    EXPECT_NE(entry.path().filename().string()[0], '.') << entry.path();
+  }
+  EXPECT_EQ(files, 8u);
+}
+
+}  // namespace
+
+TEST(FillToFile, StreamedSlabsWriteTheHeldMeshByteForByte) {
+  expect_streamed_as_held(test::make_sphere({0, 0, 0}, 4, 4), test::gyroid_options(2, 0.12), 3,
+                          "stream_sphere");
+  // One plane a slab: every record is one cell layer, every seam a slab's.
+  expect_streamed_as_held(test::make_torus(5, 2, 64, 32), test::gyroid_options(2.5, 0.15), 1,
+                          "stream_torus");
+}
+
+TEST(FillToFile, IslandsAndCavitiesAreJudgedAsWhenHeld) {
+  const TriangleSoup two =
+      test::concat(test::make_sphere({0, 0, 0}, 3, 4), test::make_sphere({8, 0, 0}, 2, 4));
+  FillOptions o = test::gyroid_options(1.5, 0.1);
+  o.design.level = 0.3;
+  expect_streamed_as_held(two, o, 5, "stream_islands");
+  FillOptions skin = test::gyroid_options(2, 0.1);
+  skin.skin = 0.3;
+  expect_streamed_as_held(test::make_sphere({0, 0, 0}, 3, 4), skin, 4, "stream_skin");
+}
+
+TEST(FillToFile, AJobThatFitsIsWrittenWhole) {
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 3, 3);
+  const FillOptions o = test::gyroid_options(2, 0.15);
+  const std::filesystem::path dir = test::scratch_dir();
+  const FillResult held = fill(ball, o);
+  write_mesh(dir / "held.stl", held.mesh);
+  const FillResult s = fill_to_file(ball, o, dir / "out.stl");
+  EXPECT_EQ(s.report.slab_planes, 0);
+  EXPECT_TRUE(test::read_file(dir / "out.stl") == test::read_file(dir / "held.stl"));
+  // A name without a format is refused before any work, and nothing is written.
+  EXPECT_THROW(fill_to_file(ball, o, dir / "out.xyz"), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.xyz"));
 }

@@ -12,9 +12,11 @@
 #include <tpmsfill/check.hpp>
 #include <tpmsfill/components.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/marching_cubes.hpp>
 #include <tpmsfill/validate.hpp>
 #include <unordered_map>
 
+#include "detail/validate_window.hpp"
 #include "test_util.hpp"
 
 using namespace tpmsfill;
@@ -631,4 +633,108 @@ TEST(Validate, DISABLED_TimingGeneral) {
   t1 = Clock::now();
   std::printf("make_sphere level 8 (%zu triangles), general SI: %.0f ms (valid %d)\n",
               ico.triangles.size(), ms(t0, t1), r8.valid());
+}
+
+// validate_window, as fill_to_file uses it: records of a few cell layers of a marching-cubes
+// mesh, each validated with the last cell layer of the record below and the first node layer
+// of the one above. Whatever defects the mesh has, the windows' counts add up to
+// validate_mesh's on the whole mesh.
+TEST(ValidateWindow, WindowsAddUpToTheWholeMesh) {
+  const Grid grid{{-1, -1, -1}, 0.1, {21, 19, 25}};
+  Field f{grid, std::vector<float>(grid.node_count())};
+  for (int k = 0; k < 25; ++k)
+    for (int j = 0; j < 19; ++j)
+      for (int i = 0; i < 21; ++i) {
+        const Vec3 p = grid.node(i, j, k);
+        const bool border = i == 0 || j == 0 || k == 0 || i == 20 || j == 18 || k == 24;
+        f.values[grid.index(i, j, k)] =
+            border ? 1.0f
+                   : static_cast<float>(std::sin(7 * p.x) + std::cos(9 * p.y) * std::sin(5 * p.z) -
+                                        0.2);
+      }
+  SlabMarchingCubes mc(grid);
+  TriangleSoup mesh;
+  mc.add(f, 25, mesh);
+  const std::size_t nt = mesh.triangles.size();
+  ASSERT_GT(nt, 1000u);
+  // Defects that keep every triangle in its cell layer: dropped triangles (border edges), one
+  // turned over (inconsistent edges, and not outward), two doubled (non-manifold edges), and
+  // points moved onto others of their node layer (duplicates, degenerate triangles,
+  // intersections; their triangles stay within their cell layers, as windows need).
+  std::vector<Triangle> tris = mesh.triangles;
+  std::vector<bool> keep(nt, true);
+  keep[nt / 3] = keep[nt / 2] = false;
+  std::swap(tris[nt / 5][0], tris[nt / 5][1]);
+  const std::uint64_t mid_layer = mc.first_point(12), next_layer = mc.first_point(13);
+  mesh.points[mid_layer + 7] = mesh.points[mid_layer + 3];
+  mesh.points[next_layer + 2] = mesh.points[next_layer + 11];
+  std::vector<std::uint32_t> layer_of(nt);  // each triangle's cell layer
+  for (int k = 0; k + 1 < 25; ++k)
+    for (std::uint64_t t = mc.first_triangle(k); t < mc.first_triangle(k + 1); ++t)
+      layer_of[t] = static_cast<std::uint32_t>(k);
+  // Doubled triangles go at the end of their layer, where marching cubes would have put them.
+  for (std::size_t t : {nt / 4, 2 * nt / 3}) {
+    const std::uint32_t k = layer_of[t];
+    const auto at = static_cast<std::ptrdiff_t>(mc.first_triangle(static_cast<int>(k) + 1));
+    tris.insert(tris.begin() + at, tris[t]);
+    keep.insert(keep.begin() + at, true);
+    layer_of.insert(layer_of.begin() + at, k);
+  }
+  std::vector<std::uint64_t> layer_start(26, tris.size());  // first triangle of each cell layer
+  for (std::size_t t = tris.size(); t-- > 0;) layer_start[layer_of[t]] = t;
+  for (int k = 24; k >= 0; --k) layer_start[k] = std::min(layer_start[k], layer_start[k + 1]);
+
+  TriangleSoup whole{mesh.points, {}};
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    if (keep[t]) whole.triangles.push_back(tris[t]);
+  const ValidationReport expected = validate_mesh(whole, {.cell_grid = grid});
+  ASSERT_GT(expected.border_edges, 0u);
+  ASSERT_GT(expected.non_manifold_edges, 0u);
+  ASSERT_GT(expected.inconsistent_edges, 0u);
+  ASSERT_GT(expected.duplicate_points, 0u);
+  ASSERT_GT(expected.self_intersecting_pairs.value_or(0), 0u);
+
+  for (int per : {1, 3, 7}) {
+    SCOPED_TRACE("records of " + std::to_string(per) + " cell layers");
+    detail::WindowValidation sum;
+    std::uint64_t pairs = 0, degenerate = 0, vertices = 0;
+    for (int r0 = 0; r0 < 24; r0 += per) {
+      const int r1 = std::min(r0 + per, 24);
+      const bool last = r1 == 24;
+      const std::uint64_t first = mc.first_point(std::max(r0 - 1, 0));
+      const std::uint64_t end = mc.first_point(last ? 25 : r1 + 1);
+      TriangleSoup window;
+      window.points.assign(mesh.points.begin() + static_cast<std::ptrdiff_t>(first),
+                           mesh.points.begin() + static_cast<std::ptrdiff_t>(end));
+      auto add = [&](std::uint64_t b, std::uint64_t e) {
+        for (std::uint64_t t = b; t < e; ++t)
+          if (keep[t])
+            window.triangles.push_back({static_cast<std::uint32_t>(tris[t][0] - first),
+                                        static_cast<std::uint32_t>(tris[t][1] - first),
+                                        static_cast<std::uint32_t>(tris[t][2] - first)});
+      };
+      if (r0 > 0) add(layer_start[r0 - 1], layer_start[r0]);
+      const std::size_t carried = window.triangles.size();
+      add(layer_start[r0], layer_start[r1]);
+      const std::uint64_t owned_end = mc.first_point(last ? 25 : r1);
+      const detail::WindowValidation w = detail::validate_window(
+          window, {mc.first_point(r0) - first, owned_end - first}, carried, grid, 10, true);
+      vertices += w.vertices;
+      degenerate += w.degenerate;
+      pairs += w.intersecting_pairs;
+      sum.border += w.border;
+      sum.non_manifold += w.non_manifold;
+      sum.inconsistent += w.inconsistent;
+      sum.pinched += w.pinched;
+      sum.duplicates += w.duplicates;
+    }
+    EXPECT_EQ(vertices, expected.vertices);
+    EXPECT_EQ(degenerate, expected.degenerate_triangles);
+    EXPECT_EQ(sum.border, expected.border_edges);
+    EXPECT_EQ(sum.non_manifold, expected.non_manifold_edges);
+    EXPECT_EQ(sum.inconsistent, expected.inconsistent_edges);
+    EXPECT_EQ(sum.pinched, expected.non_manifold_vertices);
+    EXPECT_EQ(sum.duplicates, expected.duplicate_points);
+    EXPECT_EQ(pairs, *expected.self_intersecting_pairs);
+  }
 }

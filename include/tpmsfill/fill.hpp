@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/design.hpp"
 #include "tpmsfill/grid.hpp"
+#include "tpmsfill/io.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
 #include "tpmsfill/types.hpp"
@@ -99,6 +101,22 @@ struct FillResult {
 /// @throws ValidationError  the output failed validation (nothing to write; a bug)
 /// @throws Cancelled        options.progress cancelled the job
 FillResult fill(const TriangleSoup& model, const FillOptions& options);
+
+/// fill(), with the mesh written to `path` instead of returned (result.mesh stays empty): the
+/// same bytes as write_mesh(path, fill(model, options).mesh, write), and as atomic. A job whose
+/// grid and mesh fit options.memory_budget runs as fill() does and is written at the end;
+/// a larger one (or one given FillOptions::slab_planes) goes slab by slab and streams: the
+/// mesh is never held whole, only a slab's share of it. Its triangles spill to a temporary
+/// file beside `path` (removed however the job ends; the folder needs room for about 30 bytes
+/// per triangle beside the output), islands are judged once the last slab is done, and the
+/// mesh is validated and written a few cell layers at a time. Nothing is left at `path` unless
+/// the mesh is valid.
+/// @throws InputError       as fill(); a `path` whose extension names no format (before any
+///                          work)
+/// @throws IoError          `path`'s folder cannot be written, or the disk is full
+/// @throws ResourceError, ValidationError, Cancelled  as fill()
+FillResult fill_to_file(const TriangleSoup& model, const FillOptions& options,
+                        const std::filesystem::path& path, const WriteOptions& write = {});
 
 /// One process's share of a fill split along z across processes (tpmsfill under mpirun): the
 /// field, marching cubes and the masks islands need for node planes [first_plane, end_plane)

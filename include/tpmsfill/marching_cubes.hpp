@@ -23,6 +23,9 @@
 /// Nodes exactly at the iso-value are treated as outside (above).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "tpmsfill/field.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
@@ -70,8 +73,8 @@ class SlabMarchingCubes {
   explicit SlabMarchingCubes(const Grid& grid, const McOptions& options = {}, int first_plane = 0);
 
   /// Extracts node layers [next_plane(), next_plane() + owned) — their points and the
-  /// triangles of their cell layers — appending them to `mesh`, which must hold what the
-  /// earlier slabs appended (ids are the whole mesh's).
+  /// triangles of their cell layers — appending them to `mesh`, which must hold the points
+  /// the earlier slabs appended (but those drop_points() took; ids are the whole mesh's).
   /// @param planes  φ on the grid's planes next_plane() .. min(next_plane() + owned + 1,
   ///                dims[2] − 1): the owned ones and the two above them that their edges and
   ///                the next layer's numbering read (a slab: Grid::z_offset = next_plane())
@@ -81,10 +84,30 @@ class SlabMarchingCubes {
   int next_plane() const { return next_; }
   bool done() const { return next_ == grid_.dims[2]; }
 
+  /// Node layer k's first point id (k == next_plane(): the points made so far), for layers
+  /// from the first plane to next_plane(): a layer's points are ids [first_point(k),
+  /// first_point(k + 1)).
+  /// @throws InputError  layer k is not made yet
+  std::uint64_t first_point(int k) const;
+  /// Triangles made before cell layer k (counted from the first plane's, whatever the caller
+  /// has taken out of `mesh` since), for the same layers: cell layer k's triangles are
+  /// [first_triangle(k), first_triangle(k + 1)) in the order they were appended.
+  std::uint64_t first_triangle(int k) const;
+
+  /// Takes the points with ids below `below` out of `mesh` (the caller is done with them, so a
+  /// mesh far larger than memory can stream through): `mesh` then holds ids from `below` on,
+  /// id p at mesh.points[p - below], and add() continues that way. Triangles are the caller's:
+  /// add() only appends to them.
+  /// @throws InputError  `below` is not within the points held
+  void drop_points(TriangleSoup& mesh, std::uint64_t below);
+
  private:
   Grid grid_;
   McOptions options_;
+  int first_ = 0;
   int next_ = 0;
+  std::uint64_t dropped_ = 0;
+  std::vector<std::uint64_t> first_point_, first_triangle_;  // from the first plane on
 };
 
 }  // namespace tpmsfill

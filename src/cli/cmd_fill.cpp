@@ -71,22 +71,21 @@ int run_fill(FillArgs args) {
   const StageTime read{"read", seconds_since(t0), peak_memory_mb()};
   print_warnings(file.warnings);
 
+  // The mesh and the report are one outcome: both are written, or neither. The mesh is
+  // written as it is made (streamed when the job goes in slabs), to a staged name.
+  StagedOutputs staged;
+  const std::filesystem::path mesh_path = staged.stage(args.output);
   // Under mpirun each rank fills its share of the grid; rank 0 finishes and writes.
-  std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options);
+  std::optional<FillResult> on_ranks =
+      fill_on_ranks(file.soup, options, mesh_path, {.format = format_from_extension(args.output)});
   if (!on_ranks) return kOk;
   FillResult& result = *on_ranks;
   if (progress) progress->clear();
 
-  // The mesh and the report are one outcome: both are written, or neither.
-  t0 = std::chrono::steady_clock::now();
-  StagedOutputs staged;
-  write_mesh(staged.stage(args.output), result.mesh,
-             {.format = format_from_extension(args.output)});
   FillReport& report = result.report;
   report.recipe = recipe_json(result.resolved);
   record_provenance(report, args.input);
   report.stages.insert(report.stages.begin(), read);
-  report.stages.push_back({"write", seconds_since(t0), peak_memory_mb()});
   if (!args.report.empty()) write_file_atomically(staged.stage(args.report), to_json(report));
   staged.commit();
 

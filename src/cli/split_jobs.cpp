@@ -1,7 +1,9 @@
 #include "cli/split_jobs.hpp"
 
+#include <chrono>
 #include <string>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/report.hpp>
 #include <utility>
 #include <vector>
 
@@ -118,8 +120,10 @@ void add_report(wire::Reader& in, SliceReport& r) {
 
 }  // namespace
 
-std::optional<FillResult> fill_on_ranks(const TriangleSoup& model, const FillOptions& options) {
-  if (ranks() == 1) return fill(model, options);
+std::optional<FillResult> fill_on_ranks(const TriangleSoup& model, const FillOptions& options,
+                                        const std::filesystem::path& path,
+                                        const WriteOptions& write) {
+  if (ranks() == 1) return fill_to_file(model, options, path, write);
   std::uint64_t first = 0, end = 0;
   share(static_cast<std::uint64_t>(fill_grid(model, options).dims[2]), first, end);
   FillPart part = fill_part(model, options,
@@ -133,7 +137,14 @@ std::optional<FillResult> fill_on_ranks(const TriangleSoup& model, const FillOpt
   std::vector<FillPart> parts;
   parts.push_back(std::move(part));
   for (int r = 1; r < ranks(); ++r) parts.push_back(part_from(receive(r)));
-  return fill_parts(model, options, std::move(parts));
+  FillResult result = fill_parts(model, options, std::move(parts));
+  const auto t0 = std::chrono::steady_clock::now();
+  write_mesh(path, result.mesh, write);
+  result.report.stages.push_back(
+      {"write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+       peak_memory_mb()});
+  result.mesh = {};
+  return result;
 }
 
 std::optional<SliceReport> slice_on_ranks(const TriangleSoup& model, const FillOptions& options,

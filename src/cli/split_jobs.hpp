@@ -4,16 +4,21 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <tpmsfill/fill.hpp>
+#include <tpmsfill/io.hpp>
 #include <tpmsfill/slice.hpp>
 
 namespace tpmsfill::cli {
 
-/// fill() across the ranks: each fills its share of the grid's node planes (fill_part), rank 0
-/// joins the parts (fill_parts): the same mesh as one process. Rank 0 gets the result, the
-/// others nothing.
-std::optional<FillResult> fill_on_ranks(const TriangleSoup& model, const FillOptions& options);
+/// fill_to_file() across the ranks: each fills its share of the grid's node planes
+/// (fill_part), rank 0 joins the parts (fill_parts) and writes `path`: the same file as one
+/// process (which streams it when the job is over the memory budget; the join holds the mesh).
+/// Rank 0 gets the result (its mesh left empty), the others nothing.
+std::optional<FillResult> fill_on_ranks(const TriangleSoup& model, const FillOptions& options,
+                                        const std::filesystem::path& path,
+                                        const WriteOptions& write);
 
 /// slice() across the ranks, each slicing its share of the `count` layers. `sink` receives
 /// layers on rank 0, every layer in order (other ranks send theirs, without their planes'

@@ -17,6 +17,12 @@ class DisjointSets {
   explicit DisjointSets(std::size_t n) : parent_(n) {
     std::iota(parent_.begin(), parent_.end(), 0u);
   }
+  /// A new singleton set; its index.
+  std::uint32_t add() {
+    parent_.push_back(static_cast<std::uint32_t>(parent_.size()));
+    return parent_.back();
+  }
+  std::size_t size() const { return parent_.size(); }
   std::uint32_t find(std::uint32_t i) {
     while (parent_[i] != i) {
       parent_[i] = parent_[parent_[i]];

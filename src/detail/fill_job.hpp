@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -13,9 +14,13 @@
 
 #include "detail/job_progress.hpp"
 #include "tpmsfill/classify.hpp"
+#include "tpmsfill/components.hpp"
 #include "tpmsfill/fill.hpp"
+#include "tpmsfill/io.hpp"
+#include "tpmsfill/marching_cubes.hpp"
 #include "tpmsfill/report.hpp"
 #include "tpmsfill/spatial.hpp"
+#include "tpmsfill/validate.hpp"
 #include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill::detail {
@@ -95,9 +100,46 @@ struct MemoryPlan {
 /// need kept as runs (fill_slabs.cpp). Leaves job.mesh as the whole-grid path makes it.
 void mesh_in_slabs(Job& job);
 
+/// Called after each slab's marching cubes with what it appended to the part's mesh; it may
+/// take the finished points and triangles out (SlabMarchingCubes::drop_points).
+using AfterSlab = std::function<void(SlabMarchingCubes&, TriangleSoup&)>;
+
 /// The slab path's work on node planes [first, end) (all of them, or one process's share):
 /// `agree` settles the auto inside rule across shares (unset: this share alone).
-FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool)>& agree);
+FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool)>& agree,
+                     const AfterSlab& after_slab);
+
+/// What islands are judged by, per component of the lattice (numbered by first triangle, as
+/// mesh_components numbers them).
+struct ComponentFacts {
+  std::vector<Components::Info> info;
+  std::vector<Vec3> first_centroid;  ///< of each one's first triangle
+  /// The boxes of the components that keep[c] drops (the others' may be left empty).
+  std::function<std::vector<Box3>(const std::vector<bool>& keep)> boxes;
+};
+
+/// The streamed path's last stage: the mesh validated and written as it passes.
+inline constexpr const char* kValidateAndWrite = "validate and write";
+
+/// The refusal when nothing of the lattice is left.
+inline constexpr const char* kEmptyLattice =
+    "the lattice is empty: no part of the model is thicker than the lattice's struts at this "
+    "voxel size (try a smaller --voxel or a larger --cell)";
+
+/// @throws ValidationError  `v` is not valid: nothing is written (the problems, one sentence)
+void require_valid_lattice(const ValidationReport& v);
+
+/// Which components stay: cavities counted, islands (pieces that are not the main body of
+/// their part of the model) dropped unless kept; the report's island and cavity figures and
+/// warnings (fill.cpp).
+std::vector<bool> judge_islands(const Job& job, const ComponentFacts& comps);
+
+/// The slab path with the mesh streamed to `path` rather than held: slabs' triangles spill to
+/// a temporary file beside `path`; components are labelled across slabs; islands are judged;
+/// then the mesh is validated window by window and written as validated (MeshWriter), the
+/// same bytes as write_mesh of fill()'s mesh. Nothing is left at `path` unless it is valid.
+/// (fill_stream.cpp)
+void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptions& write);
 
 /// Parts covering the grid in order into the job: the mesh, the runs and the report's
 /// classification figures, as mesh_in_slabs leaves them.
