@@ -203,6 +203,45 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
   EXPECT_NE(out.find("lattice.tpye: unknown key"), std::string::npos) << out;
 }
 
+TEST(Cli, FillOverTheBudgetStreamsTheSameBytes) {
+  // A budget under the whole grid's estimate: the job goes in slabs and its output is streamed
+  // into OUT, the same bytes as the held path writes, and nothing else is left in the folder.
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "ball.stl", test::make_sphere({0, 0, 0}, 5.0, 3));
+  const std::string job = cli() + " fill '" + (dir / "ball.stl").string() + "' ";
+  const std::string flags = " --cell 2 --voxel 0.04 --quiet --report ";
+  std::string out;
+  ASSERT_EQ(test::run_command(job + "'" + (dir / "held.stl").string() + "'" + flags + "'" +
+                                  (dir / "held.json").string() + "'",
+                              &out),
+            0)
+      << out;
+  const auto held = nlohmann::json::parse(test::read_file(dir / "held.json"));
+  ASSERT_TRUE(held["slab_planes"].is_null());
+  const auto budget = held["estimated_memory_bytes"].get<std::uint64_t>() - 1;
+  ASSERT_EQ(test::run_command(job + "'" + (dir / "streamed.stl").string() + "'" + flags + "'" +
+                                  (dir / "streamed.json").string() + "' --memory " +
+                                  std::to_string(budget),
+                              &out),
+            0)
+      << out;
+  const auto streamed = nlohmann::json::parse(test::read_file(dir / "streamed.json"));
+  EXPECT_GT(streamed["slab_planes"].get<int>(), 0);
+  EXPECT_LE(streamed["estimated_memory_bytes"].get<std::uint64_t>(), budget);
+  EXPECT_TRUE(streamed["valid"].get<bool>());
+  bool streamed_stage = false;
+  for (const auto& stage : streamed["stages"])
+    streamed_stage = streamed_stage || stage["name"] == "validate and write";
+  EXPECT_TRUE(streamed_stage);
+  EXPECT_TRUE(test::read_file(dir / "streamed.stl") == test::read_file(dir / "held.stl"));
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"ball.stl", "held.json", "held.stl", "streamed.json",
+                                             "streamed.stl"}));
+}
+
 TEST(Cli, FillTakesTheLatticeDesignFlagsAndEchoesTheRecipe) {
   // Every design flag at once on a ball; the report's recipe, given back as --recipe, writes
   // the same bytes.
