@@ -354,11 +354,147 @@ struct WindowSums {
   }
 };
 
+// Pass 3: the kept mesh validated a window at a time and written as it passes, with the sums
+// validate_mesh() makes (volume and area in its triangle order and chunks, per component too).
+class ValidatingWriter {
+ public:
+  ValidatingWriter(const Job& job, const Tally& tally, Spiller& spill,
+                   const std::vector<bool>& keep, MeshWriter& writer, Vec3 centre)
+      : job_(job),
+        tally_(tally),
+        spill_(spill),
+        keep_(keep),
+        writer_(writer),
+        centre_(centre),
+        component_volume_(keep.size(), 0.0) {}
+
+  // As a record is read: its points rounded as fill() rounds them, the kept ones numbered and
+  // written.
+  void prepare(Record& rec) {
+    std::vector<Vec3> out;
+    rec.new_id.assign(rec.points.size(), kNone);
+    for (std::size_t p = 0; p < rec.points.size(); ++p) {
+      Vec3& q = rec.points[p];
+      if (job_.options.float_coordinates) q = float_rounded(q);
+      if (kept(rec.point_label[p])) {
+        rec.new_id[p] = static_cast<std::uint32_t>(next_id_++);
+        out.push_back(q);
+      }
+    }
+    writer_.add_points(out);
+  }
+
+  // The record's window: its points and its neighbours' that its items touch, the kept
+  // triangles of the record below's last cell layer (carried) and of its own.
+  void visit(const Record* prev, const Record& cur, const Record* next) {
+    const std::uint64_t first = prev ? prev->last_layer_point : cur.first_point;
+    const std::uint64_t end = next ? next->second_layer_point : cur.end_point();
+    TriangleSoup window;
+    std::vector<Vec3> kept_points;  // the writer's window: their output ids run from first_new
+    std::uint32_t first_new = kNone;
+    window.points.reserve(end - first);
+    for (std::uint64_t id = first; id < end; ++id) {
+      const Record& h = holder(id, prev, cur, next);
+      const std::size_t p = id - h.first_point;
+      window.points.push_back(h.points[p]);
+      if (h.new_id[p] != kNone) {
+        if (first_new == kNone) first_new = h.new_id[p];
+        kept_points.push_back(h.points[p]);
+      }
+    }
+    auto local = [&](const Triangle& t) {
+      return Triangle{static_cast<std::uint32_t>(t[0] - first),
+                      static_cast<std::uint32_t>(t[1] - first),
+                      static_cast<std::uint32_t>(t[2] - first)};
+    };
+    std::vector<std::uint32_t> final_index = carried_final_;
+    if (prev)
+      for (std::size_t i = prev->last_layer_triangle - prev->first_triangle;
+           i < prev->triangles.size(); ++i)
+        if (kept(prev->triangle_label[i])) window.triangles.push_back(local(prev->triangles[i]));
+    const std::size_t carried = window.triangles.size();
+    std::vector<Triangle> out;
+    carried_final_.clear();
+    for (std::size_t i = 0; i < cur.triangles.size(); ++i) {
+      if (!kept(cur.triangle_label[i])) continue;
+      const Triangle& t = cur.triangles[i];
+      const Triangle l = local(t);
+      window.triangles.push_back(l);
+      const auto index = static_cast<std::uint32_t>(written_++);
+      final_index.push_back(index);
+      if (i >= cur.last_layer_triangle - cur.first_triangle) carried_final_.push_back(index);
+      add_sums(window.points[l[0]], window.points[l[1]], window.points[l[2]],
+               component(cur.triangle_label[i]));
+      Triangle renumbered;
+      for (int k = 0; k < 3; ++k) {
+        const Record& h = holder(t[k], prev, cur, next);
+        renumbered[k] = h.new_id[t[k] - h.first_point];
+      }
+      out.push_back(renumbered);
+    }
+    const bool search = job_.options.check_self_intersections;
+    const WindowValidation w =
+        validate_window(window, {cur.first_point - first, cur.end_point() - first}, carried,
+                        job_.grid, max_examples_, search);
+    sums_.add(w, final_index, max_examples_, search);
+    writer_.add_triangles(out, kept_points, first_new == kNone ? 0 : first_new);
+  }
+
+  // The whole mesh's report, once every record was visited.
+  ValidationReport report() {
+    ValidationReport v = std::move(sums_.r);
+    v.triangles = written_;
+    v.volume = (volume_ + chunk_volume_) / 6;
+    v.area = (area_ + chunk_area_) / 2;
+    for (std::size_t c = 0; c < keep_.size(); ++c) v.components += keep_[c];
+    v.outward = v.components > 0 && v.volume > 0;
+    for (std::size_t c = 0; c < keep_.size(); ++c)
+      if (keep_[c] && component_volume_[c] == 0) v.outward = false;
+    for (auto* examples : {&sums_.border, &sums_.non_manifold, &sums_.inconsistent})
+      v.bad_edge_examples.insert(v.bad_edge_examples.end(), examples->begin(), examples->end());
+    if (job_.options.check_self_intersections) {
+      v.searched_by_cells = sums_.by_cells;
+      std::sort(sums_.pairs.begin(), sums_.pairs.end());
+      if (sums_.pairs.size() > max_examples_) sums_.pairs.resize(max_examples_);
+      v.self_intersection_examples = std::move(sums_.pairs);
+    }
+    return v;
+  }
+
+ private:
+  std::uint32_t component(std::uint32_t label) const {
+    return tally_.of_root[spill_.labels.find(label)];
+  }
+  bool kept(std::uint32_t label) const { return label != kNone && keep_[component(label)]; }
+  void add_sums(Vec3 a, Vec3 b, Vec3 c, std::uint32_t comp) {
+    const double six = six_volume(centre_, a, b, c);
+    chunk_volume_ += six;
+    chunk_area_ += double_area(a, b, c);
+    component_volume_[comp] += six;
+    if (written_ % kSumChunk == 0) {
+      volume_ += chunk_volume_;
+      area_ += chunk_area_;
+      chunk_volume_ = chunk_area_ = 0;
+    }
+  }
+
+  const Job& job_;
+  const Tally& tally_;
+  Spiller& spill_;
+  const std::vector<bool>& keep_;
+  MeshWriter& writer_;
+  Vec3 centre_;
+  std::size_t max_examples_ = ValidateOptions{}.max_examples;
+  WindowSums sums_;
+  std::vector<double> component_volume_;
+  double volume_ = 0, area_ = 0, chunk_volume_ = 0, chunk_area_ = 0;
+  std::uint64_t next_id_ = 0, written_ = 0;
+  std::vector<std::uint32_t> carried_final_;  // output indices of the carried triangles
+};
+
 }  // namespace
 
 void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptions& write) {
-  const FillOptions& o = job.options;
-  FillReport& r = job.report;
   SpillFile file(path);
   Spiller spill(file, job.grid.dims[2]);
   std::vector<FillPart> parts;
@@ -369,13 +505,13 @@ void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptio
   Tally tally;
   std::vector<bool> keep;
   job.stage("islands", [&] {
-    tally = tally_components(file, spill, o.float_coordinates, job.progress);
+    tally = tally_components(file, spill, job.options.float_coordinates, job.progress);
     tally.facts.boxes = [&tally](const std::vector<bool>&) { return tally.box; };
     keep = judge_islands(job, tally.facts);
   });
   job.inside_runs = job.solid_runs = Regions{};
   std::uint64_t points = 0, triangles = 0;
-  Box3 box;
+  Box3 box;  // of the kept points as written
   for (std::size_t c = 0; c < keep.size(); ++c)
     if (keep[c]) {
       points += tally.points[c];
@@ -387,118 +523,17 @@ void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptio
   if (!fits_32bit_ids(points) || !fits_32bit_ids(triangles))
     throw InputError("the lattice has more than 2^32 - 1 points or triangles; use a coarser grid");
 
-  // Validate and write, record by record.
-  const Vec3 centre = box.centre();
-  const std::size_t max_examples = ValidateOptions{}.max_examples;
   MeshWriter writer(path, points, triangles, write);
-  WindowSums sums;
-  std::vector<double> component_volume(keep.size(), 0.0);  // in triangle order, as validate
-  double volume = 0, area = 0, chunk_volume = 0, chunk_area = 0;
-  std::uint64_t next_id = 0, written = 0;
-  std::vector<std::uint32_t> carried_final;  // the carried triangles' output indices
-  auto kept = [&](std::uint32_t label) {
-    return label != kNone && keep[tally.of_root[spill.labels.find(label)]];
-  };
-  auto prepare = [&](Record& rec) {
-    std::vector<Vec3> out;
-    rec.new_id.assign(rec.points.size(), kNone);
-    for (std::size_t p = 0; p < rec.points.size(); ++p) {
-      Vec3& q = rec.points[p];
-      if (o.float_coordinates) q = float_rounded(q);
-      if (kept(rec.point_label[p])) {
-        rec.new_id[p] = static_cast<std::uint32_t>(next_id++);
-        out.push_back(q);
-      }
-    }
-    writer.add_points(out);
-  };
+  ValidatingWriter out(job, tally, spill, keep, writer, box.centre());
   job.stage(kValidateAndWrite, [&] {
     for_each_record(
-        file, spill.records, job.progress, prepare,
+        file, spill.records, job.progress, [&](Record& rec) { out.prepare(rec); },
         [&](const Record* prev, const Record& cur, const Record* next) {
-          const std::uint64_t first = prev ? prev->last_layer_point : cur.first_point;
-          const std::uint64_t end = next ? next->second_layer_point : cur.end_point();
-          TriangleSoup window;
-          std::vector<Vec3> kept_points;
-          std::uint32_t first_new = kNone;
-          window.points.reserve(end - first);
-          for (std::uint64_t id = first; id < end; ++id) {
-            const Record& h = holder(id, prev, cur, next);
-            const std::size_t p = id - h.first_point;
-            window.points.push_back(h.points[p]);
-            if (h.new_id[p] != kNone) {
-              if (first_new == kNone) first_new = h.new_id[p];
-              kept_points.push_back(h.points[p]);
-            }
-          }
-          auto local = [&](const Triangle& t) {
-            return Triangle{static_cast<std::uint32_t>(t[0] - first),
-                            static_cast<std::uint32_t>(t[1] - first),
-                            static_cast<std::uint32_t>(t[2] - first)};
-          };
-          std::vector<std::uint32_t> final_index = carried_final;
-          if (prev)
-            for (std::size_t i = prev->last_layer_triangle - prev->first_triangle;
-                 i < prev->triangles.size(); ++i)
-              if (kept(prev->triangle_label[i]))
-                window.triangles.push_back(local(prev->triangles[i]));
-          const std::size_t carried = window.triangles.size();
-          std::vector<Triangle> out;
-          carried_final.clear();
-          for (std::size_t i = 0; i < cur.triangles.size(); ++i) {
-            if (!kept(cur.triangle_label[i])) continue;
-            const Triangle& t = cur.triangles[i];
-            const Triangle l = local(t);
-            window.triangles.push_back(l);
-            const std::uint32_t index = static_cast<std::uint32_t>(written++);
-            final_index.push_back(index);
-            if (i >= cur.last_layer_triangle - cur.first_triangle) carried_final.push_back(index);
-            // The sums validate_mesh() makes, in its order and chunks.
-            const Vec3 a = window.points[l[0]], b = window.points[l[1]], c = window.points[l[2]];
-            const double six = six_volume(centre, a, b, c);
-            chunk_volume += six;
-            chunk_area += double_area(a, b, c);
-            component_volume[tally.of_root[spill.labels.find(cur.triangle_label[i])]] += six;
-            if (written % kSumChunk == 0) {
-              volume += chunk_volume;
-              area += chunk_area;
-              chunk_volume = chunk_area = 0;
-            }
-            Triangle renumbered;
-            for (int k = 0; k < 3; ++k) {
-              const Record& h = holder(t[k], prev, cur, next);
-              renumbered[k] = h.new_id[t[k] - h.first_point];
-            }
-            out.push_back(renumbered);
-          }
-          const WindowValidation w =
-              validate_window(window, {cur.first_point - first, cur.end_point() - first}, carried,
-                              job.grid, max_examples, o.check_self_intersections);
-          sums.add(w, final_index, max_examples, o.check_self_intersections);
-          writer.add_triangles(out, kept_points, first_new == kNone ? 0 : first_new);
+          out.visit(prev, cur, next);
         });
   });
-  volume += chunk_volume;
-  area += chunk_area;
-
-  ValidationReport& v = sums.r;
-  v.triangles = triangles;
-  v.volume = volume / 6;
-  v.area = area / 2;
-  for (std::size_t c = 0; c < keep.size(); ++c) v.components += keep[c];
-  v.outward = v.components > 0 && v.volume > 0;
-  for (std::size_t c = 0; c < keep.size(); ++c)
-    if (keep[c] && component_volume[c] == 0) v.outward = false;
-  for (auto* examples : {&sums.border, &sums.non_manifold, &sums.inconsistent})
-    v.bad_edge_examples.insert(v.bad_edge_examples.end(), examples->begin(), examples->end());
-  if (o.check_self_intersections) {
-    v.searched_by_cells = sums.by_cells;
-    std::sort(sums.pairs.begin(), sums.pairs.end());
-    if (sums.pairs.size() > max_examples) sums.pairs.resize(max_examples);
-    v.self_intersection_examples = std::move(sums.pairs);
-  }
-  r.validation = v;
-  require_valid_lattice(v);
+  job.report.validation = out.report();
+  require_valid_lattice(job.report.validation);
   writer.commit();
 }
 
