@@ -733,22 +733,36 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   return result;
 }
 
-FillResult fill_to_file(const TriangleSoup& input, const FillOptions& options,
-                        const std::filesystem::path& path, const WriteOptions& write) {
+namespace {
+
+// Before any work: a name whose extension names no format.
+void require_format(const std::filesystem::path& path, const WriteOptions& write) {
   if (write.format == MeshFormat::Auto && format_from_extension(path) == MeshFormat::Auto)
     throw InputError("cannot write " + path.string() +
                      ": unknown extension (use .stl, .obj, .ply or .off)");
+}
+
+// A held result written, the write timed into its report, its mesh let go.
+void write_held(FillResult& result, const std::filesystem::path& path, const WriteOptions& write) {
+  const auto t0 = std::chrono::steady_clock::now();
+  write_mesh(path, result.mesh, write);
+  result.report.stages.push_back(
+      {"write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+       peak_memory_mb()});
+  result.mesh = {};
+}
+
+}  // namespace
+
+FillResult fill_to_file(const TriangleSoup& input, const FillOptions& options,
+                        const std::filesystem::path& path, const WriteOptions& write) {
+  require_format(path, write);
   FillResult result;
   Setup s;
   set_up(input, options, result, s, true);
   if (s.plan.slab_planes == 0) {  // the whole grid fits, with its mesh: fill() as it is
     fill_in_memory(options, s, result);
-    const auto t0 = std::chrono::steady_clock::now();
-    write_mesh(path, result.mesh, write);
-    result.report.stages.push_back(
-        {"write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-         peak_memory_mb()});
-    result.mesh = {};
+    write_held(result, path, write);
     return result;
   }
   Job job(*s.model, options, result, plan_stages(options, true, true), s.plan.slab_planes);
@@ -770,7 +784,9 @@ FillPart fill_part(const TriangleSoup& input, const FillOptions& options,
                    const FillPartOptions& part) {
   FillResult result;
   Setup s;
-  set_up(input, options, result, s);
+  // Planned as a streamed job: the process finishing it streams the parts when they do not fit
+  // (fill_parts_to_file); the share's own mesh is its share of the output.
+  set_up(input, options, result, s, true);
   const auto t0 = std::chrono::steady_clock::now();
   // The share goes in slabs as thick as the whole job's plan allows, or whole.
   const int share = part.end_plane - part.first_plane;
@@ -805,6 +821,43 @@ FillResult fill_parts(const TriangleSoup& input, const FillOptions& options,
   result.report.stages.push_back({"parts (slowest)", slowest, 0});
   job.stage("join", [&] { detail::join_parts(job, std::move(parts)); });
   finish(job);
+  return result;
+}
+
+FillResult fill_parts_to_file(const TriangleSoup& input, const FillOptions& options, int count,
+                              const std::function<FillPart()>& next_part,
+                              const std::filesystem::path& path, const WriteOptions& write) {
+  require_format(path, write);
+  FillResult result;
+  Setup s;
+  set_up(input, options, result, s, true);
+  if (s.plan.slab_planes == 0) {  // the whole grid and its mesh fit: joined, held, written
+    std::vector<FillPart> parts;
+    for (int i = 0; i < count; ++i) parts.push_back(next_part());
+    result = fill_parts(input, options, std::move(parts));
+    write_held(result, path, write);
+    return result;
+  }
+  Job job(*s.model, options, result,
+          {{"review", 0.5}, {"join", 5}, {"islands", 6}, {detail::kValidateAndWrite, 46}},
+          s.plan.slab_planes);
+  resolve(job, s.plan);
+  result.report.ranks = count;
+  double slowest = 0;
+  detail::fill_parts_streamed(
+      job, count,
+      [&] {
+        FillPart p = next_part();
+        slowest = std::max(slowest, p.seconds);
+        return p;
+      },
+      path, write);
+  auto& stages = result.report.stages;
+  const auto join = std::find_if(stages.begin(), stages.end(),
+                                 [](const StageTime& t) { return t.name == "join"; });
+  stages.insert(join, {"parts (slowest)", slowest, 0});
+  detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
+  job.job_progress.finish();
   return result;
 }
 

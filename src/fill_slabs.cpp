@@ -14,12 +14,12 @@
 namespace tpmsfill::detail {
 namespace {
 
-// The planes slab s of a share starting at plane `first` reads: the ones it owns and the two
-// above them.
-Grid slab_planes(const Grid& grid, int first, int per_slab, std::uint64_t s) {
+// The planes slab s of the share [first, end) reads: the ones it owns (its share's last slab
+// may own fewer) and the two above them.
+Grid slab_planes(const Grid& grid, int first, int end, int per_slab, std::uint64_t s) {
   Grid g = grid;
   const int begin = first + static_cast<int>(s) * per_slab;
-  const int last = std::min(begin + per_slab + 1, grid.dims[2] - 1);
+  const int last = std::min(begin + std::min(per_slab, end - begin) + 1, grid.dims[2] - 1);
   g.dims[2] = last - begin + 1;
   g.z_offset = begin;
   return g;
@@ -64,8 +64,8 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
   IndexedModel indexed;
   index_for_rule(
       job.model, o, indexed, r, job.stage, slabs,
-      [&](std::uint64_t s) { return widened(slab_planes(grid, first, per_slab, s), halo); }, agree,
-      job.progress);
+      [&](std::uint64_t s) { return widened(slab_planes(grid, first, end, per_slab, s), halo); },
+      agree, job.progress);
 
   FillPart part;
   part.first_plane = first;
@@ -79,7 +79,7 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
     share.dims[2] = end - first;
     part.inside_runs.grid = part.solid_runs.grid = share;
     for (std::uint64_t s = 0; s < slabs; ++s) {
-      const Grid planes = slab_planes(grid, first, per_slab, s);
+      const Grid planes = slab_planes(grid, first, end, per_slab, s);
       const int owned = std::min(per_slab, end - planes.z_offset);
       SampledPlanes sampled = sample_planes(field, planes);
       for (int k = 0; k < owned; ++k) {
@@ -91,6 +91,10 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
       mc.add(sampled.phi, owned, part.mesh);
       if (after_slab) after_slab(mc, part.mesh);
       report_or_cancel(job.progress, static_cast<double>(s + 1) / static_cast<double>(slabs));
+    }
+    for (int k = first; k <= end; ++k) {
+      part.layer_points.push_back(mc.first_point(k));
+      part.layer_triangles.push_back(mc.first_triangle(k));
     }
   });
   return part;

@@ -16,8 +16,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <concepts>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -140,31 +142,50 @@ struct Record {
   }
 };
 
-// Pass 1, called after each slab's marching cubes: records the cell layers whose points all
-// exist, then lets go of what no later layer reads.
+// The layers of the mesh made so far: node layers below next_plane with their points and cell
+// layers below next_plane with their triangles, where each starts (the whole mesh's ids).
+// SlabMarchingCubes says it of one process's slabs; fill parts say it of theirs.
+template <class Layers>
+concept MadeLayers = requires(const Layers& l, int k) {
+  { l.next_plane() } -> std::convertible_to<int>;
+  { l.first_point(k) } -> std::convertible_to<std::uint64_t>;
+  { l.first_triangle(k) } -> std::convertible_to<std::uint64_t>;
+};
+
+// Pass 1, called as layers are made: records the cell layers whose points all exist, then lets
+// go of what no later layer reads.
 class Spiller {
  public:
   Spiller(SpillFile& file, int nz) : file_(file), nz_(nz) {}
 
+  // After each slab's marching cubes.
   void operator()(SlabMarchingCubes& mc, TriangleSoup& mesh) {
-    const bool done = mc.done();
+    mc.drop_points(mesh, consume(mc, mesh));
+  }
+
+  // Records what `made` finished of `mesh`, which holds the triangles from the first not yet
+  // recorded and the points from the first a later layer reads; takes the recorded triangles
+  // out and returns the first point id still needed (the caller drops those below it).
+  template <MadeLayers Layers>
+  std::uint64_t consume(const Layers& made, TriangleSoup& mesh) {
+    const bool done = made.next_plane() == nz_;
     // Cell layer k reads node layers k and k + 1: those below `complete` are finished.
-    const int complete = done ? nz_ - 1 : mc.next_plane() - 1;
+    const int complete = done ? nz_ - 1 : made.next_plane() - 1;
     while (next_layer_ < complete) {
       int r1 = next_layer_ + 1;
       while (r1 < complete &&
-             mc.first_triangle(r1 + 1) - mc.first_triangle(next_layer_) <= kRecordTriangles)
+             made.first_triangle(r1 + 1) - made.first_triangle(next_layer_) <= kRecordTriangles)
         ++r1;
-      record(mc, mesh, next_layer_, r1, done && r1 == complete);
+      record(made, mesh, next_layer_, r1, done && r1 == complete);
       next_layer_ = r1;
     }
-    const std::uint64_t keep_triangle = mc.first_triangle(complete);
+    const std::uint64_t keep_triangle = made.first_triangle(complete);
     mesh.triangles.erase(
         mesh.triangles.begin(),
         mesh.triangles.begin() + static_cast<std::ptrdiff_t>(keep_triangle - held_triangle_));
     held_triangle_ = keep_triangle;
-    held_point_ = done ? mc.first_point(nz_) : mc.first_point(complete);
-    mc.drop_points(mesh, held_point_);
+    held_point_ = done ? made.first_point(nz_) : made.first_point(complete);
+    return held_point_;
   }
 
   DisjointSets labels{0};
@@ -172,7 +193,8 @@ class Spiller {
   std::uint64_t records = 0, triangles = 0;
 
  private:
-  void record(const SlabMarchingCubes& mc, const TriangleSoup& mesh, int r0, int r1, bool last) {
+  template <MadeLayers Layers>
+  void record(const Layers& mc, const TriangleSoup& mesh, int r0, int r1, bool last) {
     Record rec;
     const std::uint64_t p0 = mc.first_point(r0), p1 = mc.first_point(last ? nz_ : r1);
     const std::uint64_t reach = last ? p1 : mc.first_point(r1 + 1);  // what its triangles read
@@ -492,15 +514,9 @@ class ValidatingWriter {
   std::vector<std::uint32_t> carried_final_;  // output indices of the carried triangles
 };
 
-}  // namespace
-
-void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptions& write) {
-  SpillFile file(path);
-  Spiller spill(file, job.grid.dims[2]);
-  std::vector<FillPart> parts;
-  parts.push_back(mesh_planes(job, 0, job.grid.dims[2], {}, std::ref(spill)));
-  join_parts(job, std::move(parts));
-
+// Islands, validation and writing once every layer is spilled and the parts joined.
+void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::filesystem::path& path,
+                     const WriteOptions& write) {
   // Islands, judged on every component's figures.
   Tally tally;
   std::vector<bool> keep;
@@ -535,6 +551,77 @@ void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptio
   job.report.validation = out.report();
   require_valid_lattice(job.report.validation);
   writer.commit();
+}
+
+// The layers the parts received so far made, in the joined mesh's ids.
+struct JoinedLayers {
+  int next = 0;
+  std::vector<std::uint64_t> points, triangles;  // per plane
+  int next_plane() const { return next; }
+  std::uint64_t first_point(int k) const { return points[static_cast<std::size_t>(k)]; }
+  std::uint64_t first_triangle(int k) const { return triangles[static_cast<std::size_t>(k)]; }
+};
+
+// Part p appended to the joined layers and to `window` (ids shifted by the points before it, as
+// join_parts shifts them).
+void append_part(FillPart& p, int nz, JoinedLayers& made, TriangleSoup& window,
+                 std::uint64_t& points, std::uint64_t& triangles) {
+  const std::size_t planes = static_cast<std::size_t>(p.end_plane - p.first_plane);
+  if (p.first_plane != made.next || p.end_plane <= p.first_plane || p.end_plane > nz ||
+      p.layer_points.size() != planes + 1 || p.layer_triangles.size() != planes + 1 ||
+      p.layer_points.back() != p.mesh.points.size() ||
+      p.layer_triangles.back() != p.mesh.triangles.size())
+    throw InputError("fill_parts: the parts do not cover the grid's planes in order");
+  if (!fits_32bit_ids(points + p.mesh.points.size()))
+    throw InputError("fill_parts: more than 2^32 - 1 points; use a coarser grid");
+  for (std::size_t k = 0; k <= planes; ++k) {
+    made.points[static_cast<std::size_t>(p.first_plane) + k] = points + p.layer_points[k];
+    made.triangles[static_cast<std::size_t>(p.first_plane) + k] = triangles + p.layer_triangles[k];
+  }
+  window.points.insert(window.points.end(), p.mesh.points.begin(), p.mesh.points.end());
+  for (Triangle t : p.mesh.triangles) {
+    for (std::uint32_t& v : t) v += static_cast<std::uint32_t>(points);
+    window.triangles.push_back(t);
+  }
+  points += p.mesh.points.size();
+  triangles += p.mesh.triangles.size();
+  made.next = p.end_plane;
+  p.mesh = {};
+}
+
+}  // namespace
+
+void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptions& write) {
+  SpillFile file(path);
+  Spiller spill(file, job.grid.dims[2]);
+  std::vector<FillPart> parts;
+  parts.push_back(mesh_planes(job, 0, job.grid.dims[2], {}, std::ref(spill)));
+  join_parts(job, std::move(parts));
+  finish_streamed(job, file, spill, path, write);
+}
+
+void fill_parts_streamed(Job& job, int count, const std::function<FillPart()>& next_part,
+                         const std::filesystem::path& path, const WriteOptions& write) {
+  const int nz = job.grid.dims[2];
+  SpillFile file(path);
+  Spiller spill(file, nz);
+  const std::size_t planes = static_cast<std::size_t>(nz) + 1;
+  JoinedLayers made{0, std::vector<std::uint64_t>(planes), std::vector<std::uint64_t>(planes)};
+  TriangleSoup window;  // points from id `held` on; the triangles not yet recorded
+  std::uint64_t held = 0, points = 0, triangles = 0;
+  std::vector<FillPart> parts;  // their meshes spilled: runs and counts for join_parts
+  job.stage("join", [&] {
+    for (int i = 0; i < count; ++i) {
+      parts.push_back(next_part());
+      append_part(parts.back(), nz, made, window, points, triangles);
+      const std::uint64_t keep = spill.consume(made, window);
+      window.points.erase(window.points.begin(),
+                          window.points.begin() + static_cast<std::ptrdiff_t>(keep - held));
+      held = keep;
+    }
+    join_parts(job, std::move(parts));
+  });
+  finish_streamed(job, file, spill, path, write);
 }
 
 }  // namespace tpmsfill::detail

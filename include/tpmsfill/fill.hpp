@@ -128,6 +128,10 @@ struct FillPart {
   /// its last cell layer may refer to the next part's first points (ids from points.size() on,
   /// in that part's numbering shifted by points.size()).
   TriangleSoup mesh;
+  /// Where its node layers' points and its cell layers' triangles start in `mesh`, for planes
+  /// first_plane .. end_plane (the last entries: the totals): what streaming it needs
+  /// (SlabMarchingCubes::first_point, first_triangle).
+  std::vector<std::uint64_t> layer_points, layer_triangles;
   Regions inside_runs, solid_runs;             ///< its planes' rows (append_runs)
   std::vector<Occupancy::PlaneCounts> counts;  ///< per plane
   std::vector<std::uint64_t> band_nodes;       ///< per plane
@@ -158,6 +162,16 @@ FillPart fill_part(const TriangleSoup& model, const FillOptions& options,
 /// @throws ValidationError  as fill()
 FillResult fill_parts(const TriangleSoup& model, const FillOptions& options,
                       std::vector<FillPart> parts);
+
+/// fill_parts(), written to `path` as fill_to_file() writes fill()'s mesh (the same bytes):
+/// `count` parts are taken from `next_part` one at a time, in plane order. When the job is over
+/// options.memory_budget (or slab_planes is set) each part's mesh is spilled as it arrives and
+/// the output is streamed, so the process finishing the job holds one part, never the whole
+/// mesh; otherwise the parts are joined and written as fill_parts() joins them.
+/// @throws as fill_parts() and fill_to_file(); whatever next_part throws
+FillResult fill_parts_to_file(const TriangleSoup& model, const FillOptions& options, int count,
+                              const std::function<FillPart()>& next_part,
+                              const std::filesystem::path& path, const WriteOptions& write = {});
 
 /// Bytes fill() is estimated to need at most for `model` (in options.units), without
 /// allocating anything (beyond a copy in millimetres when the units are not): the whole grid's

@@ -31,6 +31,8 @@ std::string part_bytes(const FillPart& p) {
   wire::put(out, p.end_plane);
   wire::put(out, p.mesh.points);
   wire::put(out, p.mesh.triangles);
+  wire::put(out, p.layer_points);
+  wire::put(out, p.layer_triangles);
   put_regions(out, p.inside_runs);
   put_regions(out, p.solid_runs);
   wire::put(out, p.counts);
@@ -47,6 +49,8 @@ FillPart part_from(const std::string& bytes) {
   in.get(p.end_plane);
   in.get(p.mesh.points);
   in.get(p.mesh.triangles);
+  in.get(p.layer_points);
+  in.get(p.layer_triangles);
   get_regions(in, p.inside_runs);
   get_regions(in, p.solid_runs);
   in.get(p.counts);
@@ -134,17 +138,12 @@ std::optional<FillResult> fill_on_ranks(const TriangleSoup& model, const FillOpt
     send(0, part_bytes(part));
     return std::nullopt;
   }
-  std::vector<FillPart> parts;
-  parts.push_back(std::move(part));
-  for (int r = 1; r < ranks(); ++r) parts.push_back(part_from(receive(r)));
-  FillResult result = fill_parts(model, options, std::move(parts));
-  const auto t0 = std::chrono::steady_clock::now();
-  write_mesh(path, result.mesh, write);
-  result.report.stages.push_back(
-      {"write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-       peak_memory_mb()});
-  result.mesh = {};
-  return result;
+  // Rank 0's own part first, then each rank's as it is needed: one part's mesh at a time when
+  // the job streams.
+  int next = 0;
+  return fill_parts_to_file(
+      model, options, ranks(),
+      [&] { return next++ == 0 ? std::move(part) : part_from(receive(next - 1)); }, path, write);
 }
 
 std::optional<SliceReport> slice_on_ranks(const TriangleSoup& model, const FillOptions& options,

@@ -141,6 +141,11 @@ std::vector<bool> judge_islands(const Job& job, const ComponentFacts& comps);
 /// (fill_stream.cpp)
 void fill_streamed(Job& job, const std::filesystem::path& path, const WriteOptions& write);
 
+/// fill_streamed() for a job split into parts (fill_parts_to_file): `count` parts from
+/// `next_part`, in plane order, each spilled as it arrives. (fill_stream.cpp)
+void fill_parts_streamed(Job& job, int count, const std::function<FillPart()>& next_part,
+                         const std::filesystem::path& path, const WriteOptions& write);
+
 /// Parts covering the grid in order into the job: the mesh, the runs and the report's
 /// classification figures, as mesh_in_slabs leaves them.
 /// @throws InputError  the parts do not cover the grid in order, or nothing is inside
