@@ -52,17 +52,7 @@ void expect_same_in_slabs(const TriangleSoup& model, FillOptions o,
 
 TEST(SlabMarchingCubes, SlabsNumberPointsAsTheWholeField) {
   const Grid grid{{-1, -1, -1}, 0.1, {23, 21, 27}};
-  Field f{grid, std::vector<float>(grid.node_count())};
-  for (int k = 0; k < 27; ++k)
-    for (int j = 0; j < 21; ++j)
-      for (int i = 0; i < 23; ++i) {
-        const Vec3 p = grid.node(i, j, k);
-        const bool border = i == 0 || j == 0 || k == 0 || i == 22 || j == 20 || k == 26;
-        f.values[grid.index(i, j, k)] =
-            border ? 1.0f
-                   : static_cast<float>(std::sin(7 * p.x) + std::cos(9 * p.y) * std::sin(5 * p.z) -
-                                        0.2);
-      }
+  const Field f = test::wavy_field(grid);
   const TriangleSoup whole = marching_cubes(f);
   ASSERT_GT(whole.triangles.size(), 100u);
   for (int per : {1, 2, 5, 26, 40}) {

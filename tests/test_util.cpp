@@ -359,6 +359,22 @@ Png decode_png(const std::string& bytes, int channels) {
   return png;
 }
 
+Field wavy_field(const Grid& grid) {
+  Field f{grid, std::vector<float>(grid.node_count())};
+  const auto [nx, ny, nz] = grid.dims;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Vec3 p = grid.node(i, j, k);
+        const bool border = i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
+        f.values[grid.index(i, j, k)] =
+            border ? 1.0f
+                   : static_cast<float>(std::sin(7 * p.x) + std::cos(9 * p.y) * std::sin(5 * p.z) -
+                                        0.2);
+      }
+  return f;
+}
+
 FillOptions gyroid_options(double cell, double voxel) {
   FillOptions o;
   o.design.cell = {cell, cell, cell};

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 #include <tpmsfill/design.hpp>
+#include <tpmsfill/field.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/types.hpp>
 #include <vector>
@@ -73,6 +74,10 @@ std::string read_file(const std::filesystem::path& path);
 
 /// fill's defaults with a gyroid network of cubic cells `cell` mm and a grid of `voxel` mm.
 FillOptions gyroid_options(double cell, double voxel);
+
+/// A wavy field on `grid` (sines of the node's coordinates, 1 on the grid's faces): a closed
+/// marching-cubes surface of many pieces, for slab and window tests.
+Field wavy_field(const Grid& grid);
 
 /// A decoded 8-bit PNG (greyscale or RGB, not interlaced), rows top to bottom, and its pHYs.
 struct Png {

@@ -641,17 +641,7 @@ TEST(Validate, DISABLED_TimingGeneral) {
 // validate_mesh's on the whole mesh.
 TEST(ValidateWindow, WindowsAddUpToTheWholeMesh) {
   const Grid grid{{-1, -1, -1}, 0.1, {21, 19, 25}};
-  Field f{grid, std::vector<float>(grid.node_count())};
-  for (int k = 0; k < 25; ++k)
-    for (int j = 0; j < 19; ++j)
-      for (int i = 0; i < 21; ++i) {
-        const Vec3 p = grid.node(i, j, k);
-        const bool border = i == 0 || j == 0 || k == 0 || i == 20 || j == 18 || k == 24;
-        f.values[grid.index(i, j, k)] =
-            border ? 1.0f
-                   : static_cast<float>(std::sin(7 * p.x) + std::cos(9 * p.y) * std::sin(5 * p.z) -
-                                        0.2);
-      }
+  const Field f = test::wavy_field(grid);
   SlabMarchingCubes mc(grid);
   TriangleSoup mesh;
   mc.add(f, 25, mesh);
