@@ -257,6 +257,11 @@ TEST(FillToFile, StreamedSlabsWriteTheHeldMeshByteForByte) {
   // One plane a slab: every record is one cell layer, every seam a slab's.
   expect_streamed_as_held(test::make_torus(5, 2, 64, 32), test::gyroid_options(2.5, 0.15), 1,
                           "stream_torus");
+  // Coordinates kept as doubles, no intersection search: the same on both paths too.
+  FillOptions doubles = test::gyroid_options(2, 0.15);
+  doubles.float_coordinates = false;
+  doubles.check_self_intersections = false;
+  expect_streamed_as_held(test::make_box({-3, -3, -3}, {3, 3, 3}), doubles, 6, "stream_doubles");
 }
 
 TEST(FillToFile, IslandsAndCavitiesAreJudgedAsWhenHeld) {
