@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -32,13 +32,22 @@
 #     and in streamed slabs within --memory 4G and 1G (time, peak RSS, same bytes); sliced at 0.05 mm layers
 #     (time per layer, peak RSS, volume against fill's); under mpirun -n 1, 2, 3 (fill and slice
 #     at a = 0.05 mm; times, same bytes) where Open MPI is installed
+#  vs-openvdb:
+# 17. vs-openvdb: issue 16's baseline, `tpmsfill fill` against the OpenVDB 10 pipeline of
+#     ../shared/peers/openvdb_tpms (built into build-openvdb_tpms/; its build.sh installs Debian's
+#     libopenvdb-dev when run as root) on the femur at 35 mm (a = 0.1 and 0.05 mm) and the
+#     4.7-million-triangle tube (a = 0.1 mm), gyroid network T = 2 mm, 2 threads each: medians of
+#     VS_RUNS (default 5) alternating runs (tpmsfill, reference --eval lut, reference --eval direct)
+#     of wall time and peak RSS, both tools' per-stage medians, both outputs checked side by side,
+#     and tpmsfill's stages at 1 and 2 threads on the femur at 0.05 mm. `all` runs it only where
+#     the peer's folder is there and libopenvdb-dev is installed already; otherwise it says why not
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -467,5 +476,167 @@ PY
       echo "- OUTPUTS DIFFER (streamed at rank 0)"
   else
     echo "- MPI: not built with -DTPMSFILL_MPI=ON or mpirun missing; skipped"
+  fi
+fi
+
+if [[ "$section" == all || "$section" == vs-openvdb ]]; then
+  echo
+  echo "## 17. vs-openvdb: tpmsfill against issue 16's OpenVDB pipeline (gyroid network, T = 2 mm, 2 threads)"
+  peer=../shared/peers/openvdb_tpms  # beside the checkout on the development machine only
+  ref=build-openvdb_tpms/openvdb_tpms
+  runs=${VS_RUNS:-5}
+  skip=""
+  if [[ ! -f "$peer/build.sh" ]]; then
+    skip="no peer at $peer (the development machine's shared folder)"
+  elif [[ "$section" == all ]] && ! dpkg -s libopenvdb-dev >/dev/null 2>&1; then
+    skip="libopenvdb-dev is not installed (\`bash scripts/bench.sh vs-openvdb\` installs it when run as root)"
+  elif ! bash "$peer/build.sh" build-openvdb_tpms >"$tmp/peer-build.log" 2>&1; then
+    skip="the peer did not build: $(tail -n 1 "$tmp/peer-build.log")"
+  fi
+  if [[ -n "$skip" ]]; then
+    echo "- vs-openvdb: skipped: $skip"
+  else
+    tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+    ./build/tests/bench_fill_inputs "$tmp/femur.off" "$tmp" >/dev/null  # femur35.stl, tube.stl
+    vs="$tmp/vs"
+    mkdir -p "$vs"
+    echo "tpmsfill at $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src include CMakeLists.txt ||
+      echo ' (sources modified)'); $runs alternating rounds a job; both tools read the same STL"
+    # vs_job NAME IN VOXEL: rounds of tpmsfill, reference --eval lut, reference --eval direct, each
+    # its whole process timed; tpmsfill's report and the reference's JSON line kept per run.
+    vs_job() {
+      local name=$1 in=$2 a=$3 i ev
+      for ((i = 1; i <= runs; i++)); do
+        timed ./build/tpmsfill fill "$in" "$vs/$name-t.stl" --quiet --cell 2 --voxel "$a" \
+          --threads 2 --report "$vs/$name-t-$i.json"
+        ((code == 0)) || { echo "- vs-openvdb: tpmsfill failed ($code) on $name"; exit "$code"; }
+        echo "$wall $kb" >"$vs/$name-t-$i.time"
+        for ev in lut direct; do
+          timed "$ref" "$in" "$vs/$name-$ev.stl" --a "$a" --T 2 --size 0 --eval "$ev" --threads 2 \
+            >"$vs/$name-$ev-$i.json"
+          ((code == 0)) || { echo "- vs-openvdb: the reference failed ($code) on $name"; exit "$code"; }
+          echo "$wall $kb" >"$vs/$name-$ev-$i.time"
+        done
+      done
+      for ev in t lut direct; do  # the last run's outputs, checked by the same rules
+        ./build/tpmsfill check --json --no-self-intersections "$vs/$name-$ev.stl" \
+          >"$vs/$name-$ev-check.json" 2>/dev/null || true
+        rm -f "$vs/$name-$ev.stl"
+      done
+    }
+    vs_job femur-0.1 "$tmp/femur35.stl" 0.1
+    vs_job femur-0.05 "$tmp/femur35.stl" 0.05
+    vs_job tube "$tmp/tube.stl" 0.1
+    # Thread scaling of tpmsfill's stages, 1 and 2 threads alternating.
+    for ((i = 1; i <= runs; i++)); do
+      for t in 1 2; do
+        timed ./build/tpmsfill fill "$tmp/femur35.stl" "$vs/threads.stl" --quiet --cell 2 --voxel 0.05 \
+          --threads "$t" --report "$vs/threads$t-$i.json"
+        ((code == 0)) || { echo "- vs-openvdb: tpmsfill failed ($code) at $t threads"; exit "$code"; }
+        echo "$wall $kb" >"$vs/threads$t-$i.time"
+      done
+    done
+    python3 - "$vs" "$runs" <<'PY'
+import json, statistics, sys
+vs, runs = sys.argv[1], int(sys.argv[2])
+med = statistics.median
+jobs = [("femur-0.1", "femur 35 mm, voxel 0.1"), ("femur-0.05", "femur 35 mm, voxel 0.05"),
+        ("tube", "tube 40 x 20 mm, 2 mm wall, 4.7e6 triangles, voxel 0.1")]
+def times(stem):  # [(wall s, peak MB)] over the runs
+    out = []
+    for i in range(1, runs + 1):
+        w, kb = open(f"{vs}/{stem}-{i}.time").read().split()
+        out.append((float(w), float(kb) / 1024))
+    return out
+def reports(stem):
+    return [json.load(open(f"{vs}/{stem}-{i}.json")) for i in range(1, runs + 1)]
+def stage_medians(reps):  # tpmsfill: name -> (median s, median peak MB), in stage order
+    names = []
+    for r in reps:
+        names += [s["name"] for s in r["stages"] if s["name"] not in names]
+    return {n: (med([sum(s["seconds"] for s in r["stages"] if s["name"] == n) for r in reps]),
+                med([max([s["peak_memory_mb"] for s in r["stages"] if s["name"] == n] or [0]) for r in reps]))
+            for n in names}
+
+print()
+print("| job | tpmsfill s | MB | reference s | MB | ratio | target |")
+print("|---|---:|---:|---:|---:|---:|---|")
+for ev in ("lut", "direct"):
+    for job, label in jobs:
+        t, r = times(f"{job}-t"), times(f"{job}-{ev}")
+        tw, rw = med([x[0] for x in t]), med([x[0] for x in r])
+        ratio = tw / rw
+        print(f"| {label} (reference `--eval {ev}`) | {tw:.2f} | {med([x[1] for x in t]):.0f} | {rw:.2f} | "
+              f"{med([x[1] for x in r]):.0f} | {ratio:.2f} | < 1: {'met' if ratio < 1 else 'not met'} |")
+print()
+print("Every run's wall time (s), in the order run:")
+for job, _ in jobs:
+    print(f"- {job}: " + "; ".join(f"{tool} " + " ".join(f"{x[0]:.2f}" for x in times(f"{job}-{k}"))
+                                   for k, tool in (("t", "tpmsfill"), ("lut", "lut"), ("direct", "direct"))))
+
+print()
+print("Outputs (the last run of each; `tpmsfill check --no-self-intersections` on both):")
+print()
+print("| job | tool | samples | triangles | volume mm3 | area mm2 | components | check |")
+print("|---|---|---:|---:|---:|---:|---:|---|")
+num = lambda v, f: "-" if v is None else format(v, f)
+for job, _ in jobs:
+    for k, tool in (("t", "tpmsfill"), ("lut", "reference lut"), ("direct", "reference direct")):
+        rep = json.load(open(f"{vs}/{job}-{k}-{runs}.json"))
+        samples = rep["grid"]["samples"] if k == "t" else rep["samples"]
+        tris = rep["output"]["triangles"] if k == "t" else rep["out_tris"]
+        try:
+            c = json.load(open(f"{vs}/{job}-{k}-check.json"))
+            facts = (f"{num(c['volume'], '.2f')} | {num(c['area'], '.1f')} | {c['components']} | "
+                     + ("valid" if c["valid"] else "; ".join(c["problems"])))
+        except (OSError, ValueError, KeyError):
+            facts = "- | - | - | check failed"
+        print(f"| {job} | {tool} | {samples:,} | {tris:,} | {facts} |")
+
+print()
+print("tpmsfill per stage, medians (s, and the stage's peak MB from the report):")
+print()
+meds = {job: stage_medians(reports(f"{job}-t")) for job, _ in jobs}
+names = []
+for job, _ in jobs:
+    names += [n for n in meds[job] if n not in names]
+print("| stage | " + " | ".join(j for j, _ in jobs) + " |")
+print("|---|" + "---:|" * len(jobs))
+for n in names:
+    print(f"| {n} | " + " | ".join(f"{meds[j][n][0]:.3f} ({meds[j][n][1]:.0f})" if n in meds[j] else "-"
+                                   for j, _ in jobs) + " |")
+print("| sum of stages | " + " | ".join(f"{med([r['total_seconds'] for r in reports(f'{j}-t')]):.3f}" for j, _ in jobs) + " |")
+print("| process wall | " + " | ".join(f"{med([x[0] for x in times(f'{j}-t')]):.3f}" for j, _ in jobs) + " |")
+
+print()
+print("Reference per stage, medians of its own timers (s):")
+print()
+cols = [(job, ev) for job, _ in jobs for ev in ("lut", "direct")]
+rstages = ["read", "sdf", "fill", "tpms", "boolean", "mesh", "write", "total"]
+rmed = {c: {s: med([r["times_s"][s] for r in reports(f"{c[0]}-{c[1]}")]) for s in rstages} for c in cols}
+print("| stage | " + " | ".join(f"{j} {e}" for j, e in cols) + " |")
+print("|---|" + "---:|" * len(cols))
+for s in rstages:
+    print(f"| {s} | " + " | ".join(f"{rmed[c][s]:.3f}" for c in cols) + " |")
+print("| process wall | " + " | ".join(f"{med([x[0] for x in times(f'{j}-{e}')]):.3f}" for j, e in cols) + " |")
+print("| peak RSS MiB (its own) | " + " | ".join(f"{med([r['peak_rss_mib'] for r in reports(f'{j}-{e}')]):.0f}" for j, e in cols) + " |")
+
+print()
+print("tpmsfill on femur 35 mm, voxel 0.05, 1 and 2 threads (medians, alternating runs):")
+print()
+m1, m2 = stage_medians(reports("threads1")), stage_medians(reports("threads2"))
+print("| stage | 1 thread s | 2 threads s | speed-up |")
+print("|---|---:|---:|---:|")
+def row(n, a, b):
+    print(f"| {n} | {a:.3f} | {b:.3f} | {a / b if b > 0 else float('nan'):.2f} |")
+for n in list(m1) + [n for n in m2 if n not in m1]:
+    row(n, m1.get(n, (0,))[0], m2.get(n, (0,))[0])
+row("sum of stages", med([r["total_seconds"] for r in reports("threads1")]),
+    med([r["total_seconds"] for r in reports("threads2")]))
+row("process wall", med([x[0] for x in times("threads1")]), med([x[0] for x in times("threads2")]))
+print(f"| peak MB (process) | {med([x[1] for x in times('threads1')]):.0f} | {med([x[1] for x in times('threads2')]):.0f} | |")
+print()
+print(f"reference: OpenVDB {reports('femur-0.1-lut')[0]['openvdb']}, threads {reports('femur-0.1-lut')[0]['threads']}")
+PY
   fi
 fi
