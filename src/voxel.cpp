@@ -33,16 +33,24 @@ void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
         if (nx > 1) b[nx - 1] = a[nx - 2] | a[nx - 1];
         continue;
       }
-      int last = std::numeric_limits<int>::min() / 2;  // last set index at or before i
+      // Per bit of the values (masks use bit 0, the band both bits): the last index at or
+      // before i where it is set, then the next at or after i.
+      constexpr int kFar = std::numeric_limits<int>::max() / 4;
+      int last[2] = {-kFar, -kFar};
       for (int i = 0; i < nx; ++i) {
-        if (a[i]) last = i;
-        b[i] = i - last <= r;
+        std::uint8_t v = 0;
+        for (int bit = 0; bit < 2; ++bit) {
+          if (a[i] >> bit & 1) last[bit] = i;
+          v |= static_cast<std::uint8_t>((i - last[bit] <= r) << bit);
+        }
+        b[i] = v;
       }
-      int next = std::numeric_limits<int>::max() / 2;  // next set index at or after i
-      for (int i = nx - 1; i >= 0; --i) {
-        if (a[i]) next = i;
-        b[i] |= next - i <= r;
-      }
+      int next[2] = {kFar, kFar};
+      for (int i = nx - 1; i >= 0; --i)
+        for (int bit = 0; bit < 2; ++bit) {
+          if (a[i] >> bit & 1) next[bit] = i;
+          b[i] |= static_cast<std::uint8_t>((next[bit] - i <= r) << bit);
+        }
     }
   });
 }
@@ -80,47 +88,36 @@ Mask dilate(const Mask& mask, int voxels) {
   return a;
 }
 
-namespace {
-
-Mask complement(const Mask& mask) {
-  Mask c{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
-  detail::parallel_for(c.values.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) c.values[i] = !mask.values[i];
-  });
-  return c;
-}
-
-// dilate(¬mask) with nodes beyond the grid counting as unset in `mask`, i.e. set in ¬mask:
-// the grid's face nodes are next to "outside".
-Mask dilate_complement(const Mask& mask, int voxels) {
-  Mask c = dilate(complement(mask), voxels);
-  const Grid& g = mask.grid;
-  const int nx = g.dims[0], v = voxels;
-  detail::parallel_for(g.row_count(), 256, [&](std::size_t b, std::size_t e) {
-    for (std::size_t row = b; row < e; ++row) {
-      const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
-      std::uint8_t* a = c.values.data() + row * nx;
-      const bool whole = j < v || k < v || j >= g.dims[1] - v || k >= g.dims[2] - v;
-      for (int i = 0; i < nx; ++i)
-        if (whole || i < v || i >= nx - v) a[i] = 1;
-    }
-  });
-  return c;
-}
-
-}  // namespace
-
 Band band_voxels(const Mask& inside, const BandOptions& options) {
   require_consistent(inside);
   if (options.width < 1) throw InputError("the band width must be at least 1 voxel");
-  const Mask near_outside = dilate_complement(inside, options.width);
-  const Mask near_inside = dilate(inside, options.width);
-  const std::vector<std::uint8_t>& I = inside.values;
-  auto in_band = [&](std::size_t n) {
-    return I[n] ? near_outside.values[n] != 0 : near_inside.values[n] != 0;
-  };
+  // Both dilations at once: bit 0 marks inside nodes, bit 1 outside ones, and one dilation ORs
+  // them. A node is in the band when both classes lie within the width of it (its own counts),
+  // nodes beyond the grid counting as outside: bit 1 is set within the width of its faces.
+  const Grid& g = inside.grid;
+  const int v = options.width;
+  Mask classes{g, std::vector<std::uint8_t>(inside.values.size())};
+  detail::parallel_for(classes.values.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) classes.values[i] = inside.values[i] ? 1 : 2;
+  });
+  Mask near = dilate(classes, v);
+  classes = Mask{};
+  const int nx = g.dims[0];
+  detail::parallel_for(g.row_count(), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t row = b; row < e; ++row) {
+      const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
+      std::uint8_t* a = near.values.data() + row * nx;
+      if (j < v || k < v || j >= g.dims[1] - v || k >= g.dims[2] - v) {
+        for (int i = 0; i < nx; ++i) a[i] |= 2;
+      } else {
+        for (int i = 0; i < std::min(v, nx); ++i) a[i] |= 2;
+        for (int i = std::max(v, nx - v); i < nx; ++i) a[i] |= 2;
+      }
+    }
+  });
+  auto in_band = [&](std::size_t n) { return near.values[n] == 3; };
   // Count per chunk, exclusive scan, fill: the order is the node order for any thread count.
-  const std::size_t n = I.size(), chunk = 1 << 16, chunks = (n + chunk - 1) / chunk;
+  const std::size_t n = near.values.size(), chunk = 1 << 16, chunks = (n + chunk - 1) / chunk;
   std::vector<std::uint64_t> offset(chunks + 1, 0);
   detail::parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t c = b; c < e; ++c) {
