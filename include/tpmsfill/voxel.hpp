@@ -14,9 +14,9 @@
 namespace tpmsfill {
 
 /// Nodes within `voxels` 26-steps of a set node (the set nodes included).
-/// Separable: a box structuring element is a pass along x, then y, then z. Values are ORed, so
-/// bits 0 and 1 of a byte dilate as two masks at once (band_voxels dilates inside and outside
-/// in one pass); higher bits are dropped.
+/// Separable: a box structuring element is a pass along x, then y, then z. Values are ORed bit by
+/// bit, so bits 0 and 1 of a byte dilate as two masks at once (band_voxels dilates inside and
+/// outside in one pass); values above 3 are not supported.
 /// @throws InputError  voxels < 0, or mask.values does not match mask.grid
 Mask dilate(const Mask& mask, int voxels = 1);
 
