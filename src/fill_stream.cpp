@@ -11,6 +11,8 @@
 //    by MeshWriter as they pass. Validation's sums run in fill()'s triangle order and chunks.
 // A record's triangles read the next record's first node layer, so passes 2 and 3 hold three
 // records: the one at work and its two neighbours.
+// A job split among processes (fill_parts_to_file, mpirun) spills each part's layers as the
+// part arrives, the same way; then the same passes 2 and 3.
 #include <unistd.h>
 
 #include <algorithm>
