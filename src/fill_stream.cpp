@@ -192,7 +192,7 @@ class Spiller {
 
   DisjointSets labels{0};
   Box3 box;  // of the points some triangle uses, as marching cubes made them
-  std::uint64_t records = 0, triangles = 0;
+  std::uint64_t records = 0;
 
  private:
   template <MadeLayers Layers>
@@ -247,7 +247,6 @@ class Spiller {
       if (used[p]) seam_[p - (p1 - p0)] = label_of(p);
     rec.put(file_);
     ++records;
-    triangles += rec.triangles.size();
   }
 
   SpillFile& file_;
@@ -288,27 +287,24 @@ const Record& holder(std::uint64_t id, const Record* prev, const Record& cur, co
 
 struct Tally {
   ComponentFacts facts;
-  std::vector<std::uint32_t> of_root;  // per label root: its component
-  std::vector<Box3> box, rounded_box;  // per component
-  std::vector<std::uint64_t> points;   // per component
-  std::uint64_t triangles_of(std::size_t c) const { return facts.info[c].triangles; }
+  std::vector<std::uint32_t> of_label;  // per label: its component
+  std::vector<Box3> box;                // per component, as marching cubes made its points
+  std::vector<std::uint64_t> points;    // per component
 };
 
 // Pass 2: every component's figures as mesh_components() computes them on fill()'s mesh (in
 // triangle order, about the centre of its points' box).
-Tally tally_components(SpillFile& file, Spiller& spill, bool float_coordinates,
-                       Progress* progress) {
+Tally tally_components(SpillFile& file, Spiller& spill, Progress* progress) {
   Tally t;
-  t.of_root.assign(spill.labels.size(), kNone);
+  std::vector<std::uint32_t> of_root(spill.labels.size(), kNone);
   const Vec3 centre = spill.box.centre();
   auto component = [&](std::uint32_t label) {
-    std::uint32_t& c = t.of_root[spill.labels.find(label)];
+    std::uint32_t& c = of_root[spill.labels.find(label)];
     if (c == kNone) {
       c = static_cast<std::uint32_t>(t.facts.info.size());
       t.facts.info.emplace_back();
       t.facts.first_centroid.emplace_back();
       t.box.emplace_back();
-      t.rounded_box.emplace_back();
       t.points.push_back(0);
     }
     return c;
@@ -338,9 +334,12 @@ Tally tally_components(SpillFile& file, Spiller& spill, bool float_coordinates,
           const Vec3 q = cur.points[p];
           ++t.points[c];
           t.box[c].extend(q);
-          t.rounded_box[c].extend(float_coordinates ? float_rounded(q) : q);
         }
       });
+  // Every label's component once, so the next pass looks them up instead of finding roots.
+  t.of_label.resize(spill.labels.size());
+  for (std::uint32_t l = 0; l < t.of_label.size(); ++l)
+    t.of_label[l] = of_root[spill.labels.find(l)];
   return t;
 }
 
@@ -382,11 +381,10 @@ struct WindowSums {
 // validate_mesh() makes (volume and area in its triangle order and chunks, per component too).
 class ValidatingWriter {
  public:
-  ValidatingWriter(const Job& job, const Tally& tally, Spiller& spill,
-                   const std::vector<bool>& keep, MeshWriter& writer, Vec3 centre)
+  ValidatingWriter(const Job& job, const Tally& tally, const std::vector<bool>& keep,
+                   MeshWriter& writer, Vec3 centre)
       : job_(job),
         tally_(tally),
-        spill_(spill),
         keep_(keep),
         writer_(writer),
         centre_(centre),
@@ -486,9 +484,7 @@ class ValidatingWriter {
   }
 
  private:
-  std::uint32_t component(std::uint32_t label) const {
-    return tally_.of_root[spill_.labels.find(label)];
-  }
+  std::uint32_t component(std::uint32_t label) const { return tally_.of_label[label]; }
   bool kept(std::uint32_t label) const { return label != kNone && keep_[component(label)]; }
   void add_sums(Vec3 a, Vec3 b, Vec3 c, std::uint32_t comp) {
     const double six = six_volume(centre_, a, b, c);
@@ -504,7 +500,6 @@ class ValidatingWriter {
 
   const Job& job_;
   const Tally& tally_;
-  Spiller& spill_;
   const std::vector<bool>& keep_;
   MeshWriter& writer_;
   Vec3 centre_;
@@ -523,26 +518,27 @@ void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::files
   Tally tally;
   std::vector<bool> keep;
   job.stage("islands", [&] {
-    tally = tally_components(file, spill, job.options.float_coordinates, job.progress);
+    tally = tally_components(file, spill, job.progress);
     tally.facts.boxes = [&tally](const std::vector<bool>&) { return tally.box; };
     keep = judge_islands(job, tally.facts);
   });
   job.inside_runs = job.solid_runs = Regions{};
   std::uint64_t points = 0, triangles = 0;
-  Box3 box;  // of the kept points as written
+  Box3 box;  // of the kept points as written (rounding to float is monotone: the box's corners)
+  const bool rounded = job.options.float_coordinates;
   for (std::size_t c = 0; c < keep.size(); ++c)
     if (keep[c]) {
       points += tally.points[c];
-      triangles += tally.triangles_of(c);
-      box.extend(tally.rounded_box[c].min);
-      box.extend(tally.rounded_box[c].max);
+      triangles += tally.facts.info[c].triangles;
+      for (const Vec3& corner : {tally.box[c].min, tally.box[c].max})
+        box.extend(rounded ? float_rounded(corner) : corner);
     }
   if (triangles == 0) throw InputError(kEmptyLattice);
   if (!fits_32bit_ids(points) || !fits_32bit_ids(triangles))
     throw InputError("the lattice has more than 2^32 - 1 points or triangles; use a coarser grid");
 
   MeshWriter writer(path, points, triangles, write);
-  ValidatingWriter out(job, tally, spill, keep, writer, box.centre());
+  ValidatingWriter out(job, tally, keep, writer, box.centre());
   job.stage(kValidateAndWrite, [&] {
     for_each_record(
         file, spill.records, job.progress, [&](Record& rec) { out.prepare(rec); },
