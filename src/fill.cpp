@@ -768,8 +768,6 @@ FillResult fill_to_file(const TriangleSoup& input, const FillOptions& options,
   Job job(*s.model, options, result, plan_stages(options, true, true), s.plan.slab_planes);
   resolve(job, s.plan);
   detail::fill_streamed(job, path, write);
-  detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
-  job.job_progress.finish();
   return result;
 }
 
@@ -856,8 +854,6 @@ FillResult fill_parts_to_file(const TriangleSoup& input, const FillOptions& opti
   const auto join = std::find_if(stages.begin(), stages.end(),
                                  [](const StageTime& t) { return t.name == "join"; });
   stages.insert(join, {"parts (slowest)", slowest, 0});
-  detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
-  job.job_progress.finish();
   return result;
 }
 

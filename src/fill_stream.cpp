@@ -511,7 +511,8 @@ class ValidatingWriter {
   std::vector<std::uint32_t> carried_final_;  // output indices of the carried triangles
 };
 
-// Islands, validation and writing once every layer is spilled and the parts joined.
+// Islands, validation and writing once every layer is spilled and the parts joined; the job
+// finished as fill() finishes it.
 void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::filesystem::path& path,
                      const WriteOptions& write) {
   // Islands, judged on every component's figures.
@@ -549,6 +550,8 @@ void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::files
   job.report.validation = out.report();
   require_valid_lattice(job.report.validation);
   writer.commit();
+  warn_structure_porosity(job.result.resolved.design, job.report.porosity(), job.report);
+  job.job_progress.finish();
 }
 
 // The layers the parts received so far made, in the joined mesh's ids.
