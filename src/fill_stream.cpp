@@ -26,6 +26,7 @@
 #include <string>
 
 #include "detail/disjoint_sets.hpp"
+#include "detail/file_bytes.hpp"
 #include "detail/fill_job.hpp"
 #include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
@@ -45,19 +46,11 @@ constexpr std::uint32_t kNone = kNoIndex;
 constexpr std::uint64_t kRecordTriangles = std::uint64_t{1} << 18;
 constexpr std::size_t kSumChunk = 4096;  // validate_mesh()'s chunk for its sums
 
-// A temporary file beside the output, removed from its folder at once: it is gone however the
-// job ends, and it lies on the disk that must hold the output anyway.
+// The spill: a scratch file beside the output (detail/file_bytes), buffered.
 class SpillFile {
  public:
   explicit SpillFile(const std::filesystem::path& output) : output_(output) {
-    const std::filesystem::path folder = output.has_parent_path() ? output.parent_path() : ".";
-    std::string base(1, '.');
-    base += output.filename().string();
-    base += ".spill-XXXXXX";
-    std::string name = (folder / base).string();
-    const int fd = ::mkstemp(name.data());
-    if (fd < 0) fail("cannot create a temporary file beside it");
-    ::unlink(name.c_str());
+    const int fd = open_scratch_file(output, "spill");
     file_ = ::fdopen(fd, "w+b");
     if (!file_) {
       const int e = errno;

@@ -12,6 +12,27 @@
 
 namespace tpmsfill::detail {
 
+int open_scratch_file(const std::filesystem::path& output, const std::string& tag) {
+  const std::filesystem::path folder = output.has_parent_path() ? output.parent_path() : ".";
+  std::string base(1, '.');
+  base += output.filename().string();
+  base += '.';
+  base += tag;
+  base += "-XXXXXX";
+  std::string name = (folder / base).string();
+  const int fd = ::mkstemp(name.data());
+  if (fd < 0 || ::unlink(name.c_str()) != 0) {
+    std::string message =
+        "cannot write " + output.string() + ": cannot create a temporary file in ";
+    message += folder.string();
+    message += ": ";
+    message += std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    throw IoError(message);
+  }
+  return fd;
+}
+
 std::string read_file_bytes(const std::filesystem::path& path, std::uint64_t max_bytes) {
   const std::string name = path.string();
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

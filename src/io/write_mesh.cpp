@@ -25,6 +25,7 @@
 #include <string_view>
 #include <utility>
 
+#include "detail/file_bytes.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/parallel.hpp"
 #include "tpmsfill/error.hpp"
@@ -446,15 +447,7 @@ void MeshWriter::State::add_triangles(std::span<const Triangle> more, const Wind
            std::to_string(triangles) + " were declared");
   int fd = file->fd();
   if (indexed(format) && points_added < points) {
-    if (sidecar < 0) {
-      std::string name;
-      sidecar = create_temporary(path, name);
-      if (::unlink(name.c_str()) != 0) {
-        const std::string reason = os_error();
-        close_sidecar();
-        throw IoError("cannot write " + path.string() + ": cannot remove " + name + ": " + reason);
-      }
-    }
+    if (sidecar < 0) sidecar = detail::open_scratch_file(path, "faces");
     fd = sidecar;
   }
   for (std::size_t begin = 0; begin < more.size(); begin += kChunk) {
