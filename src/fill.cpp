@@ -99,12 +99,6 @@ double estimate_bytes(const ModelSize& m, const FillOptions& o) {
   return peak_bytes(m, o, nodes * (kBytesPerNode + (o.full_field ? kBytesPerFullFieldNode : 0.0)));
 }
 
-std::string gigabytes(double bytes) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.3g GB", bytes / 1e9);
-  return s;
-}
-
 // Bytes as a count, saturating where a double estimate leaves the 64-bit range.
 std::uint64_t saturated_bytes(double bytes) {
   return bytes >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max()
@@ -182,8 +176,8 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   if (fit && !o.measure) return {fit, saturated_bytes(slab_bytes(m, o, d, fit, streamed)), {}};
   if (o.measure && fit)
     return {0, saturated_bytes(whole),
-            "--measure needs the whole grid in memory, about " + gigabytes(whole) +
-                ", but the memory budget is " + gigabytes(budget) +
+            "--measure needs the whole grid in memory, about " + detail::memory_text(whole) +
+                ", but the memory budget is " + detail::memory_text(budget) +
                 "; without --measure the job runs in slabs that fit"};
   // The least any path needs falls as the voxel grows: bisect for the smallest that fits.
   auto least = [&](double voxel) {
@@ -207,8 +201,8 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   const bool input_alone =
       static_cast<double>(triangles) * kBytesPerInputTriangle + kFixedBytes > budget;
   return {0, saturated_bytes(need),
-          "the job needs about " + gigabytes(need) + " but the memory budget is " +
-              gigabytes(budget) +
+          "the job needs about " + detail::memory_text(need) + " but the memory budget is " +
+              detail::memory_text(budget) +
               (input_alone ? "; the input alone exceeds it"
                            : "; a voxel size of " + std::string(fit_text) + " or more fits")};
 }
@@ -527,6 +521,19 @@ void validate(Job& job) {
 }  // namespace
 
 namespace detail {
+
+std::string memory_text(double bytes) {
+  // Binary units, as --memory reads 512M and 8G: a budget of 150M shows as 150 MiB.
+  constexpr double kMiB = 1024.0 * 1024.0, kGiB = 1024.0 * kMiB;
+  char s[32];
+  if (bytes >= kGiB)
+    std::snprintf(s, sizeof s, "%.3g GiB", bytes / kGiB);
+  else if (bytes >= kMiB)
+    std::snprintf(s, sizeof s, "%.3g MiB", bytes / kMiB);
+  else
+    std::snprintf(s, sizeof s, "%.0f byte%s", bytes, bytes == 1 ? "" : "s");
+  return s;
+}
 
 void require_valid_lattice(const ValidationReport& v) {
   if (v.valid()) return;

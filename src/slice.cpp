@@ -287,10 +287,11 @@ void require_budget(const FillOptions& options, SliceReport& report, std::size_t
                   report.job.grid.spacing * std::sqrt((bytes - fixed) / (budget - fixed)) * 1.02);
   char text[320];
   std::snprintf(text, sizeof text,
-                "slicing needs about %.3g GB (%zu layers at once, each a slab of %d planes of "
-                "%llu nodes) but the memory budget is %.3g GB; %s",
-                bytes / 1e9, at_once, report.slab_planes,
-                static_cast<unsigned long long>(report.plane_nodes), budget / 1e9, fit);
+                "slicing needs about %s (%zu layers at once, each a slab of %d planes of "
+                "%llu nodes) but the memory budget is %s; %s",
+                detail::memory_text(bytes).c_str(), at_once, report.slab_planes,
+                static_cast<unsigned long long>(report.plane_nodes),
+                detail::memory_text(budget).c_str(), fit);
   throw ResourceError(text);
 }
 

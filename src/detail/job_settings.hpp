@@ -19,6 +19,10 @@ namespace tpmsfill::detail {
 inline constexpr double kBytesPerInputTriangle = 260.0;
 inline constexpr double kFixedBytes = 64.0 * 1024 * 1024;
 
+/// A size in memory refusals, in --memory's binary units: "6.1 GiB", "150 MiB", bytes below
+/// 1 MiB (a budget of "1" is "1 byte", not "1e-09 GB"). (fill.cpp)
+std::string memory_text(double bytes);
+
 /// The options' settings into `report` (units, input, design, grading, cell, level, skin,
 /// porosities) and the design resolved against the model's box (resolve_design), returned.
 /// @param model  in millimetres
