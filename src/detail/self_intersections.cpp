@@ -41,27 +41,37 @@ std::size_t chunk_count(std::size_t n, std::size_t chunk = kChunk) {
 /// differences and each of the five additions rounded once, |computed - exact| <= 8 eps P
 /// (1 + O(eps)), eps = 2^-53, P = sum over axes of (|u_y w_z| + |u_z w_y|) |x_x - a_x| (the
 /// permanent). We demand |computed| > 2e-15 P (18 eps) and P > 1e-250 (no underflow).
-struct Plane {
-  const Point3 *a, *b, *c;
+///
+/// The cross product and the magnitudes are a triangle's own (PlaneCoefficients), so the cell
+/// search computes them once per triangle rather than once per pair it tests.
+struct PlaneCoefficients {
   double n[3];  // (b - a) x (c - a)
   double m[3];  // per axis the two products' magnitudes, for the permanent
+};
 
-  Plane(const Point3& pa, const Point3& pb, const Point3& pc) : a(&pa), b(&pb), c(&pc) {
-    const double ux = pb.x() - pa.x(), uy = pb.y() - pa.y(), uz = pb.z() - pa.z();
-    const double wx = pc.x() - pa.x(), wy = pc.y() - pa.y(), wz = pc.z() - pa.z();
-    n[0] = uy * wz - uz * wy;
-    n[1] = uz * wx - ux * wz;
-    n[2] = ux * wy - uy * wx;
-    m[0] = std::fabs(uy * wz) + std::fabs(uz * wy);
-    m[1] = std::fabs(uz * wx) + std::fabs(ux * wz);
-    m[2] = std::fabs(ux * wy) + std::fabs(uy * wx);
-  }
+PlaneCoefficients plane_coefficients(const Point3& pa, const Point3& pb, const Point3& pc) {
+  const double ux = pb.x() - pa.x(), uy = pb.y() - pa.y(), uz = pb.z() - pa.z();
+  const double wx = pc.x() - pa.x(), wy = pc.y() - pa.y(), wz = pc.z() - pa.z();
+  return {{uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx},
+          {std::fabs(uy * wz) + std::fabs(uz * wy), std::fabs(uz * wx) + std::fabs(ux * wz),
+           std::fabs(ux * wy) + std::fabs(uy * wx)}};
+}
+
+struct Plane {
+  const Point3 *a, *b, *c;
+  PlaneCoefficients k;
+
+  Plane(const Point3& pa, const Point3& pb, const Point3& pc)
+      : Plane(pa, pb, pc, plane_coefficients(pa, pb, pc)) {}
+  Plane(const Point3& pa, const Point3& pb, const Point3& pc, const PlaneCoefficients& coefficients)
+      : a(&pa), b(&pb), c(&pc), k(coefficients) {}
 
   /// -1, 0 or +1: the exact sign of det(b - a, c - a, x - a).
   int side(const Point3& x) const {
     const double zx = x.x() - a->x(), zy = x.y() - a->y(), zz = x.z() - a->z();
-    const double d = n[0] * zx + n[1] * zy + n[2] * zz;
-    const double permanent = m[0] * std::fabs(zx) + m[1] * std::fabs(zy) + m[2] * std::fabs(zz);
+    const double d = k.n[0] * zx + k.n[1] * zy + k.n[2] * zz;
+    const double permanent =
+        k.m[0] * std::fabs(zx) + k.m[1] * std::fabs(zy) + k.m[2] * std::fabs(zz);
     if (std::fabs(d) > 2e-15 * permanent && permanent > 1e-250) return d > 0 ? 1 : -1;
     return static_cast<int>(CGAL::orientation(*a, *b, *c, x));
   }
@@ -83,15 +93,28 @@ bool strictly_one_side(const Plane& plane, const Point3& p, const Point3& q, con
 
 /// Triangles h and g share an edge (corners h[hs[0]], h[hs[1]]): they intersect only if g's
 /// opposite corner is coplanar with h and on the same side of the edge as h's.
-bool edge_neighbours_overlap(const Triangle& h, const Triangle& g, const int hs[2], const int gs[2],
-                             const std::vector<Point3>& p) {
-  const Plane ph(p[h[0]], p[h[1]], p[h[2]]);
+bool edge_neighbours_overlap(const Plane& ph, const Triangle& h, const Triangle& g, const int hs[2],
+                             const int gs[2], const std::vector<Point3>& p) {
   const Point3& s = p[g[3 - gs[0] - gs[1]]];
   if (ph.side(s) != 0) return false;  // not coplanar
   const Point3& a = p[h[hs[0]]];
   const Point3& b = p[h[hs[1]]];
   const Point3& r = p[h[3 - hs[0] - hs[1]]];
   return CGAL::coplanar_orientation(a, b, r, s) == CGAL::POSITIVE;
+}
+
+/// Triangles h and g share corner v = h[i] = g[j], and g's far edge xy crosses h's plane
+/// strictly (`sy` = side of y, -side of x). Then g meets h's plane in the segment v-X, X on xy,
+/// and the two meet beyond v exactly when X lies in h's closed angle at v. In h's plane, with
+/// hx, hy h's next corners after v (counter-clockwise about h's normal n),
+/// orient(v, hx, X) has the sign of det(hx - v, X - v, y - x) / (n . (y - x)) =
+/// orientation(v, hx, x, y) * sy, so two exact orientations decide, with no construction.
+bool crossing_in_angle(const Triangle& h, int i, const Point3& x, const Point3& y, int sy,
+                       const std::vector<Point3>& p) {
+  const Point3& v = p[h[i]];
+  const int left = static_cast<int>(CGAL::orientation(v, p[h[(i + 1) % 3]], x, y)) * sy;
+  if (left < 0) return false;
+  return static_cast<int>(CGAL::orientation(v, p[h[(i + 2) % 3]], x, y)) * sy <= 0;
 }
 
 /// Triangles h and g share corner h[i] = g[j]: they intersect only if the far edge of either
@@ -103,8 +126,16 @@ bool corner_neighbours_meet(const Plane& ph, const Plane& pg, const Triangle& h,
   // segment tests below would say no).
   const Point3 &hx = p[h[(i + 1) % 3]], &hy = p[h[(i + 2) % 3]];
   const Point3 &gx = p[g[(j + 1) % 3]], &gy = p[g[(j + 2) % 3]];
-  const int sgx = ph.side(gx), shx = pg.side(hx);
-  if ((sgx != 0 && sgx == ph.side(gy)) || (shx != 0 && shx == pg.side(hy))) return false;
+  const int sgx = ph.side(gx), sgy = ph.side(gy);
+  if (sgx != 0 && sgx == sgy) return false;
+  const int shx = pg.side(hx), shy = pg.side(hy);
+  if (shx != 0 && shx == shy) return false;
+  // A far edge crossing the other's plane strictly (the common case): meeting beyond the
+  // shared corner is equivalent to CGAL's two segment tests (the meet is a segment from the
+  // corner along the planes' common line; whichever triangle it leaves first, the other's
+  // far edge crosses it there), and two orientations decide it.
+  if (sgx != 0 && sgx == -sgy) return crossing_in_angle(h, i, gx, gy, sgy, p);
+  if (shx != 0 && shx == -shy) return crossing_in_angle(g, j, hx, hy, shy, p);
   return segment_meets_triangle(ph, gx, gy) || segment_meets_triangle(pg, hx, hy);
 }
 
@@ -114,7 +145,9 @@ bool corner_neighbours_meet(const Plane& ph, const Plane& pg, const Triangle& h,
 ///   side (the triangles overlap); three shared corners (the same triangle twice) always;
 /// - one shared corner: only if the opposite edge of either meets the other triangle;
 /// - nothing shared: whether the closed triangles meet at all.
-bool triangles_intersect(const Triangle& h, const Triangle& g, const std::vector<Point3>& p) {
+/// `kh` and `kg` are the planes' coefficients of h and g (plane_coefficients of their corners).
+bool triangles_intersect(const Triangle& h, const Triangle& g, const PlaneCoefficients& kh,
+                         const PlaneCoefficients& kg, const std::vector<Point3>& p) {
   int hs[3], gs[3];
   int shared = 0;
   for (int i = 0; i < 3; ++i)
@@ -125,9 +158,9 @@ bool triangles_intersect(const Triangle& h, const Triangle& g, const std::vector
         ++shared;
       }
   if (shared == 3) return true;
-  if (shared == 2) return edge_neighbours_overlap(h, g, hs, gs, p);
-  const Plane ph(p[h[0]], p[h[1]], p[h[2]]);
-  const Plane pg(p[g[0]], p[g[1]], p[g[2]]);
+  const Plane ph(p[h[0]], p[h[1]], p[h[2]], kh);
+  if (shared == 2) return edge_neighbours_overlap(ph, h, g, hs, gs, p);
+  const Plane pg(p[g[0]], p[g[1]], p[g[2]], kg);
   if (shared == 1) return corner_neighbours_meet(ph, pg, h, g, hs[0], gs[0], p);
   if (strictly_one_side(ph, p[g[0]], p[g[1]], p[g[2]]) ||
       strictly_one_side(pg, p[h[0]], p[h[1]], p[h[2]]))
@@ -140,14 +173,20 @@ struct Box {
   double lo[3], hi[3];
 };
 
-Box triangle_box(const TriangleSoup& mesh, const Triangle& t) {
+Box triangle_box(const std::vector<Point3>& p, const Triangle& t) {
   Box b;
   for (int a = 0; a < 3; ++a) {
-    const double x = mesh.points[t[0]][a], y = mesh.points[t[1]][a], z = mesh.points[t[2]][a];
+    const double x = p[t[0]][a], y = p[t[1]][a], z = p[t[2]][a];
     b.lo[a] = std::min({x, y, z});
     b.hi[a] = std::max({x, y, z});
   }
   return b;
+}
+
+bool share_a_corner(const Triangle& h, const Triangle& g) {
+  // Non-short-circuit, as boxes_meet.
+  return (h[0] == g[0]) | (h[0] == g[1]) | (h[0] == g[2]) | (h[1] == g[0]) | (h[1] == g[1]) |
+         (h[1] == g[2]) | (h[2] == g[0]) | (h[2] == g[1]) | (h[2] == g[2]);
 }
 
 bool boxes_meet(const Box& a, const Box& b) {
@@ -173,7 +212,10 @@ std::vector<Pair> intersecting_pairs_general(const TriangleSoup& mesh,
   tbb::enumerable_thread_specific<std::vector<Pair>> found;
   auto callback = [&](const CgalBox& a, const CgalBox& b) {
     const std::uint32_t i = a.info(), j = b.info();
-    if (triangles_intersect(mesh.triangles[i], mesh.triangles[j], points))
+    const Triangle &ti = mesh.triangles[i], &tj = mesh.triangles[j];
+    if (triangles_intersect(ti, tj, plane_coefficients(points[ti[0]], points[ti[1]], points[ti[2]]),
+                            plane_coefficients(points[tj[0]], points[tj[1]], points[tj[2]]),
+                            points))
       found.local().push_back({std::min(i, j), std::max(i, j)});
   };
   CGAL::box_self_intersection_d<CGAL::Parallel_if_available_tag>(boxes.begin(), boxes.end(),
@@ -368,9 +410,10 @@ std::optional<CellOrder> sort_by_cell(std::vector<std::array<std::int64_t, 3>> c
   return o;
 }
 
-/// What the pair loop reads of a triangle.
+/// What the pair loop reads of a triangle. No box: most pairs the loop meets share a corner,
+/// whose boxes always meet, so a box is made only for a pair that shares none.
 struct Item {
-  Box box;
+  PlaneCoefficients plane;
   Triangle corners;
   std::uint32_t triangle;
   std::uint8_t reach;
@@ -384,7 +427,7 @@ struct Cells {
 };
 
 /// The cells of `o` (whose keys it frees early) with their items.
-Cells occupied_cells(const TriangleSoup& mesh, CellOrder o,
+Cells occupied_cells(const TriangleSoup& mesh, const std::vector<Point3>& points, CellOrder o,
                      const std::vector<std::uint8_t>& reach) {
   Cells cells;
   for (std::size_t i = 0; i < o.keys.size(); ++i)
@@ -398,7 +441,8 @@ Cells occupied_cells(const TriangleSoup& mesh, CellOrder o,
   parallel_for(o.order.size(), kChunk, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const Triangle& t = mesh.triangles[o.order[i]];
-      cells.items[i] = {triangle_box(mesh, t), t, o.order[i], reach[o.order[i]]};
+      cells.items[i] = {plane_coefficients(points[t[0]], points[t[1]], points[t[2]]), t, o.order[i],
+                        reach[o.order[i]]};
     }
   });
   return cells;
@@ -446,8 +490,10 @@ void pairs_of_cells(const Cells& cells, const std::vector<Neighbour>& neighbours
   const std::vector<Item>& items = cells.items;
   const std::size_t nc = key.size();
   auto test = [&](const Item& a, const Item& b) {
-    if (!boxes_meet(a.box, b.box)) return;
-    if (triangles_intersect(a.corners, b.corners, points))
+    if (!share_a_corner(a.corners, b.corners) &&
+        !boxes_meet(triangle_box(points, a.corners), triangle_box(points, b.corners)))
+      return;
+    if (triangles_intersect(a.corners, b.corners, a.plane, b.plane, points))
       out.push_back({std::min(a.triangle, b.triangle), std::max(a.triangle, b.triangle)});
   };
   // One cursor per forward neighbour, advanced monotonically through the keys.
@@ -513,7 +559,7 @@ std::optional<std::vector<Pair>> intersecting_pairs_in_cells(const TriangleSoup&
   std::optional<CellOrder> order = sort_by_cell(std::move(placed->cell), placed->range, skip);
   if (!order) return std::nullopt;
   const std::vector<Neighbour> neighbours = forward_neighbours(order->dim);
-  const Cells cells = occupied_cells(mesh, std::move(*order), placed->reach);
+  const Cells cells = occupied_cells(mesh, points, std::move(*order), placed->reach);
   placed.reset();
   return pairs_in_cells(cells, neighbours, points, progress);
 }
