@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "detail/cgal_types.hpp"
 #include "detail/parallel.hpp"
@@ -284,10 +285,17 @@ std::optional<double> cell_tolerance(const TriangleSoup& mesh, const Grid& grid)
   if (!(s > 0) || !std::isfinite(s)) return std::nullopt;
   double magnitude =
       std::max({std::fabs(grid.origin.x), std::fabs(grid.origin.y), std::fabs(grid.origin.z)});
-  for (const Triangle& t : mesh.triangles)
-    for (std::uint32_t v : t)
-      magnitude = std::max({magnitude, std::fabs(mesh.points[v].x), std::fabs(mesh.points[v].y),
-                            std::fabs(mesh.points[v].z)});
+  // A maximum is the same in any order: per fixed chunk, then over the chunks.
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<double> chunk_magnitude(chunk_count(nt), 0.0);
+  parallel_for(chunk_magnitude.size(), 1, [&](std::size_t cb, std::size_t ce) {
+    for (std::size_t c = cb; c < ce; ++c)
+      for (std::size_t t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t)
+        for (std::uint32_t v : mesh.triangles[t])
+          chunk_magnitude[c] = std::max({chunk_magnitude[c], std::fabs(mesh.points[v].x),
+                                         std::fabs(mesh.points[v].y), std::fabs(mesh.points[v].z)});
+  });
+  for (double m : chunk_magnitude) magnitude = std::max(magnitude, m);
   const double tol =
       1e-7 * s + static_cast<double>(std::numeric_limits<float>::epsilon()) * (magnitude + s);
   if (!(tol < 0.25 * s) || !std::isfinite(magnitude)) return std::nullopt;
@@ -406,7 +414,9 @@ std::optional<CellOrder> sort_by_cell(std::vector<std::array<std::int64_t, 3>> c
     o.order.push_back(static_cast<std::uint32_t>(t));
   }
   cell = {};
-  radix_sort(o.keys, o.order, static_cast<std::uint64_t>(cells));
+  // Marching cubes emits its triangles cell by cell in key order: then there is nothing to sort.
+  if (!std::is_sorted(o.keys.begin(), o.keys.end()))
+    radix_sort(o.keys, o.order, static_cast<std::uint64_t>(cells));
   return o;
 }
 
@@ -423,7 +433,7 @@ struct Item {
 struct Cells {
   std::vector<std::uint64_t> key;
   std::vector<std::uint32_t> first;
-  std::vector<Item> items;
+  std::unique_ptr<Item[]> items;  // left uninitialised until the parallel fill touches it
 };
 
 /// The cells of `o` (whose keys it frees early) with their items.
@@ -437,7 +447,7 @@ Cells occupied_cells(const TriangleSoup& mesh, const std::vector<Point3>& points
     }
   cells.first.push_back(static_cast<std::uint32_t>(o.keys.size()));
   o.keys = {};
-  cells.items.resize(o.order.size());
+  cells.items = std::make_unique_for_overwrite<Item[]>(o.order.size());
   parallel_for(o.order.size(), kChunk, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const Triangle& t = mesh.triangles[o.order[i]];
@@ -487,7 +497,7 @@ void pairs_of_cells(const Cells& cells, const std::vector<Neighbour>& neighbours
                     std::vector<Pair>& out) {
   const std::vector<std::uint64_t>& key = cells.key;
   const std::vector<std::uint32_t>& first = cells.first;
-  const std::vector<Item>& items = cells.items;
+  const Item* items = cells.items.get();
   const std::size_t nc = key.size();
   auto test = [&](const Item& a, const Item& b) {
     if (!share_a_corner(a.corners, b.corners) &&
