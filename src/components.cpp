@@ -1,14 +1,23 @@
 // Stage "components": union-find over point indices (detail::triangle_components), then one
-// serial pass in triangle order for sizes, volumes and areas.
+// serial pass in triangle order for sizes, volumes and areas. keep_components compacts in
+// parallel, per fixed chunk, in order.
 #include "tpmsfill/components.hpp"
+
+#include <atomic>
 
 #include "detail/index_limits.hpp"
 #include "detail/mesh_measures.hpp"
+#include "detail/parallel.hpp"
 #include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
+namespace {
+
+constexpr std::size_t kChunk = 1 << 16;  // items per fixed chunk of the parallel loops
+
+}  // namespace
 
 Components mesh_components(const TriangleSoup& mesh) {
   detail::require_32bit_mesh(mesh, "validate");
@@ -35,21 +44,41 @@ TriangleSoup keep_components(const TriangleSoup& mesh, const Components& compone
     fits = components.triangle_component[t] < keep.size();
   if (!fits)
     throw InputError("keep_components: the components or the keep flags do not fit the mesh");
-  std::vector<std::uint32_t> new_index(mesh.points.size(), detail::kNoIndex);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (keep[components.triangle_component[t]])
-      for (std::uint32_t v : mesh.triangles[t]) new_index[v] = 0;
+  // A point lies in one component (components join the points of each triangle): it is kept
+  // when a kept triangle uses it. Every writer stores the same 1.
+  const std::size_t nt = mesh.triangles.size(), np = mesh.points.size();
+  auto kept_triangle = [&](std::size_t t) { return keep[components.triangle_component[t]]; };
+  std::vector<std::uint8_t> kept_point(np, 0);
+  detail::parallel_for(nt, kChunk, [&](std::size_t b, std::size_t e) {
+    for (std::size_t t = b; t < e; ++t)
+      if (kept_triangle(t))
+        for (std::uint32_t v : mesh.triangles[t])
+          std::atomic_ref<std::uint8_t>(kept_point[v]).store(1, std::memory_order_relaxed);
+  });
+  const std::vector<std::size_t> point_at =
+      detail::compaction_offsets(np, kChunk, [&](std::size_t i) { return kept_point[i] != 0; });
+  const std::vector<std::size_t> triangle_at =
+      detail::compaction_offsets(nt, kChunk, kept_triangle);
   TriangleSoup out;
-  for (std::size_t i = 0; i < mesh.points.size(); ++i)
-    if (new_index[i] != detail::kNoIndex) {
-      new_index[i] = static_cast<std::uint32_t>(out.points.size());
-      out.points.push_back(mesh.points[i]);
-    }
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (keep[components.triangle_component[t]]) {
-      const Triangle& tri = mesh.triangles[t];
-      out.triangles.push_back({new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]});
-    }
+  out.points.resize(point_at.back());
+  out.triangles.resize(triangle_at.back());
+  std::vector<std::uint32_t> new_index(np, detail::kNoIndex);
+  detail::parallel_for(point_at.size() - 1, 1, [&](std::size_t cb, std::size_t ce) {
+    for (std::size_t c = cb; c < ce; ++c)
+      for (std::size_t i = c * kChunk, to = point_at[c]; i < std::min(np, (c + 1) * kChunk); ++i)
+        if (kept_point[i]) {
+          new_index[i] = static_cast<std::uint32_t>(to);
+          out.points[to++] = mesh.points[i];
+        }
+  });
+  detail::parallel_for(triangle_at.size() - 1, 1, [&](std::size_t cb, std::size_t ce) {
+    for (std::size_t c = cb; c < ce; ++c)
+      for (std::size_t t = c * kChunk, to = triangle_at[c]; t < std::min(nt, (c + 1) * kChunk); ++t)
+        if (kept_triangle(t)) {
+          const Triangle& tri = mesh.triangles[t];
+          out.triangles[to++] = {new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]};
+        }
+  });
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "detail/index_limits.hpp"
 #include "detail/job_progress.hpp"
 #include "detail/job_settings.hpp"
+#include "detail/parallel.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/components.hpp"
@@ -257,8 +258,11 @@ IslandMasks island_masks(const Job& job) {
             label_regions(job.occupancy.inside),
             [&phi] {
               Mask solid{phi.grid, std::vector<std::uint8_t>(phi.values.size())};
-              for (std::size_t n = 0; n < solid.values.size(); ++n)
-                solid.values[n] = phi.values[n] < 0;
+              detail::parallel_for(solid.values.size(), std::size_t{1} << 16,
+                                   [&](std::size_t b, std::size_t e) {
+                                     for (std::size_t n = b; n < e; ++n)
+                                       solid.values[n] = phi.values[n] < 0;
+                                   });
               return label_regions(solid, Connectivity::Face);
             }};
   }

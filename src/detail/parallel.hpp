@@ -49,4 +49,23 @@ double deterministic_sum(std::size_t n, std::size_t chunk, const F& f) {
   return total;
 }
 
+/// A stable compaction of [0, n) by keep(i), per fixed chunk of `chunk` items: chunk c's kept
+/// items take the places [offsets[c], offsets[c + 1]) in order; offsets.back() is the count.
+template <class Keep>
+std::vector<std::size_t> compaction_offsets(std::size_t n, std::size_t chunk, const Keep& keep) {
+  chunk = std::max<std::size_t>(chunk, 1);
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  std::vector<std::size_t> offsets(chunks + 1, 0);
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::size_t kept = 0;
+      for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
+        kept += keep(i) ? 1 : 0;
+      offsets[c + 1] = kept;
+    }
+  });
+  for (std::size_t c = 0; c < chunks; ++c) offsets[c + 1] += offsets[c];
+  return offsets;
+}
+
 }  // namespace tpmsfill::detail
