@@ -185,9 +185,9 @@ Box triangle_box(const std::vector<Point3>& p, const Triangle& t) {
 }
 
 bool share_a_corner(const Triangle& h, const Triangle& g) {
-  // Non-short-circuit, as boxes_meet.
-  return (h[0] == g[0]) | (h[0] == g[1]) | (h[0] == g[2]) | (h[1] == g[0]) | (h[1] == g[1]) |
-         (h[1] == g[2]) | (h[2] == g[0]) | (h[2] == g[1]) | (h[2] == g[2]);
+  int shared = 0;  // summed, not short-circuited, as boxes_meet
+  for (const std::uint32_t a : h) shared += int{a == g[0]} + int{a == g[1]} + int{a == g[2]};
+  return shared != 0;
 }
 
 bool boxes_meet(const Box& a, const Box& b) {
