@@ -69,6 +69,31 @@ struct Extractor {
     }
   }
 
+  // Per node row j of layer k: kOut when every node is outside, kIn when every node is inside,
+  // kMixed otherwise. A cell row whose four node rows are all out (or all in) has no surface,
+  // and a node row whose row, next row and row above agree owns no crossed edge: most rows of
+  // a grid around a model are outside it, and these checks let the passes skip them.
+  enum RowState : std::uint8_t { kOut, kIn, kMixed };
+  std::vector<std::uint8_t> row_states(int k) const {
+    std::vector<std::uint8_t> state(static_cast<std::size_t>(ny));
+    for (int j = 0; j < ny; ++j) {
+      const float* r = values + (grid.index(0, j, k) - (kSlab ? first_node : 0));
+      std::uint32_t in = 0;  // a count, not a branch: the loop vectorises
+      for (int i = 0; i < nx; ++i) in += r[i] < iso ? 1u : 0u;
+      state[static_cast<std::size_t>(j)] =
+          in == 0 ? kOut : (in == static_cast<std::uint32_t>(nx) ? kIn : kMixed);
+    }
+    return state;
+  }
+  static bool same_side(std::uint8_t a, std::uint8_t b) { return a == b && a != kMixed; }
+  // Cell row (j, k) of a layer whose node rows have states `lower` and `upper` (layer k + 1).
+  static bool no_surface(const std::vector<std::uint8_t>& lower,
+                         const std::vector<std::uint8_t>& upper, int j) {
+    const auto a = static_cast<std::size_t>(j);
+    return same_side(lower[a], lower[a + 1]) && same_side(lower[a], upper[a]) &&
+           same_side(lower[a], upper[a + 1]);
+  }
+
   std::size_t corner_index(std::size_t base, int corner) const {
     return base + (corner & 1) * sx + (corner >> 1 & 1) * sy + (corner >> 2) * sz;
   }
@@ -125,7 +150,9 @@ struct Extractor {
         for (int i = 0; i < nx; ++i) r.edge_vertices += node_edges(i, j, k);
       return r;
     }
+    const std::vector<std::uint8_t> lower = row_states(k), upper = row_states(k + 1);
     for (int j = 0; j + 1 < ny; ++j) {
+      if (no_surface(lower, upper, j)) continue;  // node_edges(nx - 1, j, k) is 0 too
       for_cells_in_row(j, k, [&](int i, unsigned c) {
         if (c == 0 || c == 255) return;
         // Cube edges 0, 4 and 8 leave corner 0: the +x, +y, +z edges that node (i, j, k) owns.
@@ -143,12 +170,19 @@ struct Extractor {
   // Numbers the crossed edges of node layer k from `first` on, in index order (x, y, z edge of
   // each node); writes their points when `points` is given (the layer's owner does).
   void number(int k, std::uint32_t first, LayerIds& ids, Vec3* points) const {
+    // Only crossed edges' ids are ever read (fill looks up the crossed edges of its cells), so
+    // the others keep whatever an earlier layer left there.
     const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
-    for (auto& e : ids.edge) e.assign(layer, detail::kNoIndex);
+    for (auto& e : ids.edge) e.resize(layer);
+    const std::vector<std::uint8_t> here = row_states(k);
+    const std::vector<std::uint8_t> above = k + 1 < nz ? row_states(k + 1) : here;
     std::uint32_t id = first;
     for (int j = 0; j < ny; ++j) {
       const std::size_t row = grid.index(0, j, k), m0 = sy * static_cast<std::size_t>(j);
       const bool has_y = j + 1 < ny, has_z = k + 1 < nz;
+      const auto at = static_cast<std::size_t>(j);
+      if (same_side(here[at], above[at]) && (!has_y || same_side(here[at], here[at + 1])))
+        continue;  // no crossed +x, +y or +z edge in this row
       for (int i = 0; i < nx; ++i) {
         const bool in = v(row + i) < iso;
         const bool cross[3] = {i + 1 < nx && (v(row + i + 1) < iso) != in,
@@ -175,7 +209,9 @@ struct Extractor {
       offset[e] = static_cast<std::size_t>(c0 & 1) + sy * static_cast<std::size_t>(c0 >> 1 & 1);
     }
     std::uint32_t centroid = first_centroid;
+    const std::vector<std::uint8_t> lower_rows = row_states(k), upper_rows = row_states(k + 1);
     for (int j = 0; j + 1 < ny; ++j) {
+      if (no_surface(lower_rows, upper_rows, j)) continue;
       const std::size_t m0 = sy * static_cast<std::size_t>(j);
       for_cells_in_row(j, k, [&](int i, unsigned c) {
         if (c == 0 || c == 255) return;
