@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 #include "detail/disjoint_sets.hpp"
@@ -20,17 +21,19 @@ void require_consistent(const Mask& mask) {
     throw InputError("mask size does not match its grid");
 }
 
-// out = in dilated by r along x: a node is set when a set node lies within r along its row.
-void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
+// out = map(in) dilated by r along x: a node is set when a set node lies within r along its
+// row. `map` turns each input byte into the bits dilated (the band maps a mask to classes).
+template <class Map>
+void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r, const Map& map) {
   const int nx = g.dims[0];
   detail::parallel_for(g.row_count(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t row = begin; row < end; ++row) {
       const std::uint8_t* a = in + row * nx;
       std::uint8_t* b = out + row * nx;
       if (r == 1) {  // the common case, as a loop the compiler vectorises
-        b[0] = a[0] | (nx > 1 ? a[1] : 0);
-        for (int i = 1; i + 1 < nx; ++i) b[i] = a[i - 1] | a[i] | a[i + 1];
-        if (nx > 1) b[nx - 1] = a[nx - 2] | a[nx - 1];
+        b[0] = map(a[0]) | (nx > 1 ? map(a[1]) : 0);
+        for (int i = 1; i + 1 < nx; ++i) b[i] = map(a[i - 1]) | map(a[i]) | map(a[i + 1]);
+        if (nx > 1) b[nx - 1] = map(a[nx - 2]) | map(a[nx - 1]);
         continue;
       }
       // Per bit of the values (masks use bit 0, the band both bits): the last index at or
@@ -40,7 +43,7 @@ void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
       for (int i = 0; i < nx; ++i) {
         std::uint8_t v = 0;
         for (int bit = 0; bit < 2; ++bit) {
-          if (a[i] >> bit & 1) last[bit] = i;
+          if (map(a[i]) >> bit & 1) last[bit] = i;
           v |= static_cast<std::uint8_t>((i - last[bit] <= r) << bit);
         }
         b[i] = v;
@@ -48,7 +51,7 @@ void dilate_x(const Grid& g, const std::uint8_t* in, std::uint8_t* out, int r) {
       int next[2] = {kFar, kFar};
       for (int i = nx - 1; i >= 0; --i)
         for (int bit = 0; bit < 2; ++bit) {
-          if (a[i] >> bit & 1) next[bit] = i;
+          if (map(a[i]) >> bit & 1) next[bit] = i;
           b[i] |= static_cast<std::uint8_t>((next[bit] - i <= r) << bit);
         }
     }
@@ -82,7 +85,8 @@ Mask dilate(const Mask& mask, int voxels) {
   if (voxels == 0) return mask;
   Mask a{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
   Mask b{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
-  dilate_x(mask.grid, mask.values.data(), a.values.data(), voxels);
+  dilate_x(mask.grid, mask.values.data(), a.values.data(), voxels,
+           [](std::uint8_t x) { return x; });
   dilate_rows(mask.grid, a.values.data(), b.values.data(), voxels, 1);
   dilate_rows(mask.grid, b.values.data(), a.values.data(), voxels, 2);
   return a;
@@ -94,19 +98,23 @@ Band band_voxels(const Mask& inside, const BandOptions& options) {
   // Both dilations at once: bit 0 marks inside nodes, bit 1 outside ones, and one dilation ORs
   // them. A node is in the band when both classes lie within the width of it (its own counts),
   // nodes beyond the grid counting as outside: bit 1 is set within the width of its faces.
+  // The dilation's buffers are written whole by each pass: left uninitialised until then.
   const Grid& g = inside.grid;
   const int v = options.width;
-  Mask classes{g, std::vector<std::uint8_t>(inside.values.size())};
-  detail::parallel_for(classes.values.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) classes.values[i] = inside.values[i] ? 1 : 2;
-  });
-  Mask near = dilate(classes, v);
-  classes = Mask{};
+  const std::size_t nodes = inside.values.size();
+  auto near = std::make_unique_for_overwrite<std::uint8_t[]>(nodes);
+  {
+    auto between = std::make_unique_for_overwrite<std::uint8_t[]>(nodes);
+    dilate_x(g, inside.values.data(), near.get(), v,
+             [](std::uint8_t x) { return static_cast<std::uint8_t>(x ? 1 : 2); });
+    dilate_rows(g, near.get(), between.get(), v, 1);
+    dilate_rows(g, between.get(), near.get(), v, 2);
+  }
   const int nx = g.dims[0];
   detail::parallel_for(g.row_count(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t row = b; row < e; ++row) {
       const int j = static_cast<int>(row % g.dims[1]), k = static_cast<int>(row / g.dims[1]);
-      std::uint8_t* a = near.values.data() + row * nx;
+      std::uint8_t* a = near.get() + row * nx;
       if (j < v || k < v || j >= g.dims[1] - v || k >= g.dims[2] - v) {
         for (int i = 0; i < nx; ++i) a[i] |= 2;
       } else {
@@ -115,9 +123,9 @@ Band band_voxels(const Mask& inside, const BandOptions& options) {
       }
     }
   });
-  auto in_band = [&](std::size_t n) { return near.values[n] == 3; };
+  auto in_band = [&](std::size_t n) { return near[n] == 3; };
   // Count per chunk, exclusive scan, fill: the order is the node order for any thread count.
-  const std::size_t n = near.values.size(), chunk = 1 << 16, chunks = (n + chunk - 1) / chunk;
+  const std::size_t n = nodes, chunk = 1 << 16, chunks = (n + chunk - 1) / chunk;
   std::vector<std::uint64_t> offset(chunks + 1, 0);
   detail::parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t c = b; c < e; ++c) {
