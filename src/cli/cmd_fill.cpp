@@ -20,6 +20,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
+#include "cli/memory_policy.hpp"
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
@@ -69,6 +70,7 @@ int run_fill(FillArgs args) {
   auto t0 = std::chrono::steady_clock::now();
   MeshFile file = read_mesh_file(args.input);
   const StageTime read{"read", seconds_since(t0), peak_memory_mb()};
+  release_freed_memory();
   print_warnings(file.warnings);
 
   // The mesh and the report are one outcome: both are written, or neither. The mesh is

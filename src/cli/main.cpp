@@ -1,33 +1,17 @@
 // `tpmsfill`: the command line. It parses arguments, calls the library and turns library
 // exceptions into one line on stderr and an exit code; everything else lives in the library.
-#include <climits>
 #include <cstdio>
 #include <exception>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <string>
 #include <tpmsfill/error.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/memory_policy.hpp"
 #include "cli/ranks.hpp"
 #include "cli/usage_errors.hpp"
 
 namespace {
-
-// One job a process: the grid's arrays (hundreds of MB) are allocated, freed and allocated
-// again stage after stage. glibc serves each from fresh mmap'd pages, zeroed by the kernel
-// page by page (a sixth of a femur job's time at 0.05 mm went to page faults); kept in the
-// heap instead, freed pages are reused. Peak memory is the same within a few MB (the
-// measurements are in docs/benchmarks.md, section 17); the process returns its memory when it
-// ends.
-void keep_freed_memory() {
-#if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, INT_MAX);
-#endif
-}
 
 int run(int argc, char** argv) {
   using namespace tpmsfill::cli;
@@ -120,7 +104,7 @@ int run(int argc, char** argv) {
 
 // Under mpirun every rank runs the command; an error on one stops them all.
 int main(int argc, char** argv) {
-  keep_freed_memory();
+  tpmsfill::cli::keep_freed_memory();
   tpmsfill::cli::RanksSession session(argc, argv);
   const int code = run(argc, argv);
   if (code != 0 && tpmsfill::cli::ranks() > 1) tpmsfill::cli::abort_all(code);
