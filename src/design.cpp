@@ -460,7 +460,8 @@ class DesignRows {
   Warp warp_;
   std::vector<Layer> layers_;  // base first (absent with a custom source), then the blends
   std::optional<RampEval> porosity_, level_, thickness_;
-  bool per_node_frame_ = false;                // the warp is not separable for some layer
+  bool per_node_frame_ = false;  // the warp is not separable for some layer
+  bool plain_ = false;  // one separable layer, nothing graded, blended or refined: see rows()
   std::vector<double> stretch_[3], scale_[3];  // separable warp: per node index along its axis
   std::vector<double> warped_;                 // separable warp: warped coordinate along it
 };
@@ -501,6 +502,8 @@ DesignRows::DesignRows(const LatticeDesign& design, const Grid& grid, const Fiel
     if (L.separable)
       for (int axis = 0; axis < 3; ++axis)
         L.trig[axis] = L.tpms.trig_table(grid, axis, axis == warp_.axis ? &warped_ : nullptr);
+  plain_ = !custom_ && layers_.size() == 1 && layers_[0].separable && !layers_[0].tpms.refine &&
+           !warp_.on && !porosity_ && !level_ && !thickness_ && !depth_;
 }
 
 void DesignRows::add_layer(const TpmsOptions& o) {
@@ -581,6 +584,19 @@ double DesignRows::layer_value(const Layer& L, const Frame& f, int i, int j, int
 
 void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* values,
                       const std::uint8_t* need) const {
+  if (plain_) {
+    // The common design (one TPMS at a fixed level): layer_value() with its frame and its
+    // gradings left out, the same arithmetic in the same order, so the same bits.
+    const Layer& L = layers_[0];
+    const TpmsLayer& t = L.tpms;
+    const double v = t.o.style == TpmsStyle::Network ? t.o.level : t.o.thickness;
+    for_each_needed_node(
+        grid_, first_row, row_count, need, [&](int i, int j, int k, std::size_t n) {
+          const FGrad fg = tpms_f(t.o.type, L.trig[0][i], L.trig[1][j], L.trig[2][k]);
+          values[n] = static_cast<float>(t.phi(t.distance(fg, t.lattice_gradient(fg), Vec3{}), v));
+        });
+    return;
+  }
   // A custom base writes its values first; the blends then read them back.
   if (custom_) custom_(first_row, row_count, values, need);
   const std::size_t first_blend = custom_ ? 0 : 1;
