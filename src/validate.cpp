@@ -118,9 +118,16 @@ void classify_vertex(const TriangleSoup& mesh, const CornerTable& table, std::si
     uses.push_back({t[(k + 1) % 3], l, true});
     uses.push_back({t[(k + 2) % 3], l, false});
   }
-  std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) {
+  // A vertex has a dozen uses or so: insertion sort, by (other, local).
+  auto before = [](const Use& a, const Use& b) {
     return a.other != b.other ? a.other < b.other : a.local < b.local;
-  });
+  };
+  for (std::size_t i = 1; i < uses.size(); ++i) {
+    const Use u = uses[i];
+    std::size_t at = i;
+    for (; at > 0 && before(u, uses[at - 1]); --at) uses[at] = uses[at - 1];
+    uses[at] = u;
+  }
   std::vector<std::uint32_t>& parent = scratch.parent;
   parent.resize(d);
   std::iota(parent.begin(), parent.end(), 0u);
