@@ -118,6 +118,25 @@ bool crossing_in_angle(const Triangle& h, int i, const Point3& x, const Point3& 
   return static_cast<int>(CGAL::orientation(v, p[h[(i + 2) % 3]], x, y)) * sy <= 0;
 }
 
+/// Triangles h and g share corner v = h[i] = g[j]. When, along some axis, h lies on one side of
+/// v's coordinate c and g on the other (both closed), all they share lies in the plane x = c,
+/// which each meets in the hull of its corners there; if one has no corner there but v, they
+/// share v alone. Coordinates compared, nothing computed: it settles most pairs of
+/// neighbouring marching-cubes cells, which lie on either side of a cell face.
+bool apart_beyond_corner(const Triangle& h, const Triangle& g, int i, int j,
+                         const std::vector<Point3>& p) {
+  const Point3 &v = p[h[i]], &hx = p[h[(i + 1) % 3]], &hy = p[h[(i + 2) % 3]];
+  const Point3 &gx = p[g[(j + 1) % 3]], &gy = p[g[(j + 2) % 3]];
+  for (int a = 0; a < 3; ++a) {
+    const double c = v[a], h1 = hx[a], h2 = hy[a], g1 = gx[a], g2 = gy[a];
+    const bool h_below = h1 <= c && h2 <= c, h_above = h1 >= c && h2 >= c;
+    const bool g_below = g1 <= c && g2 <= c, g_above = g1 >= c && g2 >= c;
+    if (!((h_below && g_above) || (h_above && g_below))) continue;
+    if ((h1 != c && h2 != c) || (g1 != c && g2 != c)) return true;
+  }
+  return false;
+}
+
 /// Triangles h and g share corner h[i] = g[j]: they intersect only if the far edge of either
 /// meets the other triangle.
 bool corner_neighbours_meet(const Plane& ph, const Plane& pg, const Triangle& h, const Triangle& g,
@@ -159,6 +178,7 @@ bool triangles_intersect(const Triangle& h, const Triangle& g, const PlaneCoeffi
         ++shared;
       }
   if (shared == 3) return true;
+  if (shared == 1 && apart_beyond_corner(h, g, hs[0], gs[0], p)) return false;
   const Plane ph(p[h[0]], p[h[1]], p[h[2]], kh);
   if (shared == 2) return edge_neighbours_overlap(ph, h, g, hs, gs, p);
   const Plane pg(p[g[0]], p[g[1]], p[g[2]], kg);
