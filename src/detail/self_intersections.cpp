@@ -3,6 +3,12 @@
 // grid (each triangle in the cell of its centroid, pairs only in the same or 26-adjacent
 // cells, across a face only between triangles that reach it), or CGAL's box intersection.
 // Every parallel loop runs over fixed chunks whose results are merged in chunk order.
+//
+// Most pairs of a marching-cubes mesh share a corner (12.5 of 19 million tested on a femur at
+// 0.05 mm) and are settled without a construction: by coordinates when a plane of the grid
+// through the corner separates them (apart_beyond_corner), else by plane sides and at most two
+// orientations (corner_neighbours_meet). tests/self_intersections_test.cpp checks the pair
+// test against CGAL's exact triangle intersection.
 #include "detail/self_intersections.hpp"
 
 #include <CGAL/Bbox_3.h>
