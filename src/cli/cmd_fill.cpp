@@ -48,6 +48,7 @@ int run_fill(FillArgs args) {
                     static_cast<std::size_t>(args.threads));
 
   FillOptions options = job_options(args.job);
+  if (options.memory_budget != 0) return_freed_memory_at_once();  // a budget given
   if (args.full_field) options.full_field = true;
   if (args.keep_islands) options.keep_islands = true;
   if (args.measure) options.measure = true;

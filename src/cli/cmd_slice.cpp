@@ -23,6 +23,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
+#include "cli/memory_policy.hpp"
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
@@ -131,6 +132,7 @@ int run_slice(SliceArgs a) {
     threads.emplace(tbb::global_control::max_allowed_parallelism,
                     static_cast<std::size_t>(a.threads));
   FillOptions options = job_options(a.job);
+  if (options.memory_budget != 0) return_freed_memory_at_once();  // a budget given
   const SliceOptions slice_options{.layer = a.layer, .start = a.start};
   const LayerFormat format = output_format(a);
   const bool folder = writes_folder(format);

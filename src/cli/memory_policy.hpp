@@ -20,6 +20,17 @@ inline void keep_freed_memory() {
 #endif
 }
 
+/// Under an explicit --memory the budget is a promise: freed memory goes back to the system at
+/// once (glibc's initial thresholds, held fixed), so that no reuse pattern stacks resident
+/// holes on the planned peak. Measured on a femur in slabs under --memory 4G: 2.3 GB peak so,
+/// 3.3 GB with keep_freed_memory (docs/benchmarks.md, section 17.2).
+inline void return_freed_memory_at_once() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+#endif
+}
+
 /// Returns what is free in the heap to the system. After reading a large input: its bytes
 /// and any transient copies are freed, and the stages that follow would otherwise stack their
 /// own arrays on top of those resident holes (peak memory on a 4.7·10⁶-triangle STL).
