@@ -749,8 +749,7 @@ namespace {
 // Before any work: a name whose extension names no format.
 void require_format(const std::filesystem::path& path, const WriteOptions& write) {
   if (write.format == MeshFormat::Auto && format_from_extension(path) == MeshFormat::Auto)
-    throw InputError("cannot write " + path.string() +
-                     ": unknown extension (use .stl, .obj, .ply or .off)");
+    throw InputError("cannot write " + unknown_mesh_extension(path));
 }
 
 // A held result written, the write timed into its report, its mesh let go.

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <tpmsfill/io.hpp>
 
+#include "detail/inflate.hpp"
 #include "test_util.hpp"
 
 using namespace tpmsfill;
@@ -156,4 +157,29 @@ TEST(CliOutputs, RepairReadsUnitsAndWritesMillimetres) {
   const Box3 box = bounding_box(read_mesh(dir / "o.off"));
   EXPECT_NEAR(box.size().x, 20, 1e-9);
   EXPECT_NEAR(box.size().z, 10, 1e-9);
+}
+
+TEST(CliOutputs, FillWritesGzipWhenTheNameEndsInGz) {
+  // OUT.stl.gz and OUT.obj.gz: inflated, the bytes of OUT.stl and OUT.obj; `check` reads the
+  // compressed result back as a valid closed mesh.
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "ball.off";
+  write_mesh(in, test::make_sphere({0, 0, 0}, 6, 3));
+  for (const std::string ext : {".stl", ".obj"}) {
+    const auto plain = dir / ("o" + ext), packed = dir / ("o" + ext + ".gz");
+    std::string out;
+    for (const auto& target : {plain, packed})
+      ASSERT_EQ(
+          run("fill '" + in.string() + "' '" + target.string() + "' --cell 4 --voxel 0.4", &out), 0)
+          << out;
+    const std::string bytes = test::read_file(packed);
+    EXPECT_EQ(bytes.substr(0, 2), "\x1f\x8b");
+    EXPECT_TRUE(detail::inflate_bytes(bytes, packed.string(), UINT64_MAX) == test::read_file(plain))
+        << ext;
+    EXPECT_EQ(run("check '" + packed.string() + "'", &out), 0) << out;
+  }
+  std::string out;
+  EXPECT_EQ(run("fill '" + in.string() + "' '" + (dir / "o.gz").string() + "' --cell 4", &out), 2);
+  EXPECT_TRUE(has(out, "unknown extension (use .stl, .obj, .ply or .off, or any of them with .gz)"))
+      << out;
 }

@@ -14,6 +14,7 @@
 #include <tuple>
 #include <vector>
 
+#include "detail/inflate.hpp"
 #include "test_util.hpp"
 
 using namespace tpmsfill;
@@ -436,6 +437,53 @@ TEST(IoMeshWriter, CornerOutsideTheWindowOrThePointsThrows) {
   }
 }
 
+TEST(IoMeshWriter, GzipTargetsHoldTheSameBytesDeflated) {
+  // "m.stl.gz" and the others: gzip's magic, and inflated the very bytes of the uncompressed
+  // file, whether written whole or in pieces with faces before the points (the sidecar path).
+  const fs::path dir = test::scratch_dir();
+  const TriangleSoup mesh = test::make_sphere({0.25, -0.5, 1}, 2, 3);
+  for (const FormatCase& format : kFormats) {
+    const fs::path plain = dir / format.name;
+    const fs::path packed = dir / (std::string(format.name) + ".gz");
+    write_mesh(plain, mesh, format.options);
+    const std::string expected = test::read_file(plain);
+    write_mesh(packed, mesh, format.options);
+    std::string bytes = test::read_file(packed);
+    ASSERT_GE(bytes.size(), 2u);
+    EXPECT_EQ(bytes.substr(0, 2), "\x1f\x8b") << format.name;
+    EXPECT_LT(bytes.size(), expected.size()) << format.name;
+    EXPECT_TRUE(detail::inflate_bytes(bytes, packed.string(), UINT64_MAX) == expected)
+        << format.name;
+    {
+      MeshWriter writer(packed, mesh.points.size(), mesh.triangles.size(), format.options);
+      add_triangle_piece(writer, mesh, 0, 100);  // before the points: raw in the sidecar
+      writer.add_points(mesh.points);
+      add_triangle_piece(writer, mesh, 100, mesh.triangles.size());
+      writer.commit();
+    }
+    bytes = test::read_file(packed);
+    EXPECT_TRUE(detail::inflate_bytes(bytes, packed.string(), UINT64_MAX) == expected)
+        << format.name;
+    // The readers take it back by content, its name's inner extension breaking ties.
+    const MeshFile back = read_mesh_file(packed);
+    EXPECT_TRUE(back.gzip);
+    EXPECT_EQ(back.soup.triangles.size(), mesh.triangles.size()) << format.name;
+    fs::remove(plain);
+    fs::remove(packed);
+  }
+  // The name decides unless the options do; write_options_for reads a name for a staged path.
+  EXPECT_EQ(format_from_extension("x.PLY.GZ"), MeshFormat::Ply);
+  EXPECT_EQ(format_from_extension("x.gz"), MeshFormat::Auto);
+  EXPECT_TRUE(is_gzip_name("x.stl.Gz"));
+  EXPECT_EQ(write_options_for("a/x.obj.gz").compression, Compression::Gzip);
+  EXPECT_EQ(write_options_for("a/x.obj.gz").format, MeshFormat::Obj);
+  EXPECT_EQ(write_options_for("x.stl").compression, Compression::None);
+  const fs::path staged = dir / ".x.staged";
+  write_mesh(staged, mesh, write_options_for("x.off.gz"));
+  EXPECT_EQ(read_mesh_file(staged).format, MeshFormat::Off);
+  EXPECT_TRUE(read_mesh_file(staged).gzip);
+}
+
 TEST(IoMeshWriter, TargetUntouchedUntilCommitAndWhenNeverCommitted) {
   const fs::path dir = test::scratch_dir();
   const TriangleSoup mesh = test::make_sphere({0, 0, 0}, 1, 1);
@@ -480,7 +528,8 @@ TEST(IoMeshWriter, BadFormatOrCountsAreInputErrorsAndMissingFolderIoError) {
     ADD_FAILURE() << "no exception";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "cannot write " + (dir / "m.xyz").string() +
-                                         ": unknown extension (use .stl, .obj, .ply or .off)");
+                                         ": unknown extension (use .stl, .obj, .ply or .off, "
+                                         "or any of them with .gz)");
   }
   EXPECT_THROW(MeshWriter(dir / "m.stl", 3, too_many), InputError);
   EXPECT_THROW(MeshWriter(dir / "m.ply", too_many, 1), InputError);

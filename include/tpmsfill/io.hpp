@@ -37,8 +37,15 @@ enum class MeshFormat {
 std::string_view format_name(MeshFormat format);
 
 /// The format an extension names (case-insensitive), or Auto if it names none we know.
-/// ".stl" gives StlBinary.
+/// ".stl" gives StlBinary; under a last ".gz" the extension before it counts ("x.ply.gz": Ply).
 MeshFormat format_from_extension(const std::filesystem::path& path);
+
+/// Whether the name ends in ".gz" (case-insensitive).
+bool is_gzip_name(const std::filesystem::path& path);
+
+/// The one sentence for a name whose extension names no mesh format: "<path>: unknown
+/// extension (use .stl, .obj, .ply or .off, or any of them with .gz)".
+std::string unknown_mesh_extension(const std::filesystem::path& path);
 
 struct ReadOptions {
   /// Auto detects; anything else forces that reader (StlAscii and StlBinary both mean "STL,
@@ -78,10 +85,21 @@ TriangleSoup read_mesh(const std::filesystem::path& path, const ReadOptions& opt
 MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
                     const ReadOptions& options = {});
 
+/// Whether a mesh file is written gzip-compressed.
+enum class Compression { Auto, None, Gzip };
+
 struct WriteOptions {
-  /// Auto takes the format from the path's extension (".stl" writes binary STL).
+  /// Auto takes the format from the path's extension (".stl" writes binary STL; "x.stl.gz"
+  /// too, by the extension under ".gz").
   MeshFormat format = MeshFormat::Auto;
+  /// Auto compresses when the path ends in ".gz" (gzip, zlib's default level): the readers
+  /// inflate such files whatever their name.
+  Compression compression = Compression::Auto;
 };
+
+/// The options that write `path` as its name says: format by extension (under any ".gz"),
+/// gzip when it ends in ".gz". For writing to a staged name that has lost the extension.
+WriteOptions write_options_for(const std::filesystem::path& path);
 
 /// Writes a soup, atomically: to a temporary file beside `path`, then renamed over it (a
 /// MeshWriter given the whole soup in one piece).

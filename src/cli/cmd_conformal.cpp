@@ -63,7 +63,7 @@ int run_conformal(const ConformalArgs& a) {
                     static_cast<std::size_t>(a.threads));
   ConformalJobOptions o = job_options(a);
   if (format_from_extension(a.output) == MeshFormat::Auto)
-    throw InputError(a.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+    throw InputError(unknown_mesh_extension(a.output));
   std::vector<OutputFile> outputs{{"OUT", a.output}};
   if (!a.report.empty()) outputs.push_back({"--report", a.report});
   std::vector<std::filesystem::path> inputs{a.input};
@@ -98,7 +98,7 @@ int run_conformal(const ConformalArgs& a) {
   FillReport& report = result.fill;
   record_provenance(report, a.input);
   StagedOutputs staged;
-  write_mesh(staged.stage(a.output), result.mesh, {.format = format_from_extension(a.output)});
+  write_mesh(staged.stage(a.output), result.mesh, write_options_for(a.output));
   if (!a.report.empty()) write_file_atomically(staged.stage(a.report), to_json(result));
   staged.commit();
   if (!a.quiet) {

@@ -276,7 +276,7 @@ int run_info(const FieldArgs& a) {
 int run_mesh(const FieldArgs& a) {
   if (a.output.empty()) throw InputError("field mesh needs IN.itdf and OUT");
   if (format_from_extension(a.output) == MeshFormat::Auto)
-    throw InputError(a.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+    throw InputError(unknown_mesh_extension(a.output));
   if (!a.voxel) throw InputError("field mesh needs --voxel (the grid spacing, mm)");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const ItdfFile file = read_itdf(a.input);

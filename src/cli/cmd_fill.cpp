@@ -55,7 +55,7 @@ int run_fill(FillArgs args) {
   if (args.no_self_intersections) options.check_self_intersections = false;
   // Fail on a bad output name, or one that would replace an input, before the work.
   if (format_from_extension(args.output) == MeshFormat::Auto)
-    throw InputError(args.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+    throw InputError(unknown_mesh_extension(args.output));
   std::vector<OutputFile> outputs{{"OUT", args.output}};
   if (!args.report.empty()) outputs.push_back({"--report", args.report});
   std::vector<std::filesystem::path> inputs{args.input};
@@ -80,7 +80,7 @@ int run_fill(FillArgs args) {
   const std::filesystem::path mesh_path = staged.stage(args.output);
   // Under mpirun each rank fills its share of the grid; rank 0 finishes and writes.
   std::optional<FillResult> on_ranks =
-      fill_on_ranks(file.soup, options, mesh_path, {.format = format_from_extension(args.output)});
+      fill_on_ranks(file.soup, options, mesh_path, write_options_for(args.output));
   if (!on_ranks) return kOk;
   FillResult& result = *on_ranks;
   if (progress) progress->clear();

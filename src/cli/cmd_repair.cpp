@@ -41,8 +41,7 @@ int run_repair(const RepairArgs& args) {
                     static_cast<std::size_t>(args.threads));
   // Fail on a bad output name before the work, not after it.
   const MeshFormat format = format_from_extension(args.output);
-  if (format == MeshFormat::Auto)
-    throw InputError(args.output + ": unknown extension (use .stl, .obj, .ply or .off)");
+  if (format == MeshFormat::Auto) throw InputError(unknown_mesh_extension(args.output));
   require_writable_outputs({args.input}, {{"OUT", args.output}});
   const ModelUnits units{.units = units_from_name(args.units)};
 

@@ -123,9 +123,7 @@ MeshFormat detect(std::string_view data, const std::string& source) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (lower == "solid") return MeshFormat::StlAscii;
   if (is_obj_keyword(word)) return MeshFormat::Obj;
-  std::filesystem::path name(source);
-  if (name.extension() == ".gz" || name.extension() == ".GZ") name = name.stem();
-  if (const MeshFormat hint = format_from_extension(name); hint != MeshFormat::Auto) return hint;
+  if (const MeshFormat hint = format_from_extension(source); hint != MeshFormat::Auto) return hint;
   // Binary data in no other format: the STL reader explains what is wrong with its count.
   if (data.size() >= 84 && has_control_bytes(data)) return MeshFormat::StlBinary;
   fail_at_line(source, 1, "not a mesh file: no STL, OBJ, PLY or OFF content recognised");
@@ -151,10 +149,29 @@ std::string_view format_name(MeshFormat format) {
   return "auto";
 }
 
-MeshFormat format_from_extension(const std::filesystem::path& path) {
+namespace {
+
+std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+bool is_gzip_name(const std::filesystem::path& path) {
+  return lower_extension(path) == ".gz";
+}
+
+std::string unknown_mesh_extension(const std::filesystem::path& path) {
+  return path.string() +
+         ": unknown extension (use .stl, .obj, .ply or .off, or any of them with .gz)";
+}
+
+MeshFormat format_from_extension(const std::filesystem::path& path) {
+  // "x.stl.gz": the format of "x.stl", compressed.
+  const std::string ext = lower_extension(is_gzip_name(path) ? path.stem() : path);
   if (ext == ".stl") return MeshFormat::StlBinary;
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".ply") return MeshFormat::Ply;

@@ -1,7 +1,8 @@
 // Writers, piece by piece: a header with the counts, then points, then triangles, then a
 // footer, each piece formatted into a buffer and written to a temporary file beside the target
 // that is renamed over it at the end, so readers of the target never see a half-written mesh.
-// write_mesh is a MeshWriter given the whole soup in one piece of each.
+// write_mesh is a MeshWriter given the whole soup in one piece of each. A ".gz" target gets
+// the same bytes deflated on their way to the file (zlib, gzip wrapper, level 1).
 
 // GCC 12 at -O3 warns falsely (-Wrestrict, GCC bug 105651) inside <string> on `"literal" +
 // std::string` once inlined. The warning is located in the library header, so it can only be
@@ -12,6 +13,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -248,9 +250,7 @@ MeshFormat writable_format(const std::filesystem::path& path, const WriteOptions
                            std::uint64_t points, std::uint64_t triangles) {
   MeshFormat format = options.format;
   if (format == MeshFormat::Auto) format = format_from_extension(path);
-  if (format == MeshFormat::Auto)
-    throw InputError("cannot write " + path.string() +
-                     ": unknown extension (use .stl, .obj, .ply or .off)");
+  if (format == MeshFormat::Auto) throw InputError("cannot write " + unknown_mesh_extension(path));
   if ((format == MeshFormat::StlBinary && !detail::fits_32bit_ids(triangles)) ||
       (format == MeshFormat::Ply && !detail::fits_32bit_ids(points)))
     throw InputError("cannot write " + path.string() + ": too many elements for the format");
@@ -294,6 +294,26 @@ void write_all(int fd, std::string_view bytes, const std::filesystem::path& targ
   }
 }
 
+// Calls sink(bytes) on the next `size` bytes of `from`, a few MB at a time.
+template <class Sink>
+void read_chunks(int from, std::uint64_t size, const std::filesystem::path& target,
+                 const Sink& sink) {
+  if (size == 0) return;
+  std::string buffer(std::min<std::uint64_t>(size, std::uint64_t{4} << 20), '\0');
+  while (size > 0) {
+    const ssize_t n =
+        ::read(from, buffer.data(),
+               static_cast<std::size_t>(std::min<std::uint64_t>(size, buffer.size())));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;  // the temporary is shorter than what was written to it
+      throw_os_error(target, "read failed");
+    }
+    sink(std::string_view{buffer.data(), static_cast<std::size_t>(n)});
+    size -= static_cast<std::uint64_t>(n);
+  }
+}
+
 // Appends the first `size` bytes of `from` at `to`'s offset: in the kernel where the file
 // system can (no copy through user space), through a buffer where it cannot.
 void copy_all(int from, int to, std::uint64_t size, const std::filesystem::path& target) {
@@ -308,20 +328,7 @@ void copy_all(int from, int to, std::uint64_t size, const std::filesystem::path&
     if (n <= 0) break;
     size -= static_cast<std::uint64_t>(n);
   }
-  if (size == 0) return;
-  std::string buffer(std::min<std::uint64_t>(size, std::uint64_t{4} << 20), '\0');
-  while (size > 0) {
-    const ssize_t n =
-        ::read(from, buffer.data(),
-               static_cast<std::size_t>(std::min<std::uint64_t>(size, buffer.size())));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      if (n == 0) errno = EIO;  // the temporary is shorter than what was written to it
-      throw_os_error(target, "read failed");
-    }
-    write_all(to, {buffer.data(), static_cast<std::size_t>(n)}, target);
-    size -= static_cast<std::uint64_t>(n);
-  }
+  read_chunks(from, size, target, [&](std::string_view bytes) { write_all(to, bytes, target); });
 }
 
 // A temporary file beside the target (mode 0644) that commit() flushes and renames over it.
@@ -367,6 +374,49 @@ class AtomicFile {
   int fd_ = -1;
 };
 
+// A gzip stream onto a file descriptor: bytes in, deflated bytes written as its buffer fills.
+class GzipSink {
+ public:
+  explicit GzipSink(const std::filesystem::path& target) : target_(target) {
+    // windowBits 15 + 16: a gzip wrapper, as gzip(1) and the readers expect. Level 1: on a
+    // lattice STL it deflates 3 times faster than the default level 6 for a file 9 % larger
+    // (docs/formats.md, "Writers"); meshes here run to gigabytes.
+    if (deflateInit2(&z_, Z_BEST_SPEED, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+      throw IoError("cannot write " + target_.string() + ": zlib could not start compressing");
+  }
+  ~GzipSink() { deflateEnd(&z_); }
+  GzipSink(const GzipSink&) = delete;
+  GzipSink& operator=(const GzipSink&) = delete;
+
+  void write(int fd, std::string_view bytes) { pump(fd, bytes, Z_NO_FLUSH); }
+  void finish(int fd) { pump(fd, {}, Z_FINISH); }
+
+ private:
+  void pump(int fd, std::string_view bytes, int flush) {
+    // zlib counts in 32 bits: feed at most 1 GiB a call.
+    do {
+      const std::size_t take = std::min<std::size_t>(bytes.size(), std::size_t{1} << 30);
+      z_.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+      z_.avail_in = static_cast<uInt>(take);
+      const int f = take == bytes.size() ? flush : Z_NO_FLUSH;
+      int status;
+      do {
+        z_.next_out = reinterpret_cast<Bytef*>(out_.data());
+        z_.avail_out = static_cast<uInt>(out_.size());
+        status = deflate(&z_, f);
+        if (status == Z_STREAM_ERROR)
+          throw IoError("cannot write " + target_.string() + ": compression failed");
+        write_all(fd, {out_.data(), out_.size() - z_.avail_out}, target_);
+      } while (z_.avail_out == 0 || (f == Z_FINISH && status != Z_STREAM_END));
+      bytes.remove_prefix(take);
+    } while (!bytes.empty());
+  }
+
+  std::filesystem::path target_;
+  z_stream z_{};
+  std::string out_ = std::string(std::size_t{1} << 20, '\0');
+};
+
 }  // namespace
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
@@ -378,10 +428,11 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 // ---- MeshWriter -----------------------------------------------------------------------------
 
 struct MeshWriter::State {
-  State(const std::filesystem::path& target, MeshFormat format_, std::uint64_t points_,
+  State(const std::filesystem::path& target, MeshFormat format_, bool gzip_, std::uint64_t points_,
         std::uint64_t triangles_)
       : path(target), format(format_), points(points_), triangles(triangles_) {
     file.emplace(path);
+    if (gzip_) gzip.emplace(path);
   }
   ~State() { close_sidecar(); }
 
@@ -399,11 +450,19 @@ struct MeshWriter::State {
   void add_points(std::span<const Vec3> more);
   void add_triangles(std::span<const Triangle> more, const Window& window);
   void commit();
+  // The file's next bytes, deflated first for a .gz target.
+  void emit(std::string_view bytes) {
+    if (gzip)
+      gzip->write(file->fd(), bytes);
+    else
+      file->write(bytes);
+  }
   // Everything removed at once after a failure; later calls are refused.
   void die() noexcept {
     dead = true;
     close_sidecar();
     file.reset();
+    gzip.reset();
     buffer = {};
   }
   void close_sidecar() noexcept {
@@ -415,6 +474,7 @@ struct MeshWriter::State {
   const std::uint64_t points, triangles;  // declared
   std::uint64_t points_added = 0, triangles_added = 0;
   std::optional<AtomicFile> file;  // empty once committed or dead
+  std::optional<GzipSink> gzip;    // set for a compressed target
   bool dead = false;
   // Faces that came before the last point (OBJ, OFF, PLY only): a temporary beside the target,
   // unlinked as soon as it is made, appended after the last point.
@@ -431,12 +491,17 @@ void MeshWriter::State::add_points(std::span<const Vec3> more) {
     for (std::size_t begin = 0; begin < more.size(); begin += kChunk) {
       buffer.clear();
       append_points(format, buffer, more.subspan(begin, std::min(kChunk, more.size() - begin)));
-      file->write(buffer);
+      emit(buffer);
     }
   points_added += more.size();
   if (points_added == points && sidecar >= 0) {
     // The last point is in: the faces that came early follow it, later ones go straight on.
-    copy_all(sidecar, file->fd(), sidecar_bytes, path);
+    if (gzip) {
+      if (::lseek(sidecar, 0, SEEK_SET) != 0) throw_os_error(path, "read failed");
+      read_chunks(sidecar, sidecar_bytes, path, [&](std::string_view bytes) { emit(bytes); });
+    } else {
+      copy_all(sidecar, file->fd(), sidecar_bytes, path);
+    }
     close_sidecar();
   }
 }
@@ -445,11 +510,8 @@ void MeshWriter::State::add_triangles(std::span<const Triangle> more, const Wind
   if (more.size() > triangles - triangles_added)
     refuse(std::to_string(triangles_added + more.size()) + " triangles added, but " +
            std::to_string(triangles) + " were declared");
-  int fd = file->fd();
-  if (indexed(format) && points_added < points) {
-    if (sidecar < 0) sidecar = detail::open_scratch_file(path, "faces");
-    fd = sidecar;
-  }
+  const bool early = indexed(format) && points_added < points;  // to the sidecar, raw
+  if (early && sidecar < 0) sidecar = detail::open_scratch_file(path, "faces");
   for (std::size_t begin = 0; begin < more.size(); begin += kChunk) {
     const auto chunk = more.subspan(begin, std::min(kChunk, more.size() - begin));
     // Checked before it is formatted, which trusts every corner to be in the window.
@@ -459,8 +521,12 @@ void MeshWriter::State::add_triangles(std::span<const Triangle> more, const Wind
           refuse_corner(triangles_added + begin + i, v, window);
     buffer.clear();
     append_triangles(format, buffer, chunk, window);
-    write_all(fd, buffer, path);
-    if (fd == sidecar) sidecar_bytes += buffer.size();
+    if (early) {
+      write_all(sidecar, buffer, path);
+      sidecar_bytes += buffer.size();
+    } else {
+      emit(buffer);
+    }
   }
   triangles_added += more.size();
 }
@@ -472,7 +538,8 @@ void MeshWriter::State::commit() {
   if (triangles_added < triangles)
     refuse("only " + std::to_string(triangles_added) + " of the " + std::to_string(triangles) +
            " declared triangles were added");
-  file->write(format_footer(format));
+  emit(format_footer(format));
+  if (gzip) gzip->finish(file->fd());
   file->commit();
   file.reset();
   buffer = {};
@@ -480,9 +547,12 @@ void MeshWriter::State::commit() {
 
 MeshWriter::MeshWriter(const std::filesystem::path& path, std::uint64_t points,
                        std::uint64_t triangles, const WriteOptions& options)
-    : state_(std::make_unique<State>(path, writable_format(path, options, points, triangles),
-                                     points, triangles)) {
-  state_->file->write(format_header(state_->format, points, triangles));
+    : state_(std::make_unique<State>(
+          path, writable_format(path, options, points, triangles),
+          options.compression == Compression::Gzip ||
+              (options.compression == Compression::Auto && is_gzip_name(path)),
+          points, triangles)) {
+  state_->emit(format_header(state_->format, points, triangles));
 }
 
 MeshWriter::~MeshWriter() = default;
@@ -522,6 +592,11 @@ void MeshWriter::commit() {
     state.die();
     throw;
   }
+}
+
+WriteOptions write_options_for(const std::filesystem::path& path) {
+  return {.format = format_from_extension(path),
+          .compression = is_gzip_name(path) ? Compression::Gzip : Compression::None};
 }
 
 void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
