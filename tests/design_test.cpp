@@ -354,6 +354,28 @@ TEST(Design, SkinIsWithinOneVoxelOfItsThickness) {
   EXPECT_LT(sealed(true), 0.01);
 }
 
+TEST(Design, UngradedDesignGivesTheGeneralPathsBits) {
+  // An ungraded, unblended separable design takes a short path (design.cpp, DesignRows::rows);
+  // a blend whose region lies far outside the grid (weight 0 at every node) sends the same base
+  // lattice through the general path, node by node: the two must agree bit for bit.
+  const Grid g = test::grid_around({{0, 0, 0}, {3, 2, 2}}, 0.1, 0);
+  for (const TpmsType type :
+       {TpmsType::Gyroid, TpmsType::Primitive, TpmsType::Diamond, TpmsType::Iwp, TpmsType::Neovius,
+        TpmsType::Frd, TpmsType::Lidinoid, TpmsType::SplitP}) {
+    for (const double level : {0.0, 0.4}) {
+      LatticeDesign plain{TpmsOptions{.type = type, .level = level}};
+      LatticeDesign general = plain;
+      general.blends.push_back(
+          {.tpms = {.type = TpmsType::Primitive},
+           .region = {.shape = RegionShape::HalfSpace, .point = {1e3, 0, 0}, .axis = {1, 0, 0}},
+           .width = 1});
+      EXPECT_EQ(sample_field(design_source(plain), g).values,
+                sample_field(design_source(general), g).values)
+          << tpms_type_name(type) << " level " << level;
+    }
+  }
+}
+
 TEST(Design, CustomSourcesPlugIntoTheSamePipeline) {
   // The gyroid supplied by the caller, as a function of the point and as a source that
   // evaluates whole rows itself, gives the built-in field.
