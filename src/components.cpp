@@ -55,30 +55,23 @@ TriangleSoup keep_components(const TriangleSoup& mesh, const Components& compone
         for (std::uint32_t v : mesh.triangles[t])
           std::atomic_ref<std::uint8_t>(kept_point[v]).store(1, std::memory_order_relaxed);
   });
-  const std::vector<std::size_t> point_at =
-      detail::compaction_offsets(np, kChunk, [&](std::size_t i) { return kept_point[i] != 0; });
+  auto kept = [&](std::size_t i) { return kept_point[i] != 0; };
+  const std::vector<std::size_t> point_at = detail::compaction_offsets(np, kChunk, kept);
   const std::vector<std::size_t> triangle_at =
       detail::compaction_offsets(nt, kChunk, kept_triangle);
   TriangleSoup out;
   out.points.resize(point_at.back());
   out.triangles.resize(triangle_at.back());
   std::vector<std::uint32_t> new_index(np, detail::kNoIndex);
-  detail::parallel_for(point_at.size() - 1, 1, [&](std::size_t cb, std::size_t ce) {
-    for (std::size_t c = cb; c < ce; ++c)
-      for (std::size_t i = c * kChunk, to = point_at[c]; i < std::min(np, (c + 1) * kChunk); ++i)
-        if (kept_point[i]) {
-          new_index[i] = static_cast<std::uint32_t>(to);
-          out.points[to++] = mesh.points[i];
-        }
+  detail::for_each_kept(point_at, np, kChunk, kept, [&](std::size_t i, std::size_t place) {
+    new_index[i] = static_cast<std::uint32_t>(place);
+    out.points[place] = mesh.points[i];
   });
-  detail::parallel_for(triangle_at.size() - 1, 1, [&](std::size_t cb, std::size_t ce) {
-    for (std::size_t c = cb; c < ce; ++c)
-      for (std::size_t t = c * kChunk, to = triangle_at[c]; t < std::min(nt, (c + 1) * kChunk); ++t)
-        if (kept_triangle(t)) {
-          const Triangle& tri = mesh.triangles[t];
-          out.triangles[to++] = {new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]};
-        }
-  });
+  detail::for_each_kept(
+      triangle_at, nt, kChunk, kept_triangle, [&](std::size_t t, std::size_t place) {
+        const Triangle& tri = mesh.triangles[t];
+        out.triangles[place] = {new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]};
+      });
   return out;
 }
 

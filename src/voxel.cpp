@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numeric>
 
 #include "detail/disjoint_sets.hpp"
 #include "detail/distance_transform.hpp"
@@ -125,24 +124,11 @@ Band band_voxels(const Mask& inside, const BandOptions& options) {
   });
   auto in_band = [&](std::size_t n) { return near[n] == 3; };
   // Count per chunk, exclusive scan, fill: the order is the node order for any thread count.
-  const std::size_t n = nodes, chunk = 1 << 16, chunks = (n + chunk - 1) / chunk;
-  std::vector<std::uint64_t> offset(chunks + 1, 0);
-  detail::parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) {
-      std::uint64_t count = 0;
-      for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) count += in_band(i);
-      offset[c + 1] = count;
-    }
-  });
-  std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  Band band{inside.grid, std::vector<std::uint64_t>(offset.back())};
-  detail::parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) {
-      std::uint64_t out = offset[c];
-      for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
-        if (in_band(i)) band.nodes[out++] = i;
-    }
-  });
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::vector<std::size_t> at = detail::compaction_offsets(nodes, kChunk, in_band);
+  Band band{inside.grid, std::vector<std::uint64_t>(at.back())};
+  detail::for_each_kept(at, nodes, kChunk, in_band,
+                        [&](std::size_t i, std::size_t place) { band.nodes[place] = i; });
   return band;
 }
 

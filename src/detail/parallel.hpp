@@ -68,4 +68,20 @@ std::vector<std::size_t> compaction_offsets(std::size_t n, std::size_t chunk, co
   return offsets;
 }
 
+/// The compaction's second pass, once the output is sized to offsets.back(): put(i, place) for
+/// every kept i, place being its index in the output. `offsets` from compaction_offsets with
+/// the same n, chunk and keep.
+template <class Keep, class Put>
+void for_each_kept(const std::vector<std::size_t>& offsets, std::size_t n, std::size_t chunk,
+                   const Keep& keep, const Put& put) {
+  chunk = std::max<std::size_t>(chunk, 1);
+  parallel_for(offsets.size() - 1, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::size_t place = offsets[c];
+      for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
+        if (keep(i)) put(i, place++);
+    }
+  });
+}
+
 }  // namespace tpmsfill::detail
