@@ -23,9 +23,11 @@ namespace {
 // and two vertices on edges sharing a node never coincide.
 constexpr double kDelta = 1e-4;
 
-/// Vertex ids of the +x, +y, +z edges of every node (i + nx·j) of one node layer.
+/// Vertex ids of the +x, +y, +z edges of every node (i + nx·j) of one node layer, and the
+/// layer's row states (Extractor::row_states) that fill() skips rows by.
 struct LayerIds {
   std::vector<std::uint32_t> edge[3];
+  std::vector<std::uint8_t> rows;
 };
 
 struct LayerCounts {
@@ -174,7 +176,8 @@ struct Extractor {
     // the others keep whatever an earlier layer left there.
     const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     for (auto& e : ids.edge) e.resize(layer);
-    const std::vector<std::uint8_t> here = row_states(k);
+    ids.rows = row_states(k);
+    const std::vector<std::uint8_t>& here = ids.rows;
     const std::vector<std::uint8_t> above = k + 1 < nz ? row_states(k + 1) : here;
     std::uint32_t id = first;
     for (int j = 0; j < ny; ++j) {
@@ -209,9 +212,8 @@ struct Extractor {
       offset[e] = static_cast<std::size_t>(c0 & 1) + sy * static_cast<std::size_t>(c0 >> 1 & 1);
     }
     std::uint32_t centroid = first_centroid;
-    const std::vector<std::uint8_t> lower_rows = row_states(k), upper_rows = row_states(k + 1);
     for (int j = 0; j + 1 < ny; ++j) {
-      if (no_surface(lower_rows, upper_rows, j)) continue;
+      if (no_surface(lower.rows, upper.rows, j)) continue;
       const std::size_t m0 = sy * static_cast<std::size_t>(j);
       for_cells_in_row(j, k, [&](int i, unsigned c) {
         if (c == 0 || c == 255) return;
