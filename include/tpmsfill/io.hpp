@@ -92,8 +92,8 @@ struct WriteOptions {
   /// Auto takes the format from the path's extension (".stl" writes binary STL; "x.stl.gz"
   /// too, by the extension under ".gz").
   MeshFormat format = MeshFormat::Auto;
-  /// Auto compresses when the path ends in ".gz" (gzip, zlib's default level): the readers
-  /// inflate such files whatever their name.
+  /// Auto compresses when the path ends in ".gz" (gzip, zlib level 1: fast, for meshes of
+  /// gigabytes): the readers inflate such files whatever their name.
   Compression compression = Compression::Auto;
 };
 

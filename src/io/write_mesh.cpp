@@ -257,6 +257,12 @@ MeshFormat writable_format(const std::filesystem::path& path, const WriteOptions
   return format;
 }
 
+// Whether write_mesh and MeshWriter deflate what they write to `path`.
+bool writes_gzip(const std::filesystem::path& path, const WriteOptions& options) {
+  return options.compression == Compression::Gzip ||
+         (options.compression == Compression::Auto && is_gzip_name(path));
+}
+
 // ---- files ----------------------------------------------------------------------------------
 
 std::string os_error() {
@@ -547,11 +553,8 @@ void MeshWriter::State::commit() {
 
 MeshWriter::MeshWriter(const std::filesystem::path& path, std::uint64_t points,
                        std::uint64_t triangles, const WriteOptions& options)
-    : state_(std::make_unique<State>(
-          path, writable_format(path, options, points, triangles),
-          options.compression == Compression::Gzip ||
-              (options.compression == Compression::Auto && is_gzip_name(path)),
-          points, triangles)) {
+    : state_(std::make_unique<State>(path, writable_format(path, options, points, triangles),
+                                     writes_gzip(path, options), points, triangles)) {
   state_->emit(format_header(state_->format, points, triangles));
 }
 
