@@ -15,7 +15,6 @@
 
 #include "detail/field_planes.hpp"
 #include "detail/fill_job.hpp"
-#include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/job_progress.hpp"
 #include "detail/job_settings.hpp"
@@ -511,7 +510,7 @@ void validate(Job& job) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
   if (job.mesh.triangles.empty()) throw InputError(detail::kEmptyLattice);
-  if (o.float_coordinates) detail::round_to_float(job.mesh);
+  round_coordinates(o.rounding, job.mesh);
   r.validation = job.stage("validate", [&] {
     return validate_mesh(job.mesh, {.self_intersections = o.check_self_intersections,
                                     .cell_grid = job.grid,
@@ -752,10 +751,24 @@ void require_format(const std::filesystem::path& path, const WriteOptions& write
     throw InputError("cannot write " + unknown_mesh_extension(path));
 }
 
+// The options a job writing `path` runs with: a 3MF's rounding replaces the float rounding,
+// so the package holds exactly the mesh that was validated.
+FillOptions for_target(const FillOptions& options, const std::filesystem::path& path,
+                       const WriteOptions& write) {
+  FillOptions o = options;
+  const MeshFormat format =
+      write.format == MeshFormat::Auto ? format_from_extension(path) : write.format;
+  if (rounding_for(format) == CoordinateRounding::ThreeMf && o.rounding != CoordinateRounding::None)
+    o.rounding = CoordinateRounding::ThreeMf;
+  return o;
+}
+
 // A held result written, the write timed into its report, its mesh let go.
 void write_held(FillResult& result, const std::filesystem::path& path, const WriteOptions& write) {
   const auto t0 = std::chrono::steady_clock::now();
-  write_mesh(path, result.mesh, write);
+  WriteOptions described = write;
+  described.metadata = lattice_metadata(result.report, write.metadata);
+  write_mesh(path, result.mesh, described);
   result.report.stages.push_back(
       {"write", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
        peak_memory_mb()});
@@ -764,9 +777,10 @@ void write_held(FillResult& result, const std::filesystem::path& path, const Wri
 
 }  // namespace
 
-FillResult fill_to_file(const TriangleSoup& input, const FillOptions& options,
+FillResult fill_to_file(const TriangleSoup& input, const FillOptions& given,
                         const std::filesystem::path& path, const WriteOptions& write) {
   require_format(path, write);
+  const FillOptions options = for_target(given, path, write);
   FillResult result;
   Setup s;
   set_up(input, options, result, s, true);
@@ -832,10 +846,11 @@ FillResult fill_parts(const TriangleSoup& input, const FillOptions& options,
   return result;
 }
 
-FillResult fill_parts_to_file(const TriangleSoup& input, const FillOptions& options, int count,
+FillResult fill_parts_to_file(const TriangleSoup& input, const FillOptions& given, int count,
                               const std::function<FillPart()>& next_part,
                               const std::filesystem::path& path, const WriteOptions& write) {
   require_format(path, write);
+  const FillOptions options = for_target(given, path, write);
   FillResult result;
   Setup s;
   set_up(input, options, result, s, true);

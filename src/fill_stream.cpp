@@ -390,7 +390,7 @@ class ValidatingWriter {
     rec.new_id.assign(rec.points.size(), kNone);
     for (std::size_t p = 0; p < rec.points.size(); ++p) {
       Vec3& q = rec.points[p];
-      if (job_.options.float_coordinates) q = float_rounded(q);
+      q = round_coordinates(job_.options.rounding, q);
       if (kept(rec.point_label[p])) {
         rec.new_id[p] = static_cast<std::uint32_t>(next_id_++);
         out.push_back(q);
@@ -518,14 +518,14 @@ void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::files
   });
   job.inside_runs = job.solid_runs = Regions{};
   std::uint64_t points = 0, triangles = 0;
-  Box3 box;  // of the kept points as written (rounding to float is monotone: the box's corners)
-  const bool rounded = job.options.float_coordinates;
+  Box3 box;  // of the kept points as written (rounding is monotone: the box's corners)
+
   for (std::size_t c = 0; c < keep.size(); ++c)
     if (keep[c]) {
       points += tally.points[c];
       triangles += tally.facts.info[c].triangles;
       for (const Vec3& corner : {tally.box[c].min, tally.box[c].max})
-        box.extend(rounded ? float_rounded(corner) : corner);
+        box.extend(round_coordinates(job.options.rounding, corner));
     }
   if (triangles == 0) throw InputError(kEmptyLattice);
   if (!fits_32bit_ids(points) || !fits_32bit_ids(triangles))
@@ -542,6 +542,7 @@ void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::files
   });
   job.report.validation = out.report();
   require_valid_lattice(job.report.validation);
+  writer.set_metadata(lattice_metadata(job.report, write.metadata));
   writer.commit();
   warn_structure_porosity(job.result.resolved.design, job.report.porosity(), job.report);
   job.job_progress.finish();

@@ -47,7 +47,6 @@
 
 #include "detail/alpha_wrap.hpp"
 #include "detail/cgal_types.hpp"
-#include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/mesh_measures.hpp"
 #include "detail/soup_indices.hpp"
@@ -632,13 +631,13 @@ std::vector<RepairAction> write_log(const MeshCheck& before, const Counts& c,
   return a;
 }
 
-/// Rounds the result to float. Rounding can break a valid repair (two faces a few ulps apart
-/// now touch, a sliver turns degenerate): then the rounded mesh is repaired again, at most
-/// twice, as long as that does not change the solid.
+/// Rounds the result as its file will hold it. Rounding can break a valid repair (two faces a few
+/// ulps apart now touch, a sliver turns degenerate): then the rounded mesh is repaired again, at
+/// most twice, as long as that does not change the solid.
 void round_result(RepairResult& result, const RepairOptions& options) {
   RepairReport& report = result.report;
   const bool valid_in_double = report.after.valid();
-  detail::round_to_float(result.mesh);
+  round_coordinates(options.rounding, result.mesh);
   report.after = check_mesh(result.mesh);
   const std::optional<double> volume = report.after.volume;
   while (valid_in_double && !report.after.valid() && report.float_repasses < 2) {
@@ -648,7 +647,7 @@ void round_result(RepairResult& result, const RepairOptions& options) {
     try {
       TriangleSoup next = to_soup(again.mesh);
       canonical_order(next);
-      detail::round_to_float(next);
+      round_coordinates(options.rounding, next);
       const MeshCheck check = check_mesh(next);
       // A repair of rounding errors must not change the solid.
       if (volume &&
@@ -673,7 +672,7 @@ void wrap_result(RepairResult& result, const TriangleSoup& wrap_input,
     try {
       TriangleSoup wrapped = detail::alpha_wrap(wrap_input, report.alpha, report.offset);
       canonical_order(wrapped);
-      if (options.float_coordinates) detail::round_to_float(wrapped);
+      round_coordinates(options.rounding, wrapped);
       result.mesh = std::move(wrapped);
       report.wrapped = true;
       detail::report_or_cancel(options.progress, 0.9);
@@ -911,7 +910,7 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
   // --- 7. check; wrap if still not valid or past the tolerance ------------------------------
   detail::begin_stage(options.progress, "check result");
   report.after = check_mesh(result.mesh);
-  if (options.float_coordinates && !failure) round_result(result, options);
+  if (options.rounding != CoordinateRounding::None && !failure) round_result(result, options);
   detail::report_or_cancel(options.progress, 1.0);
   if (report.after.valid()) {
     detail::begin_stage(options.progress, "deviation");

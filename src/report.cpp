@@ -294,4 +294,27 @@ std::string to_text(const FillReport& r) {
   return s;
 }
 
+MeshMetadata lattice_metadata(const FillReport& r, MeshMetadata given) {
+  if (given.description.empty()) {
+    const ValidationReport& v = r.validation;
+    given.description =
+        "TPMS lattice (" + r.design +
+        format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z) +
+        (r.grading.empty() ? std::string() : ", " + r.grading) +
+        (r.skin > 0 ? format(", skin %g mm", r.skin) : std::string()) + ") made by tpmsfill" +
+        format(": porosity %.2f %%", 100 * r.porosity()) +
+        format(", %.0f triangles, %.1f mm3 of solid", static_cast<double>(r.triangles()),
+               r.lattice_volume()) +
+        (v.valid() ? std::string("; validated as a closed, outward 2-manifold without degenerate "
+                                 "faces") +
+                         (v.self_intersecting_pairs && *v.self_intersecting_pairs == 0
+                              ? " or self-intersections"
+                              : "")
+                   : std::string("; NOT valid")) +
+        ".";
+  }
+  given.attachments.emplace_back("Metadata/tpmsfill-report.json", to_json(r));
+  return given;
+}
+
 }  // namespace tpmsfill

@@ -180,6 +180,39 @@ TEST(CliOutputs, FillWritesGzipWhenTheNameEndsInGz) {
   }
   std::string out;
   EXPECT_EQ(run("fill '" + in.string() + "' '" + (dir / "o.gz").string() + "' --cell 4", &out), 2);
-  EXPECT_TRUE(has(out, "unknown extension (use .stl, .obj, .ply or .off, or any of them with .gz)"))
+  EXPECT_TRUE(has(
+      out,
+      "unknown extension (use .stl, .obj, .ply, .off or .3mf; the first four may end in .gz too)"))
       << out;
+}
+
+TEST(CliOutputs, FillAndRepairWrite3mfThatCheckCallsValid) {
+  // OUT.3mf from fill (a ball) and from repair (a ball with a hole): `check` reads each back as
+  // a valid closed mesh with fill's triangle count; OUT.3mf.gz is refused before any work.
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "ball.off";
+  write_mesh(in, test::make_sphere({0.5, 0, 0}, 6, 3));
+  std::string out;
+  ASSERT_EQ(run("fill '" + in.string() + "' '" + (dir / "l.3mf").string() +
+                    "' --cell 4 --voxel 0.4 --report '" + (dir / "r.json").string() + "'",
+                &out),
+            0)
+      << out;
+  EXPECT_EQ(run("check '" + (dir / "l.3mf").string() + "'", &out), 0) << out;
+  EXPECT_TRUE(has(out, "3mf")) << out;
+  const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_EQ(read_mesh(dir / "l.3mf").triangles.size(),
+            report["output"]["triangles"].get<std::size_t>());
+
+  const auto holed = dir / "holed.off";
+  write_mesh(holed, test::without_triangles(test::make_sphere({0, 0, 0}, 5, 3),
+                                            [](const Vec3& c) { return c.z > 4.6; }));
+  ASSERT_EQ(run("repair '" + holed.string() + "' '" + (dir / "fixed.3mf").string() + "'", &out), 0)
+      << out;
+  EXPECT_EQ(run("check '" + (dir / "fixed.3mf").string() + "'", &out), 0) << out;
+
+  EXPECT_EQ(run("fill '" + in.string() + "' '" + (dir / "l.3mf.gz").string() + "' --cell 4", &out),
+            2);
+  EXPECT_TRUE(has(out, "unknown extension")) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "l.3mf.gz"));
 }

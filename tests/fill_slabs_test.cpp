@@ -259,7 +259,7 @@ TEST(FillToFile, StreamedSlabsWriteTheHeldMeshByteForByte) {
                           "stream_torus");
   // Coordinates kept as doubles, no intersection search: the same on both paths too.
   FillOptions doubles = test::gyroid_options(2, 0.15);
-  doubles.float_coordinates = false;
+  doubles.rounding = CoordinateRounding::None;
   doubles.check_self_intersections = false;
   expect_streamed_as_held(test::make_box({-3, -3, -3}, {3, 3, 3}), doubles, 6, "stream_doubles");
 }

@@ -528,8 +528,8 @@ TEST(IoMeshWriter, BadFormatOrCountsAreInputErrorsAndMissingFolderIoError) {
     ADD_FAILURE() << "no exception";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "cannot write " + (dir / "m.xyz").string() +
-                                         ": unknown extension (use .stl, .obj, .ply or .off, "
-                                         "or any of them with .gz)");
+                                         ": unknown extension (use .stl, .obj, .ply, .off or "
+                                         ".3mf; the first four may end in .gz too)");
   }
   EXPECT_THROW(MeshWriter(dir / "m.stl", 3, too_many), InputError);
   EXPECT_THROW(MeshWriter(dir / "m.ply", too_many, 1), InputError);

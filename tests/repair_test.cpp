@@ -374,7 +374,7 @@ TEST(Repair, CgalDemoMeshesWithDefectsBecomeValid) {
 TEST(Repair, FloatCoordinatesAreWhatIsChecked) {
   TriangleSoup holed = cut_around(test::make_sphere({0.1, 0.2, 0.3}, 10, 3), {10, 0, 0}, 2.5);
   RepairOptions options;
-  options.float_coordinates = true;
+  options.rounding = CoordinateRounding::Float;
   const RepairResult r = repair_mesh(holed, options);
   expect_valid(r);
   for (const Vec3& p : r.mesh.points) {

@@ -65,9 +65,10 @@ struct FillOptions {
   /// Off by default: two distance transforms of the grid and one labelling cost about as much
   /// as the rest of the pipeline on small jobs (docs/benchmarks.md).
   bool measure = false;
-  /// Round the output's coordinates to float before validating, so that formats storing
-  /// floats (binary STL, PLY) hold exactly the mesh that was validated.
-  bool float_coordinates = true;
+  /// Round the output's coordinates as the file will hold them before validating, so that the
+  /// file holds exactly the mesh that was validated (rounding_for(format): Float for STL,
+  /// ThreeMf for 3MF). fill_to_file() uses the output's rounding when that is ThreeMf.
+  CoordinateRounding rounding = CoordinateRounding::Float;
   /// What the job must fit in, bytes (0: half of physical memory). A job whose grid does not
   /// fit goes slab by slab (slab_planes): the same mesh, bit for bit, in the memory of a slab
   /// and the output; one that does not fit even so is refused with a voxel size that would.

@@ -1,11 +1,12 @@
 /// @file io.hpp
-/// @brief Stage "io": mesh files to triangle soups and back (STL, OBJ, PLY, OFF).
+/// @brief Stage "io": mesh files to triangle soups and back (STL, OBJ, PLY, OFF, 3MF).
 ///
 /// Readers are our own, not CGAL's stock ones: they validate every declared count against the
 /// data size before allocating, reject non-finite coordinates and out-of-range indices with
 /// the line or byte offset, and triangulate polygons (ear clipping in the polygon's plane, a
 /// fan only where that fails). The format is decided by content first and extension second;
 /// gzip-compressed data and UTF-16 text (with a byte-order mark) are unwrapped transparently.
+/// 3MF goes through lib3mf, the 3MF Consortium's library, in both directions.
 ///
 /// Writers write a temporary file in the target folder and rename it over the target, so a
 /// failed write leaves nothing behind and never a half-written file. MeshWriter writes a mesh
@@ -31,20 +32,25 @@ enum class MeshFormat {
   Obj,        ///< Wavefront OBJ
   Ply,        ///< PLY (read: ascii and binary of either endianness; written: binary little endian)
   Off,        ///< OFF / COFF / NOFF ... (ASCII)
+  /// 3MF (a zip package; read: every build item of type model, transforms and components
+  /// applied, in mm; written: one object in millimetres, with metadata; see CoordinateRounding)
+  ThreeMf,
 };
 
-/// Lower-case name used in reports and messages: "stl-binary", "stl-ascii", "obj", "ply", "off".
+/// Lower-case name used in reports and messages: "stl-binary", "stl-ascii", "obj", "ply", "off",
+/// "3mf".
 std::string_view format_name(MeshFormat format);
 
 /// The format an extension names (case-insensitive), or Auto if it names none we know.
-/// ".stl" gives StlBinary; under a last ".gz" the extension before it counts ("x.ply.gz": Ply).
+/// ".stl" gives StlBinary; under a last ".gz" the extension before it counts ("x.ply.gz": Ply;
+/// "x.3mf.gz" names none: a 3MF package is compressed already).
 MeshFormat format_from_extension(const std::filesystem::path& path);
 
 /// Whether the name ends in ".gz" (case-insensitive).
 bool is_gzip_name(const std::filesystem::path& path);
 
 /// The one sentence for a name whose extension names no mesh format: "<path>: unknown
-/// extension (use .stl, .obj, .ply or .off, or any of them with .gz)".
+/// extension (use .stl, .obj, .ply, .off or .3mf; the first four may end in .gz too)".
 std::string unknown_mesh_extension(const std::filesystem::path& path);
 
 struct ReadOptions {
@@ -88,6 +94,36 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
 /// Whether a mesh file is written gzip-compressed.
 enum class Compression { Auto, None, Gzip };
 
+/// How a format stores coordinates, for rounding a mesh to what its file will hold *before* it
+/// is validated: the file then holds exactly the mesh that was proven valid.
+enum class CoordinateRounding {
+  None,   ///< doubles, read back bit-identical (OBJ, OFF: shortest round-trip text; PLY: binary)
+  Float,  ///< nearest float (STL)
+  /// What lib3mf 1.8 writes and reads back: the float times 10^6 in float arithmetic,
+  /// truncated to an integer, printed as micrometres, parsed to the nearest float; repeated
+  /// until it stands still, so writing a rounded point again changes nothing. Up to one
+  /// micrometre off below 16 mm, 8 micrometres at 100 mm (docs/formats.md).
+  ThreeMf,
+};
+
+/// The rounding a format needs (Float for both STLs, ThreeMf for 3MF, None for the others).
+CoordinateRounding rounding_for(MeshFormat format);
+
+/// `p` as a file with `rounding` holds it.
+Vec3 round_coordinates(CoordinateRounding rounding, Vec3 p);
+
+/// Every point of `soup` as a file with `rounding` holds it.
+void round_coordinates(CoordinateRounding rounding, TriangleSoup& soup);
+
+/// What formats that hold metadata (3MF) store beside the mesh; the others ignore it.
+struct MeshMetadata {
+  std::string title;        ///< 3MF "Title" (empty: the file name's stem)
+  std::string description;  ///< 3MF "Description": one paragraph on what the mesh is
+  /// Files stored in the package, path inside it (e.g. "Metadata/tpmsfill-report.json") to
+  /// bytes; tpmsfill writes its recipe and report there.
+  std::vector<std::pair<std::string, std::string>> attachments;
+};
+
 struct WriteOptions {
   /// Auto takes the format from the path's extension (".stl" writes binary STL; "x.stl.gz"
   /// too, by the extension under ".gz").
@@ -95,15 +131,19 @@ struct WriteOptions {
   /// Auto compresses when the path ends in ".gz" (gzip, zlib level 1: fast, for meshes of
   /// gigabytes): the readers inflate such files whatever their name.
   Compression compression = Compression::Auto;
+  /// For 3MF: title, description, attachments. "Application" is always "tpmsfill VERSION".
+  MeshMetadata metadata = {};
 };
 
 /// The options that write `path` as its name says: format by extension (under any ".gz"),
-/// gzip when it ends in ".gz". For writing to a staged name that has lost the extension.
+/// gzip when it ends in ".gz", its stem as a 3MF's title. For writing to a staged name that
+/// has lost the extension.
 WriteOptions write_options_for(const std::filesystem::path& path);
 
 /// Writes a soup, atomically: to a temporary file beside `path`, then renamed over it (a
 /// MeshWriter given the whole soup in one piece).
-/// Coordinates are written so they read back bit-identical (binary STL: as float, its format).
+/// Coordinates are written so they read back bit-identical once rounded as the format needs
+/// (rounding_for: STL as float, 3MF as lib3mf writes them); round, then validate, then write.
 /// @throws IoError     the folder is not writable, the disk is full, ...
 /// @throws InputError  no format could be taken from the extension, or the soup has an
 ///                     index out of range or more points than the format can hold
@@ -118,7 +158,9 @@ void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
 /// STL stores coordinates per facet, so its points are only counted. OBJ, OFF and PLY store
 /// all points before the first face: faces that arrive before the last point go to a second
 /// temporary (unlinked at once, so never left behind), copied after the points when the last
-/// one is added; faces that arrive after it cost nothing extra (write_mesh's case).
+/// one is added; faces that arrive after it cost nothing extra (write_mesh's case). 3MF is
+/// built whole by lib3mf at commit(): its points and triangles are held until then, as floats
+/// and 32-bit ids (24 bytes a triangle for a closed mesh), and lib3mf needs as much again.
 ///
 /// After any exception from add_points(), add_triangles() or commit() the writer is dead: its
 /// temporaries are removed at once and every later call throws InputError. Destroying a writer
@@ -155,6 +197,11 @@ class MeshWriter {
   /// @throws IoError     the disk is full, ...
   void add_triangles(std::span<const Triangle> triangles, std::span<const Vec3> window,
                      std::uint64_t first_id);
+
+  /// Replaces the metadata given in the options (for figures known only once the mesh is made);
+  /// stored at commit() by formats that hold metadata (3MF), ignored by the others.
+  /// @throws InputError  the writer is dead or committed
+  void set_metadata(MeshMetadata metadata);
 
   /// Checks that the declared counts were added, flushes, renames over `path`.
   /// @throws InputError  fewer points or triangles than declared, or the writer is dead or

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "tpmsfill/check.hpp"
+#include "tpmsfill/io.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -66,10 +67,11 @@ struct RepairOptions {
   /// Offset (mm): how far outside the input the wrap lies. 0 = alpha / 30 (CGAL's own
   /// default ratio), i.e. diagonal / 3000: 0.03 mm for a 100 mm part.
   double offset = 0;
-  /// Round the result's coordinates to float before the final check, so that formats that
-  /// store floats (STL) hold exactly the mesh that was checked. If rounding breaks validity,
-  /// the wrap runs (its output is rounded and checked too).
-  bool float_coordinates = false;
+  /// Round the result's coordinates as the output file will hold them before the final check
+  /// (rounding_for(format), io.hpp: Float for STL, ThreeMf for 3MF), so that the file holds
+  /// exactly the mesh that was checked. If rounding breaks validity, the wrap runs (its output
+  /// is rounded and checked too).
+  CoordinateRounding rounding = CoordinateRounding::None;
   /// Largest deviation from the input (RepairDeviation::worst) a repair may have to be
   /// accepted, mm. 0 = 1 % of the input's bounding-box diagonal.
   double tolerance = 0;
@@ -127,8 +129,8 @@ struct RepairReport {
   std::uint64_t fairing_undone = 0;
   /// Why the wrap ran: check_mesh()'s problems with the repaired mesh; empty when it did not.
   std::vector<std::string> unresolved;
-  /// Times steps 1-6 ran again on the result because rounding it to float
-  /// (RepairOptions::float_coordinates) broke its validity (at most 2; then the wrap).
+  /// Times steps 1-6 ran again on the result because rounding it
+  /// (RepairOptions::rounding) broke its validity (at most 2; then the wrap).
   std::uint64_t float_repasses = 0;
   bool wrapped = false;       ///< the result is an alpha wrap
   double alpha = 0;           ///< mm, the value used (0 when not wrapped)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tpmsfill/clean.hpp"
+#include "tpmsfill/io.hpp"
 #include "tpmsfill/measure.hpp"
 #include "tpmsfill/types.hpp"
 #include "tpmsfill/validate.hpp"
@@ -108,6 +109,11 @@ struct FillReport {
 std::string to_json(const FillReport& report);
 /// The human summary `tpmsfill fill` prints: a few aligned lines, one stage table.
 std::string to_text(const FillReport& report);
+
+/// What a 3MF of the lattice carries (MeshMetadata, io.hpp): `given`, with a description of the
+/// lattice (design, cell, porosity, size, what validation proved) when it has none, and the
+/// report (to_json) attached as "Metadata/tpmsfill-report.json".
+MeshMetadata lattice_metadata(const FillReport& report, MeshMetadata given = {});
 
 /// Peak resident memory of this process so far, MB.
 double peak_memory_mb();

@@ -108,7 +108,7 @@ using LayerSink = std::function<void(const Layer& layer)>;
 
 /// Slices the lattice fill(model, options) would mesh into layers of options.layer.
 /// FillOptions' mesh-only settings (keep_islands, measure, check_self_intersections,
-/// float_coordinates, slab_planes) do not apply: islands are kept (a layer cannot tell them).
+/// rounding, slab_planes) do not apply: islands are kept (a layer cannot tell them).
 /// @throws InputError      as fill() (bad options, no volume, a design refused on review);
 ///                         a layer thickness that is not positive; a start above the model
 /// @throws ResourceError   one slab of planes exceeds the memory budget

@@ -193,7 +193,7 @@ Command add_check_command(CLI::App& app) {
       "used.\n\nExit code 0: a closed, outward-oriented 2-manifold without self-intersections or "
       "degenerate faces; 1: readable but not that; 2: unreadable file or bad arguments.\n\n"
       "Example: tpmsfill check femur.stl --json > femur-check.json");
-  sub->add_option("FILE", args->input, "Mesh file: STL, OBJ, PLY or OFF (gzip allowed)")
+  sub->add_option("FILE", args->input, "Mesh file: STL, OBJ, PLY, OFF (gzip allowed) or 3MF")
       ->required();
   sub->add_flag("--json", args->json,
                 "Print one JSON object instead of text (fields: docs/cli.md)");

@@ -139,7 +139,7 @@ Command add_conformal_command(CLI::App& app) {
                   "Surface mesh (STL, OBJ, PLY, OFF; mm): oriented, one piece, one or two "
                   "boundary loops, no handles")
       ->required();
-  sub->add_option("OUT", args->output, "Output mesh (.stl, .obj, .ply, .off)")->required();
+  sub->add_option("OUT", args->output, "Output mesh (.stl, .obj, .ply, .off, .3mf)")->required();
   sub->add_option("--height", args->height, "Height H of the layer above the surface, mm")
       ->required()
       ->check(positive());

@@ -458,7 +458,7 @@ Command add_field_command(CLI::App& app) {
 
   CLI::App* mesh = field->add_subcommand("mesh", "Mesh an ITDF structure over its box (or --size)");
   mesh->add_option("IN", a->input, "ITDF file")->required()->check(existing_file());
-  mesh->add_option("OUT", a->output, "Output mesh (.stl, .obj, .ply, .off)")->required();
+  mesh->add_option("OUT", a->output, "Output mesh (.stl, .obj, .ply, .off, .3mf)")->required();
   mesh->add_option("--voxel", a->voxel, "Grid spacing, mm")->required()->check(positive());
   add_structure_flags(mesh, a->structure);
   mesh->add_flag("--keep-islands", a->keep_islands,
@@ -473,7 +473,7 @@ Command add_field_command(CLI::App& app) {
               : k == "from-points" ? "An unsigned distance field from a point cloud (PLY, XYZ)"
                                    : "A signed distance field from a CT thresholded at --iso");
     sub->add_option("IN", a->input,
-                    k == "from-mesh"     ? "Mesh: STL, OBJ, PLY or OFF (gzip allowed), mm"
+                    k == "from-mesh"     ? "Mesh: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm"
                     : k == "from-points" ? "Points: PLY vertices or XYZ text (x y z per line), mm"
                                          : "CT: .nrrd/.nhdr, .mha/.mhd, .inr, .tdf/.tdfb")
         ->required()

@@ -79,8 +79,10 @@ int run_fill(FillArgs args) {
   StagedOutputs staged;
   const std::filesystem::path mesh_path = staged.stage(args.output);
   // Under mpirun each rank fills its share of the grid; rank 0 finishes and writes.
-  std::optional<FillResult> on_ranks =
-      fill_on_ranks(file.soup, options, mesh_path, write_options_for(args.output));
+  // A 3MF carries the recipe as given (it reproduces the job) beside the report fill adds.
+  WriteOptions write = write_options_for(args.output);
+  write.metadata.attachments.emplace_back("Metadata/tpmsfill-recipe.json", recipe_json(options));
+  std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options, mesh_path, write);
   if (!on_ranks) return kOk;
   FillResult& result = *on_ranks;
   if (progress) progress->clear();
@@ -130,11 +132,12 @@ Command add_fill_command(CLI::App& app) {
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input,
-                  "Mesh: STL, OBJ, PLY or OFF (gzip allowed), mm; holes, flipped faces and "
+                  "Mesh: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm; holes, flipped faces and "
                   "overlapping shells are fine")
       ->required();
   sub->add_option("OUT", args->output,
-                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
+                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off, .3mf; "
+                  "the first four also as .gz)")
       ->required();
   add_job_options(sub, args->job);
   sub->add_flag("--full-field", args->full_field,

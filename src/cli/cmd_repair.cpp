@@ -53,7 +53,7 @@ int run_repair(const RepairArgs& args) {
   options.min_component_fraction = args.min_component;
   options.tolerance = args.tolerance;
   // STL stores floats: check what will be written.
-  options.float_coordinates = format == MeshFormat::StlBinary || format == MeshFormat::StlAscii;
+  options.rounding = rounding_for(format);
   std::unique_ptr<TerminalProgress> progress;
   if (!args.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
   options.progress = progress.get();
@@ -129,10 +129,10 @@ Command add_repair_command(CLI::App& app) {
       "Example: tpmsfill repair scan.stl scan-fixed.stl\n\n"
       "Exit code 0: repaired and written; 1: could not be made valid (nothing written); 2: "
       "unreadable input or bad arguments.");
-  sub->add_option("IN", args->input, "Mesh to repair: STL, OBJ, PLY or OFF (gzip allowed), mm")
+  sub->add_option("IN", args->input, "Mesh to repair: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm")
       ->required();
   sub->add_option("OUT", args->output,
-                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
+                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off, .3mf)")
       ->required();
   sub->add_option("--units", args->units,
                   "Unit the input was modelled in: mm, cm, m, in or um (default mm); it is "

@@ -235,7 +235,7 @@ Command add_slice_command(CLI::App& app) {
       "Exit code 0: written; 1: a layer's contours failed the exact check (nothing written; a "
       "bug); 2: unreadable input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input,
-                  "Mesh: STL, OBJ, PLY or OFF (gzip allowed), mm; holes, flipped faces and "
+                  "Mesh: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm; holes, flipped faces and "
                   "overlapping shells are fine")
       ->required();
   sub->add_option("OUT", args->output,

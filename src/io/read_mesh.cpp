@@ -16,6 +16,7 @@
 #include "detail/inflate.hpp"
 #include "detail/triangulate_polygon.hpp"
 #include "io/formats.hpp"
+#include "io/three_mf.hpp"
 
 namespace tpmsfill {
 namespace io {
@@ -115,6 +116,8 @@ MeshFormat detect(std::string_view data, const std::string& source) {
   std::string_view text = data;
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   if (text.starts_with("ply\n") || text.starts_with("ply\r")) return MeshFormat::Ply;
+  // A zip's local file header: the only zip mesh format is 3MF (lib3mf explains a wrong one).
+  if (data.starts_with("PK\x03\x04") && !is_exact_binary_stl(data)) return MeshFormat::ThreeMf;
   const std::string_view word = first_word(data);
   if (is_off_keyword(word)) return MeshFormat::Off;
   if (is_exact_binary_stl(data)) return MeshFormat::StlBinary;  // read_stl tells "solid" text
@@ -126,7 +129,7 @@ MeshFormat detect(std::string_view data, const std::string& source) {
   if (const MeshFormat hint = format_from_extension(source); hint != MeshFormat::Auto) return hint;
   // Binary data in no other format: the STL reader explains what is wrong with its count.
   if (data.size() >= 84 && has_control_bytes(data)) return MeshFormat::StlBinary;
-  fail_at_line(source, 1, "not a mesh file: no STL, OBJ, PLY or OFF content recognised");
+  fail_at_line(source, 1, "not a mesh file: no STL, OBJ, PLY, OFF or 3MF content recognised");
 }
 
 }  // namespace
@@ -145,6 +148,8 @@ std::string_view format_name(MeshFormat format) {
       return "ply";
     case MeshFormat::Off:
       return "off";
+    case MeshFormat::ThreeMf:
+      return "3mf";
   }
   return "auto";
 }
@@ -166,12 +171,15 @@ bool is_gzip_name(const std::filesystem::path& path) {
 
 std::string unknown_mesh_extension(const std::filesystem::path& path) {
   return path.string() +
-         ": unknown extension (use .stl, .obj, .ply or .off, or any of them with .gz)";
+         ": unknown extension (use .stl, .obj, .ply, .off or .3mf; the first four may end in .gz "
+         "too)";
 }
 
 MeshFormat format_from_extension(const std::filesystem::path& path) {
   // "x.stl.gz": the format of "x.stl", compressed.
-  const std::string ext = lower_extension(is_gzip_name(path) ? path.stem() : path);
+  const bool gzip = is_gzip_name(path);
+  const std::string ext = lower_extension(gzip ? path.stem() : path);
+  if (ext == ".3mf") return gzip ? MeshFormat::Auto : MeshFormat::ThreeMf;
   if (ext == ".stl") return MeshFormat::StlBinary;
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".ply") return MeshFormat::Ply;
@@ -218,6 +226,9 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
       break;
     case MeshFormat::Off:
       read_off(data, source_name, mesh);
+      break;
+    case MeshFormat::ThreeMf:
+      read_3mf(data, source_name, mesh);
       break;
   }
   if (mesh.soup.triangles.empty()) throw InputError(source_name + " contains no triangles");

@@ -2,7 +2,8 @@
 // footer, each piece formatted into a buffer and written to a temporary file beside the target
 // that is renamed over it at the end, so readers of the target never see a half-written mesh.
 // write_mesh is a MeshWriter given the whole soup in one piece of each. A ".gz" target gets
-// the same bytes deflated on their way to the file (zlib, gzip wrapper, level 1).
+// the same bytes deflated on their way to the file (zlib, gzip wrapper, level 1). 3MF is a zip
+// package that lib3mf builds whole: its pieces are held and handed over at commit.
 
 // GCC 12 at -O3 warns falsely (-Wrestrict, GCC bug 105651) inside <string> on `"literal" +
 // std::string` once inlined. The warning is located in the library header, so it can only be
@@ -28,8 +29,10 @@
 #include <utility>
 
 #include "detail/file_bytes.hpp"
+#include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/parallel.hpp"
+#include "io/three_mf.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
@@ -129,6 +132,8 @@ std::string format_header(MeshFormat format, std::uint64_t points, std::uint64_t
       append_u64(out, triangles);
       out += "\nproperty list uchar uint vertex_indices\nend_header\n";
       break;
+    case MeshFormat::ThreeMf:
+      break;  // lib3mf writes the whole package at commit
   }
   return out;
 }
@@ -138,7 +143,8 @@ void append_points(MeshFormat format, std::string& out, std::span<const Vec3> po
     case MeshFormat::Auto:
     case MeshFormat::StlBinary:
     case MeshFormat::StlAscii:
-      break;  // STL stores the coordinates with each facet
+    case MeshFormat::ThreeMf:
+      break;  // STL stores the coordinates with each facet; 3MF's are held (State)
     case MeshFormat::Obj:
       for (const Vec3& p : points) {
         out += "v ";
@@ -233,6 +239,8 @@ void append_triangles(MeshFormat format, std::string& out, std::span<const Trian
         for (const std::uint32_t v : t) append_le(out, v);
       }
       break;
+    case MeshFormat::ThreeMf:
+      break;  // held (State)
   }
 }
 
@@ -252,7 +260,9 @@ MeshFormat writable_format(const std::filesystem::path& path, const WriteOptions
   if (format == MeshFormat::Auto) format = format_from_extension(path);
   if (format == MeshFormat::Auto) throw InputError("cannot write " + unknown_mesh_extension(path));
   if ((format == MeshFormat::StlBinary && !detail::fits_32bit_ids(triangles)) ||
-      (format == MeshFormat::Ply && !detail::fits_32bit_ids(points)))
+      (format == MeshFormat::Ply && !detail::fits_32bit_ids(points)) ||
+      (format == MeshFormat::ThreeMf &&
+       !(detail::fits_32bit_ids(points) && detail::fits_32bit_ids(triangles))))
     throw InputError("cannot write " + path.string() + ": too many elements for the format");
   return format;
 }
@@ -261,6 +271,17 @@ MeshFormat writable_format(const std::filesystem::path& path, const WriteOptions
 bool writes_gzip(const std::filesystem::path& path, const WriteOptions& options) {
   return options.compression == Compression::Gzip ||
          (options.compression == Compression::Auto && is_gzip_name(path));
+}
+
+// writes_gzip, refused for 3MF (a zip package: deflating it again gains nothing and no slicer
+// would open it).
+bool checked_gzip(const std::filesystem::path& path, const WriteOptions& options,
+                  MeshFormat format) {
+  const bool gzip = writes_gzip(path, options);
+  if (gzip && format == MeshFormat::ThreeMf)
+    throw InputError("cannot write " + path.string() +
+                     ": a 3MF package is compressed already; write it without gzip");
+  return gzip;
 }
 
 // ---- files ----------------------------------------------------------------------------------
@@ -435,8 +456,12 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 
 struct MeshWriter::State {
   State(const std::filesystem::path& target, MeshFormat format_, bool gzip_, std::uint64_t points_,
-        std::uint64_t triangles_)
-      : path(target), format(format_), points(points_), triangles(triangles_) {
+        std::uint64_t triangles_, MeshMetadata metadata_)
+      : path(target),
+        format(format_),
+        points(points_),
+        triangles(triangles_),
+        metadata(std::move(metadata_)) {
     file.emplace(path);
     if (gzip_) gzip.emplace(path);
   }
@@ -470,6 +495,8 @@ struct MeshWriter::State {
     file.reset();
     gzip.reset();
     buffer = {};
+    held_xyz = {};
+    held_ids = {};
   }
   void close_sidecar() noexcept {
     if (sidecar >= 0) ::close(std::exchange(sidecar, -1));
@@ -487,12 +514,21 @@ struct MeshWriter::State {
   int sidecar = -1;
   std::uint64_t sidecar_bytes = 0;
   std::string buffer;  // one chunk, formatted
+  // 3MF: the points as floats and the triangles' ids, for lib3mf at commit.
+  MeshMetadata metadata;
+  std::vector<float> held_xyz;
+  std::vector<std::uint32_t> held_ids;
 };
 
 void MeshWriter::State::add_points(std::span<const Vec3> more) {
   if (more.size() > points - points_added)
     refuse(std::to_string(points_added + more.size()) + " points added, but " +
            std::to_string(points) + " were declared");
+  if (format == MeshFormat::ThreeMf) {
+    if (held_xyz.empty()) held_xyz.reserve(3 * points);
+    for (const Vec3& p : more)
+      for (const double c : {p.x, p.y, p.z}) held_xyz.push_back(static_cast<float>(c));
+  }
   if (indexed(format))
     for (std::size_t begin = 0; begin < more.size(); begin += kChunk) {
       buffer.clear();
@@ -525,6 +561,11 @@ void MeshWriter::State::add_triangles(std::span<const Triangle> more, const Wind
       for (const std::uint32_t v : chunk[i])
         if (v >= points || v < window.first || v - window.first >= window.points.size())
           refuse_corner(triangles_added + begin + i, v, window);
+    if (format == MeshFormat::ThreeMf) {
+      if (held_ids.empty()) held_ids.reserve(3 * triangles);
+      for (const Triangle& t : chunk) held_ids.insert(held_ids.end(), t.begin(), t.end());
+      continue;
+    }
     buffer.clear();
     append_triangles(format, buffer, chunk, window);
     if (early) {
@@ -545,6 +586,11 @@ void MeshWriter::State::commit() {
     refuse("only " + std::to_string(triangles_added) + " of the " + std::to_string(triangles) +
            " declared triangles were added");
   emit(format_footer(format));
+  if (format == MeshFormat::ThreeMf) {
+    io::write_3mf(file->fd(), path, held_xyz, held_ids, metadata);
+    held_xyz = {};
+    held_ids = {};
+  }
   if (gzip) gzip->finish(file->fd());
   file->commit();
   file.reset();
@@ -553,8 +599,11 @@ void MeshWriter::State::commit() {
 
 MeshWriter::MeshWriter(const std::filesystem::path& path, std::uint64_t points,
                        std::uint64_t triangles, const WriteOptions& options)
-    : state_(std::make_unique<State>(path, writable_format(path, options, points, triangles),
-                                     writes_gzip(path, options), points, triangles)) {
+    : state_([&] {
+        const MeshFormat format = writable_format(path, options, points, triangles);
+        return std::make_unique<State>(path, format, checked_gzip(path, options, format), points,
+                                       triangles, options.metadata);
+      }()) {
   state_->emit(format_header(state_->format, points, triangles));
 }
 
@@ -587,6 +636,10 @@ void MeshWriter::add_triangles(std::span<const Triangle> triangles, std::span<co
   }
 }
 
+void MeshWriter::set_metadata(MeshMetadata metadata) {
+  open_state().metadata = std::move(metadata);
+}
+
 void MeshWriter::commit() {
   State& state = open_state();
   try {
@@ -597,9 +650,44 @@ void MeshWriter::commit() {
   }
 }
 
+CoordinateRounding rounding_for(MeshFormat format) {
+  switch (format) {
+    case MeshFormat::StlBinary:
+    case MeshFormat::StlAscii:
+      return CoordinateRounding::Float;
+    case MeshFormat::ThreeMf:
+      return CoordinateRounding::ThreeMf;
+    default:
+      return CoordinateRounding::None;
+  }
+}
+
+Vec3 round_coordinates(CoordinateRounding rounding, Vec3 p) {
+  switch (rounding) {
+    case CoordinateRounding::None:
+      return p;
+    case CoordinateRounding::Float:
+      return detail::float_rounded(p);
+    case CoordinateRounding::ThreeMf:
+      return {io::three_mf_rounded(static_cast<float>(p.x)),
+              io::three_mf_rounded(static_cast<float>(p.y)),
+              io::three_mf_rounded(static_cast<float>(p.z))};
+  }
+  return p;
+}
+
+void round_coordinates(CoordinateRounding rounding, TriangleSoup& soup) {
+  if (rounding == CoordinateRounding::None) return;
+  detail::parallel_for(soup.points.size(), 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      soup.points[i] = round_coordinates(rounding, soup.points[i]);
+  });
+}
+
 WriteOptions write_options_for(const std::filesystem::path& path) {
   return {.format = format_from_extension(path),
-          .compression = is_gzip_name(path) ? Compression::Gzip : Compression::None};
+          .compression = is_gzip_name(path) ? Compression::Gzip : Compression::None,
+          .metadata = {.title = path.stem().string(), .description = {}, .attachments = {}}};
 }
 
 void write_mesh(const std::filesystem::path& path, const TriangleSoup& soup,
