@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The lattice catalogue: fills small inputs and the real femur with `tpmsfill fill`, one run per
-# lattice feature, renders each output with build/tests/render_png, and writes the page that
-# shows them (docs/catalogue.md). Same commands, same images: every step is deterministic.
+# lattice feature, renders each output with `tpmsfill render`, draws a messy scan's defects with
+# `tpmsfill check --picture`, and writes the page that shows them (docs/catalogue.md). Same
+# commands, same images: every step is deterministic.
 #
 #   bash scripts/catalogue.sh [OUT_DIR] [IMAGE...]
 #
@@ -32,10 +33,9 @@ if [[ "${CATALOGUE_NO_BUILD:-}" != 1 ]]; then
   bash scripts/build.sh "$build_dir" >/dev/null
 fi
 tpmsfill="$PWD/$build_dir/tpmsfill"
-render_png="$PWD/$build_dir/tests/render_png"
-for tool in "$tpmsfill" "$render_png"; do
-  [[ -x "$tool" ]] || { echo "catalogue: $tool is missing (build with TPMSFILL_BUILD_TESTS=ON)" >&2; exit 2; }
-done
+[[ -x "$tpmsfill" ]] || { echo "catalogue: $tpmsfill is missing (build it first)" >&2; exit 2; }
+"$tpmsfill" render --help >/dev/null 2>&1 ||
+  { echo "catalogue: this tpmsfill has no render command" >&2; exit 2; }
 mkdir -p "$out_dir"
 out_dir="$(cd "$out_dir" && pwd)"
 if [[ "$out_dir" == "$PWD/docs/images" ]]; then
@@ -140,7 +140,7 @@ shot() {
   local name=$1 input=$2 render_options=$3 fill_options=$4 note=$5
   local command=$shot_command
   local fill_cmd="tpmsfill $command $input $name.stl $fill_options"
-  local render_cmd="render_png $name.stl $name.png --size 480${render_options:+ $render_options}"
+  local render_cmd="tpmsfill render $name.stl $name.png --size 480${render_options:+ $render_options}"
   names+=("$name") fill_commands+=("$fill_cmd") render_commands+=("$render_cmd") notes+=("$note")
   local status=""
   if ((${#patterns[@]})); then
@@ -194,8 +194,8 @@ shot() {
     return 0
   fi
   # shellcheck disable=SC2086
-  if ! (cd "$work" && "$render_png" "$name.stl" "$out_dir/$name.png" --size 480 $render_options) \
-    2>"$work/$name.err"; then
+  if ! (cd "$work" && "$tpmsfill" render "$name.stl" "$out_dir/$name.png" --size 480 \
+    $render_options --quiet) 2>"$work/$name.err"; then
     status="FAILED: $(head -n 1 "$work/$name.err")"
     statuses+=("$status")
     printf '%-28s %s\n' "$name" "$status"
@@ -212,6 +212,43 @@ shot() {
   statuses+=("$status")
   printf '%-28s %s\n' "$name" "$status"
   [[ -n "${KEEP_DIR:-}" ]] || rm -f "$work/$name.stl"
+}
+
+# check_shot NAME INPUT "CHECK OPTIONS" "what to look for"
+# Runs `tpmsfill check INPUT --picture OUT_DIR/NAME.png --size 480 CHECK OPTIONS` in $work: the
+# input's defects drawn over it. Exit 1 (not valid) is what a messy input gives, not a failure.
+check_shot() {
+  local name=$1 input=$2 check_options=$3 note=$4
+  local check_cmd="tpmsfill check $input --picture $name.png --size 480${check_options:+ $check_options}"
+  names+=("$name") fill_commands+=("$check_cmd") render_commands+=("") notes+=("$note")
+  local status="" p code=0
+  if ((${#patterns[@]})); then
+    status="not selected"
+    for p in "${patterns[@]}"; do
+      # shellcheck disable=SC2053  # the pattern is meant to match as a glob
+      [[ "$name" == $p ]] && status=""
+    done
+  fi
+  [[ -n "$status" || -f "$work/$input" ]] || status="skipped: no $input (apt-get install libcgal-demo)"
+  if [[ -n "$status" ]]; then
+    statuses+=("$status")
+    [[ "$status" == "not selected" ]] || printf '%-28s %s\n' "$name" "$status"
+    return 0
+  fi
+  local t0 t1
+  t0=$(now)
+  # shellcheck disable=SC2086  # the options are words
+  (cd "$work" && "$tpmsfill" check "$input" --picture "$out_dir/$name.png" --size 480 \
+    $check_options >"$work/$name.out" 2>"$work/$name.err") || code=$?
+  t1=$(now)
+  if ((code > 1)); then
+    status="FAILED (exit $code): $(head -n 1 "$work/$name.err")"
+  else
+    status=$(awk -v f="$t1" -v s="$t0" -v kb="$(($(stat -c %s "$out_dir/$name.png") / 1024))" \
+      'BEGIN { printf "made: check %.1f s, %d KB", f - s, kb }')
+  fi
+  statuses+=("$status")
+  printf '%-28s %s\n' "$name" "$status"
 }
 
 # --- the features, one function each ------------------------------------------------------------
@@ -307,6 +344,16 @@ image_conformal() {
   shot_command=fill
 }
 
+# A messy scan's defects (issue 17): Debian's elephant with holes, `check --picture`.
+image_check() {
+  if [[ -f "$femur_tarball" ]]; then
+    tar -xzf "$femur_tarball" -C "$work" --strip-components=2 \
+      data/meshes/elephant-with-holes.off 2>/dev/null || true
+  fi
+  check_shot check-elephant elephant-with-holes.off "--view z" \
+    "Debian's elephant with holes, as a scan comes: each hole's rim drawn in the border colour, thick and over the surface, paler where the body hides it; the legend counts every defect class"
+}
+
 # >>> HYBRID RECIPES SLOT: every docs/recipes/*.json, filled into the 20 mm cube, image named
 # >>> after the recipe. The fill gets only --recipe and --voxel: lattice types, cells and the
 # >>> blend region come from the recipe.
@@ -326,7 +373,7 @@ image_recipes() {
 
 features=(image_types image_porosity image_rotation image_grade_linear image_grade_radial
   image_grade_depth image_grade_cell image_skin image_femur_gyroid image_field image_conformal
-  image_recipes)
+  image_check image_recipes)
 for feature in "${features[@]}"; do "$feature"; done
 
 # --- the page ----------------------------------------------------------------------------------
@@ -343,7 +390,11 @@ picture() {  # markdown for NAME's picture, or a note that it is not made yet
 commands() {  # the commands behind NAME, as a shell block
   local i
   i=$(index_of "$1")
-  printf '```\n%s\n%s\n```\n' "${fill_commands[$i]}" "${render_commands[$i]}"
+  if [[ -n "${render_commands[$i]}" ]]; then
+    printf '```\n%s\n%s\n```\n' "${fill_commands[$i]}" "${render_commands[$i]}"
+  else
+    printf '```\n%s\n```\n' "${fill_commands[$i]}"
+  fi
 }
 section() {  # section TITLE NAME: picture, commands, what to look for
   local i note
@@ -368,7 +419,7 @@ tmp_page="$page.tmp"
 # Lattice catalogue
 
 One picture per lattice feature, each a real `tpmsfill fill` output rendered by
-`build/tests/render_png` (orthographic, 2×2 supersampled; where the mesh is cut open with
+`tpmsfill render` (orthographic, 2×2 supersampled; where the mesh is cut open with
 `--clip`, the cut is drawn flat in a darker, warmer tint). Every picture is made by
 [`scripts/catalogue.sh`](../scripts/catalogue.sh), which builds, writes the inputs, runs the
 commands shown under each picture and writes this page:
@@ -399,7 +450,7 @@ EOF
 ```
 tpmsfill fill cube10.off types-network-TYPE.stl --lattice TYPE --cell 5 --voxel 0.1
 tpmsfill fill cube10.off types-sheet-TYPE.stl --lattice TYPE --sheet --cell 5 --voxel 0.1
-render_png types-network-TYPE.stl types-network-TYPE.png --size 480
+tpmsfill render types-network-TYPE.stl types-network-TYPE.png --size 480
 ```
 
 Look for each surface's symmetry: primitive's straight channels along the axes, the gyroid's
@@ -462,6 +513,7 @@ TEXT
     i=$(index_of "$name")
     printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
   done
+  section "A messy scan, checked: check --picture" check-elephant
   hybrids=()
   for i in "${!names[@]}"; do
     [[ "${fill_commands[$i]}" == *--recipe* ]] && hybrids+=("${names[$i]}")

@@ -341,7 +341,8 @@ std::vector<int> outward_directions(const SoupTopology& topo, const std::vector<
 /// their first occurrence in the input (a clean indexed mesh keeps its numbering).
 TriangleSoup oriented_soup(const SoupTopology& topo, const std::vector<std::uint8_t>& keep,
                            const Pieces& pieces, const std::vector<int>& direction,
-                           const std::vector<Vec3>& position, CleanReport& r) {
+                           const std::vector<Vec3>& position, CleanReport& r,
+                           std::vector<std::uint32_t>& reversed) {
   TriangleSoup out;
   std::vector<std::uint32_t> new_id(topo.vertex_count, kNoIndex);
   for (std::size_t t = 0; t < keep.size(); ++t)
@@ -356,6 +357,7 @@ TriangleSoup oriented_soup(const SoupTopology& topo, const std::vector<std::uint
     if (!keep[t]) continue;
     const bool reverse = (pieces.flip[t] != 0) != (direction[pieces.piece[t]] < 0);
     if (pieces.flip[t]) ++r.flipped_triangles;
+    if (reverse) reversed.push_back(static_cast<std::uint32_t>(t));
     const auto& c = topo.corners[t];
     out.triangles.push_back(reverse ? Triangle{new_id[c[0]], new_id[c[2]], new_id[c[1]]}
                                     : Triangle{new_id[c[0]], new_id[c[1]], new_id[c[2]]});
@@ -404,7 +406,7 @@ CleanResult clean_soup(const TriangleSoup& soup, const CleanOptions& options) {
           ? outward_directions(topo, keep, pieces,
                                piece_volumes(topo, keep, pieces, darts, position), position, r)
           : std::vector<int>(pieces.first.size(), 1);
-  result.soup = oriented_soup(topo, keep, pieces, direction, position, r);
+  result.soup = oriented_soup(topo, keep, pieces, direction, position, r, result.reversed);
   r.vertices = result.soup.points.size();
   result.caps = cap_holes(topo, darts, direction, position, r);
   return result;

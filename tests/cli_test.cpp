@@ -323,7 +323,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
-      {"", "a command is needed: check, fill, repair, field, conformal or slice"},
+      {"", "a command is needed: check, fill, repair, field, conformal, slice or render"},
       {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
@@ -70,6 +71,9 @@ struct CleanResult {
   /// Empty when soup is closed: every edge's uses cancel.
   TriangleSoup caps;
   CleanReport report;
+  /// Input indices of the kept triangles that `soup` turns round (steps 3 and 4), ascending:
+  /// the faces that point the wrong way (what `check --picture` shows as flipped).
+  std::vector<std::uint32_t> reversed;
 };
 
 /// Cleans `soup` as described above.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cinttypes>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -11,10 +12,12 @@
 #include <string>
 #include <tpmsfill/check.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/render.hpp>
 #include <tpmsfill/units.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/picture_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -27,6 +30,8 @@ struct CheckArgs {
   std::size_t max_examples = 10;
   std::string units = "mm";
   int threads = 0;
+  std::string picture;  ///< --picture: where the defects are drawn
+  PictureArgs view;
 };
 
 std::string point(const Vec3& p) {
@@ -137,16 +142,45 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
       "triangulation)\n");
 }
 
+// The check with at most n examples of each defect class (the picture draws them all).
+MeshCheck with_examples(MeshCheck c, std::size_t n) {
+  auto cut = [n](auto& v) { v.resize(std::min(v.size(), n)); };
+  cut(c.border_edge_examples);
+  cut(c.non_manifold_edge_examples);
+  cut(c.inconsistent_edge_examples);
+  cut(c.non_manifold_vertex_examples);
+  cut(c.degenerate_triangle_examples);
+  cut(c.duplicate_triangle_examples);
+  cut(c.self_intersection_examples);
+  return c;
+}
+
+// The defects drawn over the mesh (in millimetres, as the check's locations are).
+void write_picture(const CheckArgs& args, TriangleSoup soup, const MeshCheck& check,
+                   double mm_per_unit) {
+  if (mm_per_unit != 1)
+    for (Vec3& p : soup.points) p = mm_per_unit * p;
+  const RenderOptions options = mark_defects(soup, check, picture_options(args.view));
+  write_png(args.picture, render_mesh(soup, options));
+}
+
 int run_check(const CheckArgs& args) {
   std::optional<tbb::global_control> threads;
   if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+  if (!args.picture.empty()) {
+    require_png_name("--picture", args.picture);
+    require_writable_outputs({args.input}, {{"--picture", args.picture}});
+    picture_options(args.view);  // refuse a bad --view before the work
+  }
 
-  const MeshFile file = read_mesh_file(args.input);
+  MeshFile file = read_mesh_file(args.input);
   CheckOptions options;
   options.self_intersections = !args.skip_self_intersections;
-  options.max_examples = args.max_examples;
+  options.max_examples = args.picture.empty() ? args.max_examples : SIZE_MAX;
   options.units.units = units_from_name(args.units);
-  const MeshCheck check = check_mesh(file.soup, options);
+  const MeshCheck all = check_mesh(file.soup, options);
+  if (!args.picture.empty()) write_picture(args, std::move(file.soup), all, options.units.factor());
+  const MeshCheck check = with_examples(all, args.max_examples);
   // A part a thousandth or a thousand times the size of anything printable was most likely
   // modelled in another unit: say which before the user fills it.
   std::string hint = units_hint(check.bbox, options.units.units);
@@ -175,6 +209,7 @@ int run_check(const CheckArgs& args) {
     print_warnings(file.warnings);
     print_text(args.input, file, check);
     if (!hint.empty()) std::printf("hint: %s\n", hint.c_str());
+    if (!args.picture.empty()) std::printf("picture: %s\n", args.picture.c_str());
   }
   return check.valid() ? kOk : kNotValid;
 }
@@ -192,7 +227,14 @@ Command add_check_command(CLI::App& app) {
       "bit-identical coordinates are merged first (STL stores three per facet); no tolerance is "
       "used.\n\nExit code 0: a closed, outward-oriented 2-manifold without self-intersections or "
       "degenerate faces; 1: readable but not that; 2: unreadable file or bad arguments.\n\n"
-      "Example: tpmsfill check femur.stl --json > femur-check.json");
+      "--picture draws the mesh with its defects marked: border edges, non-manifold edges and "
+      "vertices, self-intersecting pairs and flipped faces in their own colours (told apart "
+      "with colour-blind eyes too), edges thick and paler where the surface hides them, with a "
+      "legend; a valid mesh gives a plain picture that says so.\n\n"
+      "Examples:\n"
+      "  tpmsfill check femur.stl --json > femur-check.json\n"
+      "  tpmsfill check scan.stl --picture scan-defects.png\n"
+      "  tpmsfill check scan.stl --picture underside.png --view=-z --size 1024");
   sub->add_option("FILE", args->input, "Mesh file: STL, OBJ, PLY, OFF (gzip allowed) or 3MF")
       ->required();
   sub->add_flag("--json", args->json,
@@ -207,6 +249,10 @@ Command add_check_command(CLI::App& app) {
       ->check(between(0, 1000000, "0 to 1000000"));
   sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
       ->check(between(1, 1024, "1 to 1024"));
+  sub->add_option("--picture", args->picture,
+                  "Also draw the mesh with its defects marked to this PNG (written whatever the "
+                  "verdict); --view, --clip and --size as for render");
+  add_picture_options(sub, args->view, true);
   return [args] { return run_check(*args); };
 }
 

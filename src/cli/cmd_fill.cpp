@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,12 +16,14 @@
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/itdf.hpp>
 #include <tpmsfill/recipe.hpp>
+#include <tpmsfill/render.hpp>
 #include <vector>
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
 #include "cli/memory_policy.hpp"
+#include "cli/picture_flags.hpp"
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
@@ -30,7 +33,7 @@ namespace tpmsfill::cli {
 namespace {
 
 struct FillArgs {
-  std::string input, output, report;
+  std::string input, output, report, preview;
   JobArgs job;
   bool measure = false, full_field = false, keep_islands = false, no_self_intersections = false;
   bool quiet = false;
@@ -39,6 +42,24 @@ struct FillArgs {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// --preview: the lattice cut open at the middle of its box (the half nearer the camera taken
+// away), seen from the default three-quarter view. A mesh streamed to disk is read back.
+void write_preview(const FillArgs& args, const FillResult& result,
+                   const std::filesystem::path& mesh_path, const std::filesystem::path& to) {
+  TriangleSoup read_back;
+  if (result.mesh.triangles.empty()) {
+    ReadOptions read;
+    read.format = format_from_extension(args.output);
+    read.max_bytes = std::numeric_limits<std::uint64_t>::max();  // it is our own output
+    read_back = read_mesh_file(mesh_path, read).soup;
+  }
+  const TriangleSoup& mesh = result.mesh.triangles.empty() ? read_back : result.mesh;
+  RenderOptions options;
+  options.clip.axis = 1;
+  options.clip.position = bounding_box(mesh).centre().y;
+  write_file_atomically(to, encode_png(render_mesh(mesh, options)));
 }
 
 int run_fill(FillArgs args) {
@@ -58,6 +79,10 @@ int run_fill(FillArgs args) {
     throw InputError(unknown_mesh_extension(args.output));
   std::vector<OutputFile> outputs{{"OUT", args.output}};
   if (!args.report.empty()) outputs.push_back({"--report", args.report});
+  if (!args.preview.empty()) {
+    require_png_name("--preview", args.preview);
+    outputs.push_back({"--preview", args.preview});
+  }
   std::vector<std::filesystem::path> inputs{args.input};
   for (const std::string& f : {args.job.field, args.job.recipe})
     if (!f.empty()) inputs.emplace_back(f);
@@ -92,11 +117,13 @@ int run_fill(FillArgs args) {
   record_provenance(report, args.input);
   report.stages.insert(report.stages.begin(), read);
   if (!args.report.empty()) write_file_atomically(staged.stage(args.report), to_json(report));
+  if (!args.preview.empty()) write_preview(args, result, mesh_path, staged.stage(args.preview));
   staged.commit();
 
   if (!args.quiet) {
     std::printf("%s -> %s\n%s", args.input.c_str(), args.output.c_str(), to_text(report).c_str());
     if (!args.report.empty()) std::printf("report       %s\n", args.report.c_str());
+    if (!args.preview.empty()) std::printf("preview      %s\n", args.preview.c_str());
   }
   print_warnings(report.warnings);
   return kOk;
@@ -128,7 +155,8 @@ Command add_fill_command(CLI::App& app) {
       "--grade-along depth --skin 0.4\n"
       "  tpmsfill fill part.stl graded.stl --lattice iwp --grade cell 2 4 --grade-along x\n"
       "  tpmsfill fill part.stl hybrid.stl --recipe hybrid.json   (docs/recipes.md)\n"
-      "  tpmsfill fill bracket-in-metres.stl lattice.stl --units m --cell 4\n\n"
+      "  tpmsfill fill bracket-in-metres.stl lattice.stl --units m --cell 4\n"
+      "  tpmsfill fill femur.stl scaffold.stl --cell 2 --preview scaffold.png\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input,
@@ -151,6 +179,9 @@ Command add_fill_command(CLI::App& app) {
   sub->add_flag("--no-self-intersections", args->no_self_intersections,
                 "Skip the self-intersection search when validating");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
+  sub->add_option("--preview", args->preview,
+                  "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "
+                  "middle of its box, seen from the three-quarter view of `tpmsfill render`");
   sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
       ->check(between(1, 1024, "1 to 1024"));
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");

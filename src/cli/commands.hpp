@@ -25,5 +25,6 @@ Command add_repair_command(CLI::App& app);
 Command add_field_command(CLI::App& app);
 Command add_conformal_command(CLI::App& app);
 Command add_slice_command(CLI::App& app);
+Command add_render_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

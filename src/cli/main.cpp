@@ -21,7 +21,7 @@ int run(int argc, char** argv) {
       "Reads STL (ASCII or binary), OBJ, PLY and OFF, also gzip-compressed; `field` turns a "
       "scanned distance field or CT into a porous structure (seed 003); `conformal` grows a "
       "lattice "
-      "layer that follows a surface (seed 004).\n",
+      "layer that follows a surface (seed 004); `render` draws a mesh to a PNG picture.\n",
       "tpmsfill"};
   app.set_version_flag("--version", "tpmsfill " TPMSFILL_VERSION);
   app.require_subcommand(1);
@@ -38,6 +38,7 @@ int run(int argc, char** argv) {
   Command field = add_field_command(app);
   Command conformal = add_conformal_command(app);
   Command slice = add_slice_command(app);
+  Command render = add_render_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
@@ -84,6 +85,8 @@ int run(int argc, char** argv) {
         return conformal();
       else if (sub->get_name() == "slice")
         return slice();
+      else if (sub->get_name() == "render")
+        return render();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

@@ -1,6 +1,6 @@
 /// @file png.hpp
 /// @brief An 8-bit PNG encoder over zlib: what the layer writer's masks and the docs' renderer
-/// (tests/tools/render_png) both write.
+/// (render.hpp: `tpmsfill render`, `fill --preview`, `check --picture`) both write.
 #pragma once
 
 #include <cstdint>
