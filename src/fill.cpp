@@ -594,7 +594,69 @@ void warn_structure_porosity(const LatticeDesign& d, double got, FillReport& r) 
   r.warnings.push_back(text);
 }
 
+namespace {
+
+// "0.061 mm at (1.2, 3.4, 5.6), ..." for the first three.
+std::string worst_places(const std::vector<SizeSample>& smallest) {
+  std::string out;
+  char text[120];
+  for (std::size_t i = 0; i < std::min<std::size_t>(3, smallest.size()); ++i) {
+    const SizeSample& s = smallest[i];
+    std::snprintf(text, sizeof text, "%s%.3g mm at (%.2f, %.2f, %.2f)", i ? ", " : "", s.diameter,
+                  s.at.x, s.at.y, s.at.z);
+    out += text;
+  }
+  return out;
+}
+
+void warn_below(const SizeDistribution& d, double limit, const char* what, const char* flag,
+                const char* remedy, double voxel, FillReport& r) {
+  if (limit <= 0 || d.below_limit + d.below_limit_at_surface == 0) return;
+  char text[600];
+  std::string sentence;
+  if (d.below_limit > 0) {
+    std::vector<SizeSample> below;
+    for (const SizeSample& s : d.smallest)
+      if (s.diameter < limit) below.push_back(s);
+    std::snprintf(text, sizeof text,
+                  "%s below %s %g mm: %.3g %% of the %.0f measured inside the part (p10 %.3g "
+                  "mm, median %.3g mm); the smallest: %s; %s",
+                  what, flag, limit,
+                  100.0 * static_cast<double>(d.below_limit) / static_cast<double>(d.samples),
+                  static_cast<double>(d.samples), d.p10, d.p50, worst_places(below).c_str(),
+                  remedy);
+    sentence = text;
+    if (d.below_limit_at_surface > 0) {
+      std::snprintf(text, sizeof text, "; %.0f more where the part's surface cuts the lattice",
+                    static_cast<double>(d.below_limit_at_surface));
+      sentence += text;
+    }
+  } else {
+    std::snprintf(text, sizeof text,
+                  "%s below %s %g mm only where the part's surface cuts the lattice: %.0f "
+                  "sample(s), slivers that may not print (a skin, --skin, holds them)",
+                  what, flag, limit, static_cast<double>(d.below_limit_at_surface));
+    sentence = text;
+  }
+  std::snprintf(text, sizeof text, " (sizes measured to about +-%g mm, half a voxel)", voxel / 2);
+  r.warnings.push_back(sentence + text);
+}
+
+}  // namespace
+
+void warn_printability(const FillOptions& o, double voxel, FillReport& r) {
+  if (!r.measures) return;
+  warn_below(r.measures->wall, o.min_wall, "walls", "--min-wall",
+             "thicken them (a lower --porosity, a larger --thickness or --cell)", voxel, r);
+  warn_below(r.measures->pore, o.min_pore, "pores", "--min-pore",
+             "powder or resin may stay trapped; widen them (a higher --porosity or a larger "
+             "--cell)",
+             voxel, r);
+}
+
 LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& o, FillReport& r) {
+  r.min_wall = o.min_wall;
+  r.min_pore = o.min_pore;
   r.units = units_name(o.units.units);
   r.scale = o.units.scale;
   r.mm_per_unit = o.units.factor();
@@ -691,6 +753,11 @@ void set_up(const TriangleSoup& input, const FillOptions& options, FillResult& r
   require_valid(options.units);
   require_valid(options.design);
   require_valid(ComposeOptions{.skin = options.skin});  // fail before any work
+  for (const double limit : {options.min_wall, options.min_pore})
+    if (!(limit >= 0 && std::isfinite(limit)))
+      throw InputError("min_wall and min_pore must be finite and not negative (0: no limit)");
+  if ((options.min_wall > 0 || options.min_pore > 0) && !options.measure)
+    throw InputError("min_wall and min_pore are checked against the measures: set measure too");
   if (options.units.factor() != 1) s.in_mm = to_millimetres(input, options.units);
   s.model = s.in_mm ? &*s.in_mm : &input;
   result.resolved = options;
@@ -703,10 +770,14 @@ void finish(Job& job) {
   FillResult& result = job.result;
   const FillOptions& options = job.options;
   job.stage("islands", [&] { remove_islands(job); });
-  if (options.measure)
+  if (options.measure) {
     result.report.measures = job.stage("measure", [&] {
-      return measure_lattice(job.phi, job.occupancy.inside, {.progress = job.progress});
+      return measure_lattice(
+          job.phi, job.occupancy.inside,
+          {.min_wall = options.min_wall, .min_pore = options.min_pore, .progress = job.progress});
     });
+    detail::warn_printability(options, job.grid.spacing, result.report);
+  }
   job.phi = Field{};
   job.occupancy = Occupancy{};
   job.depth.reset();

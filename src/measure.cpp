@@ -33,6 +33,10 @@ void require_valid(const Field& phi, const Mask& inside, const MeasureOptions& o
   if (!(phi.grid == inside.grid) || phi.values.size() != inside.values.size())
     throw InputError("the field and the inside mask are not on the same grid");
   if (options.histogram_bins < 1) throw InputError("histogram_bins must be at least 1");
+  if (options.smallest < 0) throw InputError("smallest must not be negative");
+  for (const double limit : {options.min_wall, options.min_pore})
+    if (!(limit >= 0 && std::isfinite(limit)))
+      throw InputError("min_wall and min_pore must be finite and not negative (0: no limit)");
   if (!(options.min_labyrinth_fraction >= 0 && options.min_labyrinth_fraction <= 1))
     throw InputError("min_labyrinth_fraction must lie in [0, 1]");
 }
@@ -131,9 +135,15 @@ SurfaceDistance surface_distance(const Mask& set, bool beyond_grid_set,
 // neighbour's refined distance only where r, its upper bound, is larger. A climb that leaves
 // the sampled nodes (a pore whose centre lies outside the model) samples nothing. A diameter is
 // twice the refined distance plus `bias`.
+// A phase's ridge samples: node indices ascending, and their diameters.
+struct Ridge {
+  std::vector<std::size_t> nodes;
+  std::vector<double> diameters;
+};
+
 template <class Sample>
-std::vector<double> ridge_diameters(const SurfaceDistance& d, const SurfaceEstimate& estimate,
-                                    double bias, const Sample& sample) {
+Ridge ridge_diameters(const SurfaceDistance& d, const SurfaceEstimate& estimate, double bias,
+                      const Sample& sample) {
   const Grid& g = estimate.grid;
   const std::vector<float>& r = d.r;
   const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
@@ -239,9 +249,46 @@ std::vector<double> ridge_diameters(const SurfaceDistance& d, const SurfaceEstim
   peaks.erase(std::unique(peaks.begin(), peaks.end(),
                           [](const Peak& x, const Peak& y) { return x.node == y.node; }),
               peaks.end());
-  std::vector<double> diameters(peaks.size());
-  for (std::size_t p = 0; p < peaks.size(); ++p) diameters[p] = 2 * peaks[p].value + bias;
-  return diameters;
+  Ridge ridge;
+  ridge.nodes.resize(peaks.size());
+  ridge.diameters.resize(peaks.size());
+  for (std::size_t p = 0; p < peaks.size(); ++p) {
+    ridge.nodes[p] = peaks[p].node;
+    ridge.diameters[p] = 2 * peaks[p].value + bias;
+  }
+  return ridge;
+}
+
+// The summary's printability part: the smallest samples away from the model's surface, and
+// the samples below `limit` (0: none), in node order so any thread count gives the same. A
+// sample is at the model's surface when the sphere that measured it comes within a voxel of
+// the surface (`to_outside`: each node's distance to the nearest node outside the model):
+// there the surface cuts the lattice, and the size is the cut's, not the design's.
+void add_smallest(SizeDistribution& s, const Ridge& ridge, const Field& to_outside, double limit,
+                  int count) {
+  const Grid& g = to_outside.grid;
+  std::vector<std::size_t> away;  // indices into ridge, away from the model's surface
+  for (std::size_t p = 0; p < ridge.nodes.size(); ++p) {
+    const bool surface = to_outside.values[ridge.nodes[p]] < ridge.diameters[p] / 2 + g.spacing;
+    if (!surface) away.push_back(p);
+    if (limit > 0 && ridge.diameters[p] < limit)
+      ++(surface ? s.below_limit_at_surface : s.below_limit);
+  }
+  const auto by_size = [&](std::size_t a, std::size_t b) {
+    return ridge.diameters[a] < ridge.diameters[b] ||
+           (ridge.diameters[a] == ridge.diameters[b] && a < b);
+  };
+  const std::size_t keep = std::min(away.size(), static_cast<std::size_t>(count));
+  std::partial_sort(away.begin(), away.begin() + static_cast<std::ptrdiff_t>(keep), away.end(),
+                    by_size);
+  for (std::size_t q = 0; q < keep; ++q) {
+    const std::size_t p = away[q];
+    const std::size_t n = ridge.nodes[p], nx = static_cast<std::size_t>(g.dims[0]),
+                      ny = static_cast<std::size_t>(g.dims[1]);
+    s.smallest.push_back(
+        {ridge.diameters[p], g.node(static_cast<int>(n % nx), static_cast<int>(n / nx % ny),
+                                    static_cast<int>(n / (nx * ny)))});
+  }
 }
 
 // Linear interpolation between order statistics (R's type 7) of the partially ordered d.
@@ -303,21 +350,24 @@ LatticeMeasures measure_lattice(const Field& phi, const Mask& inside,
            phi.values[i] != std::numeric_limits<float>::min();
   };
   LatticeMeasures m;
+  const Field to_outside = distance_transform(inside);  // beyond the grid is outside
   {
     const SurfaceEstimate estimate{g, phi, -1.0};
     const SurfaceDistance d = surface_distance(not_solid, true, estimate);
     progress.add(1);
-    m.pore = summarize(ridge_diameters(d, estimate, kRidgeBias * g.spacing, is_void),
-                       options.histogram_bins, g.spacing);
+    Ridge ridge = ridge_diameters(d, estimate, kRidgeBias * g.spacing, is_void);
+    m.pore = summarize(ridge.diameters, options.histogram_bins, g.spacing);
+    add_smallest(m.pore, ridge, to_outside, options.min_pore, options.smallest);
     progress.add(1);
   }
   {
     const SurfaceEstimate estimate{g, phi, 1.0};
     const SurfaceDistance d = surface_distance(solid, false, estimate);
     progress.add(1);
-    m.wall = summarize(ridge_diameters(d, estimate, kRidgeBias * g.spacing,
-                                       [&](std::size_t i) { return solid.values[i] != 0; }),
-                       options.histogram_bins, g.spacing);
+    const Ridge ridge = ridge_diameters(d, estimate, kRidgeBias * g.spacing,
+                                        [&](std::size_t i) { return solid.values[i] != 0; });
+    m.wall = summarize(ridge.diameters, options.histogram_bins, g.spacing);
+    add_smallest(m.wall, ridge, to_outside, options.min_wall, options.smallest);
     progress.add(1);
   }
   // The void inside the model, reusing not_solid's bytes.

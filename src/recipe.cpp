@@ -245,6 +245,8 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   r.boolean("full_field", o.full_field);
   r.boolean("keep_islands", o.keep_islands);
   r.boolean("measure", o.measure);
+  r.number("min_wall", o.min_wall);  // printability limits, mm (0: none)
+  r.number("min_pore", o.min_pore);
   r.boolean("self_intersections", o.check_self_intersections);
   if (const json* v = r.get("custom"); v && !(v->is_boolean() && !v->get<bool>()))
     r.fail("custom", "a custom field is code: it cannot come from a recipe");
@@ -335,6 +337,8 @@ std::string recipe_json(const FillOptions& o) {
   j["full_field"] = o.full_field;
   j["keep_islands"] = o.keep_islands;
   j["measure"] = o.measure;
+  j["min_wall"] = o.min_wall;
+  j["min_pore"] = o.min_pore;
   j["self_intersections"] = o.check_self_intersections;
   if (!o.design.structure_file.empty())
     j["field"] = o.design.structure_file;

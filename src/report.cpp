@@ -14,14 +14,33 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-json sizes(const SizeDistribution& d) {
-  return {{"samples", d.samples}, {"min", d.min}, {"mean", d.mean}, {"max", d.max},
-          {"p10", d.p10},         {"p50", d.p50}, {"p90", d.p90},   {"bin_edges", d.bin_edges},
-          {"counts", d.counts}};
-}
-
 json point(Vec3 p) {
   return json::array({p.x, p.y, p.z});
+}
+
+json sizes(const SizeDistribution& d) {
+  json smallest = json::array();
+  for (const SizeSample& s : d.smallest)
+    smallest.push_back({{"diameter", s.diameter}, {"at", point(s.at)}});
+  return {
+      {"samples", d.samples}, {"min", d.min},        {"mean", d.mean}, {"max", d.max},
+      {"p10", d.p10},         {"p50", d.p50},        {"p90", d.p90},   {"bin_edges", d.bin_edges},
+      {"counts", d.counts},   {"smallest", smallest}};
+}
+
+// The printability check: the limits and how many samples fell below them (null: no limits).
+json printability(const FillReport& r) {
+  if (r.min_wall <= 0 && r.min_pore <= 0) return nullptr;
+  const auto limit = [](double v) { return v > 0 ? json(v) : json(nullptr); };
+  const auto below = [&](const SizeDistribution* d, double v) {
+    if (!d || v <= 0) return json(nullptr);
+    return json{{"inside", d->below_limit}, {"at_surface", d->below_limit_at_surface}};
+  };
+  const LatticeMeasures* m = r.measures ? &*r.measures : nullptr;
+  return {{"min_wall", limit(r.min_wall)},
+          {"min_pore", limit(r.min_pore)},
+          {"walls_below", below(m ? &m->wall : nullptr, r.min_wall)},
+          {"pores_below", below(m ? &m->pore : nullptr, r.min_pore)}};
 }
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
@@ -166,6 +185,7 @@ std::string to_json(const FillReport& r) {
                               {"void_components", r.measures->void_components},
                               {"labyrinths", r.measures->labyrinths},
                               {"largest_void_fraction", r.measures->largest_void_fraction}}},
+      {"printability", printability(r)},
       {"cavities", r.cavities},
       {"cavities_volume", r.cavities_volume},
       {"validation",
@@ -279,6 +299,14 @@ std::string to_text(const FillReport& r) {
           : m.labyrinths == 2 ? std::string(": two interwoven voids, as a sheet makes")
                               : std::string()) +
          format(" (%.0f piece(s) in all)\n", static_cast<double>(m.void_components));
+    for (const auto& [label, limit, d] :
+         {std::tuple{"printable    walls >= ", r.min_wall, &m.wall},
+          std::tuple{"printable    pores >= ", r.min_pore, &m.pore}})
+      if (limit > 0)
+        s += std::string(label) +
+             format("%g mm: %.0f sample(s) below inside the part, %.0f at its surface\n", limit,
+                    static_cast<double>(d->below_limit),
+                    static_cast<double>(d->below_limit_at_surface));
   }
   if (r.islands_removed)
     s += format("islands      %.0f removed (%.3g mm3)\n", static_cast<double>(r.islands_removed),

@@ -216,3 +216,27 @@ TEST(CliOutputs, FillAndRepairWrite3mfThatCheckCallsValid) {
   EXPECT_TRUE(has(out, "unknown extension")) << out;
   EXPECT_FALSE(std::filesystem::exists(dir / "l.3mf.gz"));
 }
+
+TEST(CliOutputs, MinWallTurnsMeasuresOnAndTheReportHoldsTheCheck) {
+  // --min-wall alone: the measures are taken, the report's printability holds the limit and
+  // the counts, and a 3 mm limit on a 4 mm gyroid's struts is warned about with places.
+  const auto dir = test::scratch_dir();
+  const auto in = dir / "ball.off";
+  write_mesh(in, test::make_sphere({0, 0, 0}, 7, 3));
+  std::string out;
+  ASSERT_EQ(
+      run("fill '" + in.string() + "' '" + (dir / "o.stl").string() +
+              "' --cell 4 --voxel 0.25 --min-wall 3 --report '" + (dir / "r.json").string() + "'",
+          &out),
+      0)
+      << out;
+  EXPECT_TRUE(has(out, "walls below --min-wall 3 mm")) << out;
+  const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_FALSE(report["measures"].is_null());
+  EXPECT_EQ(report["printability"]["min_wall"].get<double>(), 3.0);
+  EXPECT_TRUE(report["printability"]["min_pore"].is_null());
+  EXPECT_GT(report["printability"]["walls_below"]["inside"].get<int>(), 0);
+  EXPECT_FALSE(report["measures"]["wall_thickness"]["smallest"].empty());
+  EXPECT_EQ(
+      run("fill '" + in.string() + "' '" + (dir / "p.stl").string() + "' --min-wall -1", &out), 2);
+}

@@ -430,6 +430,9 @@ TEST(Recipe, RoundTripsEverySetting) {
   o.skin = 0.4;
   o.skin_windows = true;
   o.inside = InsideRule::Parity;
+  o.measure = true;
+  o.min_wall = 0.35;
+  o.min_pore = 0.6;
   o.design.type = TpmsType::Neovius;
   o.design.style = TpmsStyle::Sheet;
   o.design.cell = {2, 3, 4};
@@ -452,6 +455,8 @@ TEST(Recipe, RoundTripsEverySetting) {
   const FillOptions back = read_recipe(text, "r.json");
   EXPECT_EQ(recipe_json(back), text);
   EXPECT_EQ(back.design.rotation, o.design.rotation);
+  EXPECT_EQ(back.min_wall, 0.35);
+  EXPECT_EQ(back.min_pore, 0.6);
   EXPECT_EQ(back.design.blends.at(0).tpms.type, TpmsType::Iwp);
   EXPECT_EQ(*back.design.grading.at(0).ramp.to, 9.0);
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <tpmsfill/components.hpp>
+#include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 
 #include "test_util.hpp"
@@ -72,6 +73,43 @@ TEST(FillWarnings, ALatticeThatFallsApartIsNamedAsSuch) {
   o.design.level = 0.2;
   const FillResult r = fill(test::make_box({0, 0, 0}, {8, 8, 8}), o);
   EXPECT_TRUE(has(all_warnings(r.report), "the lattice falls apart")) << all_warnings(r.report);
+}
+
+TEST(FillWarnings, WallsAndPoresBelowWhatAPrinterMakesAreWarnedWithWhere) {
+  // A gyroid network at cell 3 mm: its struts are about 1 mm and its pores about 1.4 mm. Limits
+  // of 2 mm flag them with their share, sizes and places, and the report holds the figures;
+  // limits of 0.2 mm flag nothing inside the part. Limits need the measures.
+  FillOptions o = test::gyroid_options(3, 0.15);
+  o.measure = true;
+  o.min_wall = 2;
+  o.min_pore = 2;
+  const TriangleSoup cube = test::make_box({0, 0, 0}, {9, 9, 9});
+  const FillResult strict = fill(cube, o);
+  const std::string w = all_warnings(strict.report);
+  EXPECT_TRUE(has(w, "walls below --min-wall 2 mm: ")) << w;
+  EXPECT_TRUE(has(w, "pores below --min-pore 2 mm: ")) << w;
+  EXPECT_TRUE(has(w, " mm at (")) << w;
+  ASSERT_TRUE(strict.report.measures);
+  const LatticeMeasures& m = *strict.report.measures;
+  EXPECT_GT(m.wall.below_limit, m.wall.samples / 2);
+  EXPECT_GT(m.pore.below_limit, m.pore.samples / 2);
+  EXPECT_EQ(strict.report.min_wall, 2);
+  for (const SizeSample& s : m.wall.smallest) {
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_GT(s.at[axis], 0) << "inside the part";
+      EXPECT_LT(s.at[axis], 9) << "inside the part";
+    }
+  }
+
+  o.min_wall = o.min_pore = 0.2;
+  const FillResult loose = fill(cube, o);
+  EXPECT_FALSE(has(all_warnings(loose.report), "measured inside the part"))
+      << all_warnings(loose.report);
+  EXPECT_EQ(loose.report.measures->wall.below_limit, 0u);
+  EXPECT_EQ(loose.report.measures->pore.below_limit, 0u);
+
+  o.measure = false;
+  EXPECT_THROW(fill(cube, o), InputError);
 }
 
 TEST(FillWarnings, SealedVoidsAreWarnedWithOrWithoutWindows) {

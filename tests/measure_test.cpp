@@ -122,6 +122,35 @@ TEST(Measure, FlatWallsReadTheirThicknessAndGap) {
   EXPECT_NEAR(m.largest_void_fraction, 1.0 / 3, 1e-9);
 }
 
+TEST(Measure, PrintabilityTellsTheDesignsThinWallsFromTheSurfacesSlivers) {
+  // Walls of 0.43 mm with gaps of 0.77 mm, the box's first face cutting the first wall to a
+  // sliver of 0.12 mm. A 0.3 mm limit finds nothing thin inside the part and the sliver at its
+  // surface; a 0.5 mm limit finds the walls themselves. The smallest samples are the design's
+  // walls (0.43 mm within half a voxel), none of them the sliver.
+  const double a = 0.1, t = 0.43, gap = 0.77, x0 = 0.013, sliver = 0.12;
+  const Box3 box{{x0 + t - sliver, 0, 0}, {x0 + 3 * (t + gap) + t, 3, 3}};
+  const Scene s = make_scene(box, a, 0.25, flat_walls({1, 0, 0}, x0, t, gap));
+  const LatticeMeasures loose = measure_lattice(s.phi, s.inside, {.min_wall = 0.3});
+  EXPECT_EQ(loose.wall.below_limit, 0u);
+  EXPECT_GT(loose.wall.below_limit_at_surface, 0u);
+  EXPECT_EQ(loose.pore.below_limit + loose.pore.below_limit_at_surface, 0u) << "no pore limit";
+  ASSERT_EQ(loose.wall.smallest.size(), 10u);
+  for (std::size_t i = 0; i < loose.wall.smallest.size(); ++i) {
+    const SizeSample& w = loose.wall.smallest[i];
+    EXPECT_NEAR(w.diameter, t, a / 2) << i;
+    EXPECT_GT(w.at.x, box.min.x + sliver) << "not the sliver";
+    if (i > 0) {
+      EXPECT_LE(loose.wall.smallest[i - 1].diameter, w.diameter);
+    }
+  }
+  const LatticeMeasures tight = measure_lattice(s.phi, s.inside, {.min_wall = 0.5});
+  EXPECT_GT(tight.wall.below_limit, 0u);
+  EXPECT_EQ(tight.wall.below_limit + tight.wall.below_limit_at_surface, tight.wall.samples)
+      << "every wall is thinner than 0.5 mm";
+  EXPECT_EQ(tight.wall.smallest, loose.wall.smallest) << "limits do not change the samples";
+  EXPECT_THROW(measure_lattice(s.phi, s.inside, {.min_wall = -1}), InputError);
+}
+
 TEST(Measure, ObliqueWallsReadTheirThicknessAndGap) {
   // Walls whose normal (2, 1, 2)/3 is on no grid axis: the surface cuts the cells anyhow.
   const double a = 0.1, t = 0.55, gap = 0.9;

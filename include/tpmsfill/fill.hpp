@@ -65,6 +65,11 @@ struct FillOptions {
   /// Off by default: two distance transforms of the grid and one labelling cost about as much
   /// as the rest of the pipeline on small jobs (docs/benchmarks.md).
   bool measure = false;
+  /// Printability: the thinnest wall (or strut) and the narrowest pore the process can make,
+  /// mm (0: no limit). Measured walls and pores below them are warned about, with the share of
+  /// samples, the worst sizes and where they are (LatticeMeasures' SizeDistribution::smallest,
+  /// below_limit). Needs `measure`.
+  double min_wall = 0, min_pore = 0;
   /// Round the output's coordinates as the file will hold them before validating, so that the
   /// file holds exactly the mesh that was validated (rounding_for(format): Float for STL,
   /// ThreeMf for 3MF). fill_to_file() uses the output's rounding when that is ThreeMf.

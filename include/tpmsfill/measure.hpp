@@ -18,6 +18,14 @@
 
 namespace tpmsfill {
 
+/// One measured diameter and where it was measured.
+struct SizeSample {
+  double diameter = 0;  ///< mm
+  Vec3 at;              ///< the ridge node's position, mm
+
+  friend bool operator==(const SizeSample&, const SizeSample&) = default;
+};
+
 /// Diameters measured at a phase's ridge nodes, mm.
 struct SizeDistribution {
   std::uint64_t samples = 0;  ///< ridge nodes measured (0: nothing to measure, the rest is 0)
@@ -27,6 +35,15 @@ struct SizeDistribution {
   /// mm; counts[b] samples lie in [bin_edges[b], bin_edges[b + 1]) (the last bin is closed).
   std::vector<double> bin_edges;
   std::vector<std::uint64_t> counts;
+  /// The smallest samples away from the model's surface, smallest first (at most
+  /// MeasureOptions::smallest; ties in node order): where the design's thinnest walls or
+  /// narrowest pores are. A sample whose measuring sphere comes within a voxel of the model's
+  /// surface is left out: there the surface cuts struts and walls into slivers, which say
+  /// nothing about the design.
+  std::vector<SizeSample> smallest;
+  /// Samples below MeasureOptions' limit for this phase (min_wall, min_pore; 0 without one):
+  /// away from the model's surface, and next to it.
+  std::uint64_t below_limit = 0, below_limit_at_surface = 0;
 
   friend bool operator==(const SizeDistribution&, const SizeDistribution&) = default;
 };
@@ -46,7 +63,10 @@ struct MeasureOptions {
   /// nodes, in [0, 1]. Smaller ones are pockets cut off where the model's surface clips a
   /// channel (they still connect outside the model).
   double min_labyrinth_fraction = 0.01;
-  int histogram_bins = 16;       ///< bins of each SizeDistribution histogram (>= 1)
+  int histogram_bins = 16;  ///< bins of each SizeDistribution histogram (>= 1)
+  int smallest = 10;        ///< SizeDistribution::smallest's length at most (>= 0)
+  /// Printability limits, mm (0: none): samples below them are counted (below_limit).
+  double min_wall = 0, min_pore = 0;
   Progress* progress = nullptr;  ///< stage "measure"; may cancel between phases
 };
 
@@ -72,8 +92,9 @@ struct MeasureOptions {
 /// Deterministic for any thread count.
 /// @param phi     the composed field (solid where phi < 0), mm, on inside.grid
 /// @param inside  the model's occupancy (1 = inside the model)
-/// @throws InputError  grids or sizes disagree, histogram_bins < 1, or min_labyrinth_fraction
-///                     is not in [0, 1]; the grid is too large for 32-bit node indices
+/// @throws InputError  grids or sizes disagree, histogram_bins < 1, smallest < 0, a limit
+///                     negative or not finite, or min_labyrinth_fraction is not in [0, 1];
+///                     the grid is too large for 32-bit node indices
 /// @throws Cancelled   options.progress asked to stop
 LatticeMeasures measure_lattice(const Field& phi, const Mask& inside,
                                 const MeasureOptions& options = {});

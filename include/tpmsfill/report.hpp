@@ -50,6 +50,7 @@ struct FillReport {
   double skin = 0;                        ///< mm (0: none)
   std::optional<double> porosity_target;  ///< what --porosity asked (level/thickness solved)
   bool sheet = false;                     ///< the base lattice is a sheet
+  double min_wall = 0, min_pore = 0;      ///< printability limits, mm (0: none; FillOptions)
   /// The recipe that reproduces the job, JSON (recipe_json(FillResult::resolved), recipe.hpp),
   /// for the caller to set: fill() does not write recipes. Empty: null in to_json.
   std::string recipe;

@@ -38,6 +38,7 @@ struct FillArgs {
   bool measure = false, full_field = false, keep_islands = false, no_self_intersections = false;
   bool quiet = false;
   int threads = 0;
+  double min_wall = 0, min_pore = 0;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -73,6 +74,10 @@ int run_fill(FillArgs args) {
   if (args.full_field) options.full_field = true;
   if (args.keep_islands) options.keep_islands = true;
   if (args.measure) options.measure = true;
+  if (args.min_wall > 0) options.min_wall = args.min_wall;
+  if (args.min_pore > 0) options.min_pore = args.min_pore;
+  // Printability is checked against the measures (from the flags or a recipe's keys).
+  if (options.min_wall > 0 || options.min_pore > 0) options.measure = true;
   if (args.no_self_intersections) options.check_self_intersections = false;
   // Fail on a bad output name, or one that would replace an input, before the work.
   if (format_from_extension(args.output) == MeshFormat::Auto)
@@ -176,6 +181,14 @@ Command add_fill_command(CLI::App& app) {
   sub->add_flag("--measure", args->measure,
                 "Measure pore size, wall thickness and void labyrinths into the report (costs "
                 "about as much as the fill itself on small jobs)");
+  sub->add_option("--min-wall", args->min_wall,
+                  "Thinnest wall or strut your process prints, mm: thinner measured walls are "
+                  "warned about, with where (turns --measure on)")
+      ->check(positive());
+  sub->add_option("--min-pore", args->min_pore,
+                  "Narrowest pore your process clears (powder, resin), mm: narrower measured "
+                  "pores are warned about, with where (turns --measure on)")
+      ->check(positive());
   sub->add_flag("--no-self-intersections", args->no_self_intersections,
                 "Skip the self-intersection search when validating");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");

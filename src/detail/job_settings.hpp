@@ -49,4 +49,8 @@ void record_classification(const FillOptions& options, const Occupancy::PlaneCou
 /// when the part's porosity `got` is more than 5 points from the target.
 void warn_structure_porosity(const LatticeDesign& design, double got, FillReport& report);
 
+/// Warnings for measured walls and pores below FillOptions::min_wall and min_pore (with the
+/// share of samples, the worst sizes and where they are); nothing without measures.
+void warn_printability(const FillOptions& options, double voxel, FillReport& report);
+
 }  // namespace tpmsfill::detail
