@@ -24,7 +24,7 @@ fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 # the package is installed.
 seeds="$build/seeds"
 rm -rf "$seeds"
-mkdir -p "$seeds"/{auto,stl,obj,ply,off}
+mkdir -p "$seeds"/{auto,stl,obj,ply,off,3mf}
 printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n' >"$seeds/stl/ascii.stl"
 python3 - "$seeds/stl/binary.stl" <<'PY'
 import struct, sys
@@ -53,7 +53,14 @@ if [ -d "$models" ]; then
   find "$models/PLY" -name '*.ply' -size -64k -exec cp {} "$seeds/ply/" \; || true
   find "$models/OFF" -name '*.off' -size -64k -exec cp {} "$seeds/off/" \; || true
 fi
-cp "$seeds"/{stl,obj,ply,off}/* "$seeds/auto/"
+# 3MF: a small package written by the CLI built in build/ (lib3mf's own layout), when it is there.
+if [ -x "$root/build/tpmsfill" ]; then
+  tmp_off=$(mktemp --suffix=.off)
+  printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n' >"$tmp_off"
+  "$root/build/tpmsfill" repair "$tmp_off" "$seeds/3mf/tet.3mf" --quiet >/dev/null 2>&1 || true
+  rm -f "$tmp_off"
+fi
+cp "$seeds"/{stl,obj,ply,off,3mf}/* "$seeds/auto/" 2>/dev/null || true
 gzip -c "$seeds/stl/ascii.stl" >"$seeds/auto/ascii.stl.gz"
 
 # fuzz NAME PROGRAM MAX_LEN: one timed run on seeds/NAME, findings in findings/NAME.
@@ -71,7 +78,7 @@ fuzz() {
     status=1
   fi
 }
-for reader in auto stl obj ply off; do
+for reader in auto stl obj ply off 3mf; do
   TPMSFILL_FUZZ_FORMAT="$reader" fuzz "$reader" "$fuzzer" 65536
 done
 # Recipes, seeded with the documented ones.

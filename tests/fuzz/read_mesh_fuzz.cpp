@@ -1,7 +1,8 @@
 // libFuzzer target for parse_mesh. Any tpmsfill::Error is an accepted answer to bad bytes;
 // any other exception, crash, sanitizer report, timeout or runaway allocation is a finding.
 //
-// The reader is chosen by TPMSFILL_FUZZ_FORMAT (auto, stl, obj, ply, off) when it is set, so
+// The reader is chosen by TPMSFILL_FUZZ_FORMAT (auto, stl, obj, ply, off, 3mf) when it is set,
+// so
 // scripts/fuzz.sh can spend its time on one reader at a time; otherwise by the input's first
 // byte, which is then not part of the mesh.
 #include <cstddef>
@@ -16,7 +17,7 @@ namespace {
 
 constexpr tpmsfill::MeshFormat kFormats[] = {
     tpmsfill::MeshFormat::Auto, tpmsfill::MeshFormat::StlBinary, tpmsfill::MeshFormat::Obj,
-    tpmsfill::MeshFormat::Ply, tpmsfill::MeshFormat::Off};
+    tpmsfill::MeshFormat::Ply, tpmsfill::MeshFormat::Off, tpmsfill::MeshFormat::ThreeMf};
 
 int forced_format() {
   static const int index = [] {
@@ -27,6 +28,7 @@ int forced_format() {
     if (name == "obj") return 2;
     if (name == "ply") return 3;
     if (name == "off") return 4;
+    if (name == "3mf") return 5;
     return 0;
   }();
   return index;
