@@ -410,6 +410,7 @@ FillOptions fill_options(const ConformalJobOptions& options) {
   f.keep_islands = options.keep_islands;
   f.check_self_intersections = options.check_self_intersections;
   f.memory_budget = options.memory_budget;
+  f.rounding = options.rounding;
   f.progress = options.progress;
   return f;
 }
@@ -439,6 +440,7 @@ FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& optio
   const auto t0 = std::chrono::steady_clock::now();
   filled.mesh = map_slab_vertices(filled.mesh, r.layout, lengths, options.layer, options.vertex_map,
                                   &r.vertex_map);
+  round_coordinates(options.rounding, filled.mesh);  // what the file will hold is validated
   ValidateOptions check;
   check.self_intersections = options.check_self_intersections;
   filled.report.validation = validate_mesh(filled.mesh, check);

@@ -125,6 +125,9 @@ struct ConformalJobOptions {
   bool keep_islands = false;
   bool check_self_intersections = true;
   std::uint64_t memory_budget = 0;  ///< as FillOptions
+  /// As FillOptions::rounding: the output rounded as its file will hold it before it is
+  /// validated (both maps; rounding_for(format), io.hpp).
+  CoordinateRounding rounding = CoordinateRounding::Float;
   Progress* progress = nullptr;
 };
 

@@ -64,6 +64,10 @@ int run_conformal(const ConformalArgs& a) {
   ConformalJobOptions o = job_options(a);
   if (format_from_extension(a.output) == MeshFormat::Auto)
     throw InputError(unknown_mesh_extension(a.output));
+  // STL stores floats, 3MF what lib3mf prints: the mesh validated is the file's.
+  if (const CoordinateRounding r = rounding_for(format_from_extension(a.output));
+      r != CoordinateRounding::None)
+    o.rounding = r;
   std::vector<OutputFile> outputs{{"OUT", a.output}};
   if (!a.report.empty()) outputs.push_back({"--report", a.report});
   std::vector<std::filesystem::path> inputs{a.input};
