@@ -87,8 +87,8 @@ int run_decimate(const DecimateArgs& args) {
   j["output"] = args.output;
   j["units"] = args.units;
   j["wall_seconds"] = seconds;
-  for (const auto& [key, value] : nlohmann::ordered_json::parse(to_json(report)).items())
-    j[key] = value;
+  const auto fields = nlohmann::ordered_json::parse(to_json(report));  // outlives the loop
+  for (const auto& [key, value] : fields.items()) j[key] = value;
   if (!args.report.empty()) write_file_atomically(staged.stage(args.report), j.dump(2) + "\n");
   staged.commit();
 
