@@ -145,11 +145,11 @@ TEST(Decimate, FineSphereLosesMostTrianglesWithinTolerance) {
 }
 
 TEST(Decimate, FlatFacesCollapseToAFewTrianglesAndKeepTheVolume) {
-  const TriangleSoup cube = tessellated_cube(10.0, 16);  // 3,072 triangles
+  const TriangleSoup cube = tessellated_cube(10.0, 8);  // 768 triangles
   ASSERT_TRUE(validate_mesh(cube).valid());
   const double tolerance = 0.01;
   const DecimateResult r = decimate(cube, {.tolerance = tolerance});
-  EXPECT_LT(r.report.triangles_after, 200u);
+  EXPECT_LT(r.report.triangles_after, 100u);
   expect_valid_within(cube, r, tolerance);
   EXPECT_NEAR(r.report.volume_before, 1000.0, 1e-9);
   EXPECT_NEAR(r.report.volume_after, 1000.0, tolerance * 600);
@@ -185,10 +185,10 @@ TEST(Decimate, StlSoupIsWeldedFirst) {
 }
 
 TEST(Decimate, FilledLatticeStaysValid) {
-  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 5.0, 4);
-  const FillResult filled = fill(ball, test::gyroid_options(2.0, 0.1));
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 3.0, 4);
+  const FillResult filled = fill(ball, test::gyroid_options(2.0, 0.15));
   ASSERT_TRUE(filled.report.validation.valid());
-  const double tolerance = 0.1 / 4;  // voxel / 4
+  const double tolerance = 0.15 / 4;  // voxel / 4
   const DecimateResult r = decimate(filled.mesh, {.tolerance = tolerance});
   expect_valid_within(filled.mesh, r, tolerance);
   EXPECT_LT(r.report.triangles_after, r.report.triangles_before);
@@ -200,14 +200,14 @@ TEST(Decimate, FilledLatticeStaysValid) {
 }
 
 TEST(Decimate, SameResultWhateverTheThreadCount) {
-  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 4.0, 4);
-  const FillResult filled = fill(ball, test::gyroid_options(2.0, 0.15));
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 2.5, 4);
+  const FillResult filled = fill(ball, test::gyroid_options(2.0, 0.2));
   DecimateResult one, many;
   {
     tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
-    one = decimate(filled.mesh, {.tolerance = 0.04});
+    one = decimate(filled.mesh, {.tolerance = 0.05});
   }
-  many = decimate(filled.mesh, {.tolerance = 0.04});
+  many = decimate(filled.mesh, {.tolerance = 0.05});
   EXPECT_EQ(one.mesh.triangles, many.mesh.triangles);
   EXPECT_TRUE(one.mesh.points == many.mesh.points);
   EXPECT_EQ(to_json(one.report).size(), to_json(many.report).size());
@@ -259,7 +259,9 @@ TEST(Decimate, EveryValidCgalDemoMeshStaysValid) {
   const fs::path dir = TPMSFILL_CGAL_MESHES;
   if (!fs::exists(dir)) GTEST_SKIP() << dir << " is missing: install libcgal-demo";
   int decimated = 0;
-  for (const fs::path& file : test::files_in(dir, 4'000'000)) {
+  // Up to 400 kB (about 20,000 triangles): the envelope's exact tests cost about a millisecond
+  // per input triangle, so the larger ones belong to the benchmark (docs/benchmarks.md).
+  for (const fs::path& file : test::files_in(dir, 400'000)) {
     TriangleSoup soup;
     try {
       soup = read_mesh(file);
