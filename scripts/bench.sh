@@ -42,7 +42,7 @@
 #     and tpmsfill's stages at 1 and 2 threads on the femur at 0.05 mm. `all` runs it only where
 #     the peer's folder is there and libopenvdb-dev is installed already; otherwise it says why not
 #  decimate:
-# 18. `tpmsfill fill --decimate voxel/4` on the femur at 35 mm, a = 0.05 mm (issue 17's target:
+# 19. `tpmsfill fill --decimate voxel/4` on the femur at 35 mm, a = 0.05 mm (issue 17's target:
 #     at least 4x fewer triangles, still valid) and on every mesh of ../shared/meshes: triangles
 #     before and after, measured distances both ways, volume change, rounds, time, peak memory,
 #     and `tpmsfill check` of the written file
@@ -656,7 +656,7 @@ fi
 
 if [[ "$section" == all || "$section" == decimate ]]; then
   echo
-  echo "## 18. decimation that keeps the proof (fill --decimate TOL, TOL = voxel/4)"
+  echo "## 19. decimation that keeps the proof (fill --decimate TOL, TOL = voxel/4)"
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
   [[ -f "$tmp/femur35.stl" ]] || ./build/tests/bench_fill_inputs "$tmp/femur.off" "$tmp" >/dev/null
   # decimate_row NAME OUT.stl REPORT.json: one table row from a fill --decimate report.
