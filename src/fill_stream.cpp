@@ -28,7 +28,6 @@
 #include "detail/disjoint_sets.hpp"
 #include "detail/file_bytes.hpp"
 #include "detail/fill_job.hpp"
-#include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/job_settings.hpp"
 #include "detail/mesh_measures.hpp"

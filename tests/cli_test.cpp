@@ -123,7 +123,7 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
       test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
   for (const std::string command :
-       {"", "check", "fill", "repair", "field", "field fit", "field info", "field mesh",
+       {"", "check", "fill", "repair", "decimate", "field", "field fit", "field info", "field mesh",
         "field from-mesh", "field from-points", "field from-ct"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
@@ -323,7 +323,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
-      {"", "a command is needed: check, fill, repair, field, conformal, slice or render"},
+      {"", "a command is needed: check, fill, repair, decimate, field, conformal, slice or render"},
       {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},

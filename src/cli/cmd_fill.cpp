@@ -9,8 +9,10 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <tpmsfill/decimate.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
@@ -39,6 +41,7 @@ struct FillArgs {
   bool quiet = false;
   int threads = 0;
   double min_wall = 0, min_pore = 0;
+  double decimate = 0;  ///< --decimate TOL, mm (0: off)
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -61,6 +64,32 @@ void write_preview(const FillArgs& args, const FillResult& result,
   options.clip.axis = 1;
   options.clip.position = bounding_box(mesh).centre().y;
   write_file_atomically(to, encode_png(render_mesh(mesh, options)));
+}
+
+// --decimate: fill() writes its validated lattice to a scratch file beside OUT (never
+// committed, so removed however the job ends), which is read back, decimated (and validated
+// again inside decimate()) and written to OUT's staged name. Going through a file keeps fill's
+// own paths unchanged: a job that streams by slabs never holds its mesh, and the MPI ranks
+// hand rank 0 a file either way; only the decimation needs the whole mesh in memory.
+struct Decimation {
+  DecimateReport report;
+  StageTime stage;
+};
+
+Decimation decimate_file(const std::filesystem::path& raw, const std::filesystem::path& out,
+                         const std::string& target_name, const FillOptions& fill_options,
+                         double tolerance) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DecimateOptions options;
+  options.tolerance = tolerance;
+  // OUT's rounding (fill's own is chosen by fill_to_file from the same name).
+  options.rounding = rounding_for(format_from_extension(target_name));
+  if (options.rounding == CoordinateRounding::None) options.rounding = fill_options.rounding;
+  options.self_intersections = fill_options.check_self_intersections;
+  options.progress = fill_options.progress;
+  DecimateResult result = decimate(read_mesh(raw), options);
+  write_mesh(out, result.mesh, write_options_for(target_name));
+  return {std::move(result.report), {"decimate", seconds_since(t0), peak_memory_mb()}};
 }
 
 int run_fill(FillArgs args) {
@@ -106,27 +135,42 @@ int run_fill(FillArgs args) {
 
   // The mesh and the report are one outcome: both are written, or neither. The mesh is
   // written as it is made (streamed when the job goes in slabs), to a staged name.
-  StagedOutputs staged;
+  StagedOutputs staged, scratch;
   const std::filesystem::path mesh_path = staged.stage(args.output);
+  const std::filesystem::path fill_path =
+      args.decimate > 0 ? scratch.stage(args.output + ".undecimated") : mesh_path;
   // Under mpirun each rank fills its share of the grid; rank 0 finishes and writes.
   // A 3MF carries the recipe as given (it reproduces the job) beside the report fill adds.
   WriteOptions write = write_options_for(args.output);
   write.metadata.attachments.emplace_back("Metadata/tpmsfill-recipe.json", recipe_json(options));
-  std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options, mesh_path, write);
+  std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options, fill_path, write);
   if (!on_ranks) return kOk;
   FillResult& result = *on_ranks;
+  std::optional<Decimation> decimation;
+  if (args.decimate > 0)
+    decimation = decimate_file(fill_path, mesh_path, args.output, options, args.decimate);
   if (progress) progress->clear();
 
   FillReport& report = result.report;
   report.recipe = recipe_json(result.resolved);
   record_provenance(report, args.input);
   report.stages.insert(report.stages.begin(), read);
-  if (!args.report.empty()) write_file_atomically(staged.stage(args.report), to_json(report));
+  std::string json = to_json(report);
+  if (decimation) {
+    // The report's own figures are the lattice's as filled; "decimation" is OUT's.
+    report.stages.push_back(decimation->stage);
+    for (const std::string& w : decimation->report.warnings) report.warnings.push_back(w);
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(to_json(report));
+    j["decimation"] = nlohmann::ordered_json::parse(to_json(decimation->report));
+    json = j.dump(2) + "\n";
+  }
+  if (!args.report.empty()) write_file_atomically(staged.stage(args.report), json);
   if (!args.preview.empty()) write_preview(args, result, mesh_path, staged.stage(args.preview));
   staged.commit();
 
   if (!args.quiet) {
     std::printf("%s -> %s\n%s", args.input.c_str(), args.output.c_str(), to_text(report).c_str());
+    if (decimation) std::printf("decimated\n%s", to_text(decimation->report).c_str());
     if (!args.report.empty()) std::printf("report       %s\n", args.report.c_str());
     if (!args.preview.empty()) std::printf("preview      %s\n", args.preview.c_str());
   }
@@ -161,7 +205,8 @@ Command add_fill_command(CLI::App& app) {
       "  tpmsfill fill part.stl graded.stl --lattice iwp --grade cell 2 4 --grade-along x\n"
       "  tpmsfill fill part.stl hybrid.stl --recipe hybrid.json   (docs/recipes.md)\n"
       "  tpmsfill fill bracket-in-metres.stl lattice.stl --units m --cell 4\n"
-      "  tpmsfill fill femur.stl scaffold.stl --cell 2 --preview scaffold.png\n\n"
+      "  tpmsfill fill femur.stl scaffold.stl --cell 2 --preview scaffold.png\n"
+      "  tpmsfill fill femur.stl light.stl --cell 2 --voxel 0.05 --decimate 0.0125\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
   sub->add_option("IN", args->input,
@@ -188,6 +233,10 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("--min-pore", args->min_pore,
                   "Narrowest pore your process clears (powder, resin), mm: narrower measured "
                   "pores are warned about, with where (turns --measure on)")
+      ->check(positive());
+  sub->add_option("--decimate", args->decimate,
+                  "Decimate the lattice within this tolerance, mm, before writing it (as "
+                  "`tpmsfill decimate`; voxel/4 is a good start): fewer triangles, still valid")
       ->check(positive());
   sub->add_flag("--no-self-intersections", args->no_self_intersections,
                 "Skip the self-intersection search when validating");

@@ -22,6 +22,7 @@ using Command = std::function<int()>;
 Command add_check_command(CLI::App& app);
 Command add_fill_command(CLI::App& app);
 Command add_repair_command(CLI::App& app);
+Command add_decimate_command(CLI::App& app);
 Command add_field_command(CLI::App& app);
 Command add_conformal_command(CLI::App& app);
 Command add_slice_command(CLI::App& app);

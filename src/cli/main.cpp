@@ -35,6 +35,7 @@ int run(int argc, char** argv) {
   Command check = add_check_command(app);
   Command fill = add_fill_command(app);
   Command repair = add_repair_command(app);
+  Command decimate = add_decimate_command(app);
   Command field = add_field_command(app);
   Command conformal = add_conformal_command(app);
   Command slice = add_slice_command(app);
@@ -79,6 +80,8 @@ int run(int argc, char** argv) {
         return fill();
       else if (sub->get_name() == "repair")
         return repair();
+      else if (sub->get_name() == "decimate")
+        return decimate();
       else if (sub->get_name() == "field")
         return field();
       else if (sub->get_name() == "conformal")

@@ -21,7 +21,6 @@
 #include <cstring>
 #include <memory>
 
-#include "detail/float_coordinates.hpp"
 #include "io/formats.hpp"
 #include "io/three_mf.hpp"
 
