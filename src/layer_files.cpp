@@ -18,6 +18,7 @@
 
 #include "detail/parallel.hpp"
 #include "detail/png.hpp"
+#include "detail/xml_text.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -81,29 +82,6 @@ std::string cli_label(const std::string& label) {
     out.push_back(u < 0x20 || u >= 0x7f || c == ',' ? '_' : c);
   }
   return out.empty() ? "part" : out;
-}
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out.push_back(c);
-    }
-  }
-  return out;
 }
 
 // No $$DATE: the file must be a function of the layers alone (byte-reproducible jobs), and the
@@ -176,7 +154,7 @@ std::string svg_header(const LayerFileOptions& o) {
   return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
          "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" +
          w + "mm\" height=\"" + h + "mm\" viewBox=\"0 0 " + w + " " + h + "\">\n<title>" +
-         xml_escape(o.label) + "</title>\n<g transform=\"translate(" + tx + "," + ty +
+         detail::xml_escaped(o.label) + "</title>\n<g transform=\"translate(" + tx + "," + ty +
          ") scale(1,-1)\" fill=\"black\" stroke=\"none\">\n";
 }
 

@@ -21,6 +21,7 @@
 #include <cstring>
 #include <memory>
 
+#include "detail/xml_text.hpp"
 #include "io/formats.hpp"
 #include "io/three_mf.hpp"
 
@@ -278,34 +279,6 @@ void add_reader_warnings(NMR::PLib3MFModelReader* reader, const std::string& sou
 
 // ---- writing --------------------------------------------------------------------------------
 
-// lib3mf 1.8 writes metadata and names into the XML as given: escaped here.
-std::string xml_escaped(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        // Control characters other than tab and newlines are not allowed in XML 1.0.
-        if (static_cast<unsigned char>(c) >= 0x20 || c == '\t' || c == '\n' || c == '\r') out += c;
-    }
-  }
-  return out;
-}
-
 // A version-4-shaped UUID from 128 bits of FNV-1a over the mesh: the same mesh gets the same
 // ids, so the same job writes the same bytes (lib3mf would draw random ones).
 std::string content_uuid(std::span<const float> xyz, std::span<const std::uint32_t> ids,
@@ -399,7 +372,8 @@ void write_3mf(int fd, const std::filesystem::path& target, std::span<const floa
   check(NMR::lib3mf_model_addmeshobject(m, &object_raw), m, "add the mesh");
   const Handle object(object_raw);
   const std::string title = metadata.title.empty() ? target.stem().string() : metadata.title;
-  check(NMR::lib3mf_object_setnameutf8(object_raw, xml_escaped(title).c_str()), object_raw,
+  // lib3mf 1.8 writes names and metadata into the XML as given: escaped here.
+  check(NMR::lib3mf_object_setnameutf8(object_raw, detail::xml_escaped(title).c_str()), object_raw,
         "name the mesh");
   // MODELMESHVERTEX is three packed floats and MODELMESHTRIANGLE three 32-bit ids: the spans'
   // layout exactly (lib3mf copies them).
@@ -426,7 +400,7 @@ void write_3mf(int fd, const std::filesystem::path& target, std::span<const floa
                                     {"Application", application},
                                     {"Description", metadata.description}})
     if (!value.empty())
-      check(NMR::lib3mf_model_addmetadatautf8(m, name, xml_escaped(value).c_str()), m,
+      check(NMR::lib3mf_model_addmetadatautf8(m, name, detail::xml_escaped(value).c_str()), m,
             "add metadata");
   for (const auto& [path, bytes] : metadata.attachments) {
     std::string uri = "/" + path;
