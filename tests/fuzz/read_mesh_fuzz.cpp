@@ -17,7 +17,7 @@ namespace {
 
 constexpr tpmsfill::MeshFormat kFormats[] = {
     tpmsfill::MeshFormat::Auto, tpmsfill::MeshFormat::StlBinary, tpmsfill::MeshFormat::Obj,
-    tpmsfill::MeshFormat::Ply, tpmsfill::MeshFormat::Off, tpmsfill::MeshFormat::ThreeMf};
+    tpmsfill::MeshFormat::Ply,  tpmsfill::MeshFormat::Off,       tpmsfill::MeshFormat::ThreeMf};
 
 int forced_format() {
   static const int index = [] {
