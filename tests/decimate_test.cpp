@@ -210,7 +210,9 @@ TEST(Decimate, SameResultWhateverTheThreadCount) {
   many = decimate(filled.mesh, {.tolerance = 0.05});
   EXPECT_EQ(one.mesh.triangles, many.mesh.triangles);
   EXPECT_TRUE(one.mesh.points == many.mesh.points);
-  EXPECT_EQ(to_json(one.report).size(), to_json(many.report).size());
+  // Every figure but the wall time.
+  one.report.seconds = many.report.seconds = 0;
+  EXPECT_EQ(to_json(one.report), to_json(many.report));
 }
 
 TEST(Decimate, NewPointsAreFloats) {
