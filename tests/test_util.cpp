@@ -257,8 +257,8 @@ std::filesystem::path scratch_dir() {
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
   for (char& c : name)
     if (c == '/') c = '_';
-  // Inside the build tree when the build says where: two builds' suites running at once on one
-  // machine (a CI clone beside a sanitizer build) must not clear each other's files.
+      // Inside the build tree when the build says where: two builds' suites running at once on one
+      // machine (a CI clone beside a sanitizer build) must not clear each other's files.
 #ifdef TPMSFILL_SCRATCH_DIR
   auto dir = std::filesystem::path(TPMSFILL_SCRATCH_DIR) / name;
 #else
