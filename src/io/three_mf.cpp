@@ -279,27 +279,29 @@ void add_reader_warnings(NMR::PLib3MFModelReader* reader, const std::string& sou
 
 // ---- writing --------------------------------------------------------------------------------
 
-// A version-4-shaped UUID from 128 bits of FNV-1a over the mesh: the same mesh gets the same
-// ids, so the same job writes the same bytes (lib3mf would draw random ones).
-std::string content_uuid(std::span<const float> xyz, std::span<const std::uint32_t> ids,
-                         std::uint64_t salt) {
-  std::uint64_t h[2] = {0xcbf29ce484222325ULL ^ salt, 0x84222325cbf29ce4ULL + salt};
-  const auto mix = [&](const void* data, std::size_t n) {
+// 128 bits of FNV-1a over the mesh, hashed once for the package's three UUIDs: the same mesh
+// gets the same ids, so the same job writes the same bytes (lib3mf would draw random ones).
+struct ContentHash {
+  std::uint64_t h[2] = {0xcbf29ce484222325ULL, 0x84222325cbf29ce4ULL};
+  ContentHash(std::span<const float> xyz, std::span<const std::uint32_t> ids) {
+    mix(xyz.data(), xyz.size_bytes());
+    mix(ids.data(), ids.size_bytes());
+  }
+  void mix(const void* data, std::size_t n) {
     const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i) {
-      h[i & 1] = (h[i & 1] ^ bytes[i]) * 0x100000001b3ULL;
-    }
-  };
-  mix(xyz.data(), xyz.size_bytes());
-  mix(ids.data(), ids.size_bytes());
-  char text[37];
-  std::snprintf(text, sizeof text, "%08x-%04x-4%03x-%04x-%012llx",
-                static_cast<unsigned>(h[0] >> 32), static_cast<unsigned>(h[0] >> 16 & 0xffff),
-                static_cast<unsigned>(h[0] & 0xfff),
-                static_cast<unsigned>(0x8000 | (h[1] >> 48 & 0x3fff)),
-                static_cast<unsigned long long>(h[1] & 0xffffffffffffULL));
-  return text;
-}
+    for (std::size_t i = 0; i < n; ++i) h[i & 1] = (h[i & 1] ^ bytes[i]) * 0x100000001b3ULL;
+  }
+  // A version-4-shaped UUID, one per `salt`.
+  std::string uuid(std::uint64_t salt) const {
+    const std::uint64_t a = (h[0] ^ salt) * 0x100000001b3ULL, b = h[1] + salt;
+    char text[37];
+    std::snprintf(text, sizeof text, "%08x-%04x-4%03x-%04x-%012llx", static_cast<unsigned>(a >> 32),
+                  static_cast<unsigned>(a >> 16 & 0xffff), static_cast<unsigned>(a & 0xfff),
+                  static_cast<unsigned>(0x8000 | (b >> 48 & 0x3fff)),
+                  static_cast<unsigned long long>(b & 0xffffffffffffULL));
+    return text;
+  }
+};
 
 // lib3mf's export stream onto our temporary's descriptor (0: success, as lib3mf expects; the
 // signatures of its ExportStream_WriteCallbackType and ExportStream_SeekCallbackType).
@@ -385,15 +387,15 @@ void write_3mf(int fd, const std::filesystem::path& target, std::span<const floa
             reinterpret_cast<NMR::MODELMESHTRIANGLE*>(const_cast<std::uint32_t*>(ids.data())),
             static_cast<DWORD>(ids.size() / 3)),
         object_raw, "store the mesh");
-  check(NMR::lib3mf_object_setuuidutf8(object_raw, content_uuid(xyz, ids, 1).c_str()), object_raw,
+  const ContentHash content(xyz, ids);
+  check(NMR::lib3mf_object_setuuidutf8(object_raw, content.uuid(1).c_str()), object_raw,
         "set the object's UUID");
   NMR::PLib3MFModelBuildItem* item_raw = nullptr;
   check(NMR::lib3mf_model_addbuilditem(m, object_raw, nullptr, &item_raw), m, "add to the build");
   const Handle item(item_raw);
-  check(NMR::lib3mf_builditem_setuuidutf8(item_raw, content_uuid(xyz, ids, 2).c_str()), item_raw,
+  check(NMR::lib3mf_builditem_setuuidutf8(item_raw, content.uuid(2).c_str()), item_raw,
         "set the build item's UUID");
-  check(NMR::lib3mf_model_setbuilduuidutf8(m, content_uuid(xyz, ids, 3).c_str()), m,
-        "set the build's UUID");
+  check(NMR::lib3mf_model_setbuilduuidutf8(m, content.uuid(3).c_str()), m, "set the build's UUID");
 
   const std::string application = "tpmsfill " TPMSFILL_VERSION;
   for (const auto& [name, value] : {std::pair<const char*, const std::string&>{"Title", title},
