@@ -77,18 +77,21 @@ struct Decimation {
 };
 
 Decimation decimate_file(const std::filesystem::path& raw, const std::filesystem::path& out,
-                         const std::string& target_name, const FillOptions& fill_options,
-                         double tolerance) {
+                         const std::string& target_name, const WriteOptions& write,
+                         const FillOptions& fill_options, double tolerance) {
   const auto t0 = std::chrono::steady_clock::now();
   DecimateOptions options;
   options.tolerance = tolerance;
-  // OUT's rounding (fill's own is chosen by fill_to_file from the same name).
+  // OUT's rounding (the scratch holds fill's, float by default, as doubles).
   options.rounding = rounding_for(format_from_extension(target_name));
   if (options.rounding == CoordinateRounding::None) options.rounding = fill_options.rounding;
   options.self_intersections = fill_options.check_self_intersections;
   options.progress = fill_options.progress;
-  DecimateResult result = decimate(read_mesh(raw), options);
-  write_mesh(out, result.mesh, write_options_for(target_name));
+  ReadOptions read;
+  read.format = MeshFormat::Ply;
+  read.max_bytes = std::numeric_limits<std::uint64_t>::max();  // our own scratch
+  DecimateResult result = decimate(read_mesh(raw, read), options);
+  write_mesh(out, result.mesh, write);
   return {std::move(result.report), {"decimate", seconds_since(t0), peak_memory_mb()}};
 }
 
@@ -143,12 +146,18 @@ int run_fill(FillArgs args) {
   // A 3MF carries the recipe as given (it reproduces the job) beside the report fill adds.
   WriteOptions write = write_options_for(args.output);
   write.metadata.attachments.emplace_back("Metadata/tpmsfill-recipe.json", recipe_json(options));
-  std::optional<FillResult> on_ranks = fill_on_ranks(file.soup, options, fill_path, write);
+  // The scratch a decimation reads back is binary PLY whatever OUT is: doubles, read back
+  // exactly, without OUT's text, deflating or lib3mf on the way (OUT's rounding is applied by
+  // decimate() to its input).
+  const WriteOptions scratch_write{
+      .format = MeshFormat::Ply, .compression = Compression::None, .metadata = {}};
+  std::optional<FillResult> on_ranks =
+      fill_on_ranks(file.soup, options, fill_path, args.decimate > 0 ? scratch_write : write);
   if (!on_ranks) return kOk;
   FillResult& result = *on_ranks;
   std::optional<Decimation> decimation;
   if (args.decimate > 0)
-    decimation = decimate_file(fill_path, mesh_path, args.output, options, args.decimate);
+    decimation = decimate_file(fill_path, mesh_path, args.output, write, options, args.decimate);
   if (progress) progress->clear();
 
   FillReport& report = result.report;
