@@ -3,22 +3,34 @@
 /// within a distance tolerance of it, and still valid.
 ///
 /// Edge collapse (CGAL's Surface_mesh_simplification: Lindstrom–Turk cost and placement) with
-/// two filters on every collapse: the triangles it makes must lie inside CGAL's polyhedral
-/// envelope of the input (prisms built within `tolerance` of the input's triangles, checked
-/// with exact predicates), and no triangle around the collapse may flip its normal. CGAL's
-/// link condition keeps the mesh a combinatorial 2-manifold. Nothing in CGAL's edge collapse
-/// prevents self-intersections, so the result is validated (validate_mesh(), the checks every
-/// output of fill() gets: closed, 2-manifold, outward, no degenerate faces, no duplicate points,
-/// no self-intersections); where it fails, the vertices of the input that collapsed into the
-/// offending triangles are locked (with their one-ring: edges at a locked vertex are never
-/// collapsed, and their neighbours keep their position) and the simplification starts again
-/// from the input, for at most DecimateOptions::max_rounds rounds, each round growing the
-/// locked region by a ring. If no round gives a valid mesh, the input is returned unchanged
-/// with a warning: an invalid mesh is never returned.
+/// two filters on every collapse: no triangle around the collapse may flip its normal, and the
+/// collapse must keep the result and the input within `tolerance` of each other, both ways
+/// (the distance bound below). CGAL's link condition keeps the mesh a combinatorial
+/// 2-manifold. Nothing in CGAL's edge collapse prevents self-intersections, so the result is
+/// validated (validate_mesh(), the checks every output of fill() gets: closed, 2-manifold,
+/// outward, no degenerate faces, no duplicate points, no self-intersections); where it fails,
+/// the vertices of the input that collapsed into the offending triangles are locked (with
+/// their one-ring: edges at a locked vertex are never collapsed, and their neighbours keep
+/// their position) and the simplification starts again from the input, for at most
+/// DecimateOptions::max_rounds rounds, each round growing the locked region by a ring. If no
+/// round gives a valid mesh, the input is returned unchanged with a warning: an invalid mesh
+/// is never returned.
 ///
-/// The distance bound: every point of the result lies within `tolerance` of the input (the
-/// envelope lies inside the input's tolerance offset, CGAL's construction at tolerance/√3 per
-/// axis). The other direction has no proof; both are measured after the fact (DecimateReport).
+/// The distance bound, two-sided and proven: every point of the result lies within
+/// `tolerance` of the input, and every point of the input within `tolerance` of the result
+/// (the symmetric Hausdorff distance is at most `tolerance`). Each input triangle is kept with
+/// the faces of the result that its proof of closeness uses; a collapse changes a few faces
+/// (the region), and it is accepted only if every input triangle depending on the region is
+/// proven again against the region's new triangles (and the unchanged faces around them), and
+/// every new triangle is proven against the input triangles there. A triangle is proven
+/// within the tolerance of a set of triangles piece by piece: a piece is done when one
+/// triangle of the set lies within the tolerance of its three corners (the distance to a
+/// triangle is convex) or when its corners' distances plus its covering radius stay within
+/// the tolerance (the distance to a set is 1-Lipschitz); otherwise it is split in four, down
+/// to 1/16 of the triangle, and a piece still unproven there refuses the collapse. Distances
+/// are exact point–triangle distances in double arithmetic (so "within" holds up to their
+/// round-off, about 1e-15 of the coordinates). Both one-sided distances are also measured
+/// afterwards (DecimateReport::distance).
 ///
 /// Deterministic: edge collapse is serial and every collapse decision is exact or
 /// order-fixed, so the result does not depend on the thread count (validation is parallel
@@ -38,8 +50,9 @@
 namespace tpmsfill {
 
 struct DecimateOptions {
-  /// Largest distance from any point of the result to the input surface, mm (> 0). For a
-  /// marching-cubes lattice, voxel/4 keeps the result well inside the voxel's own error.
+  /// Largest distance between the result and the input, both ways (a bound on the Hausdorff
+  /// distance), mm (> 0). For a marching-cubes lattice, voxel/4 keeps the result well inside
+  /// the voxel's own error.
   double tolerance = 0;
   /// Stop once the result has at most this many triangles; 0: collapse as far as the
   /// tolerance and validity allow.
@@ -57,7 +70,7 @@ struct DecimateOptions {
 
 /// Why the edge collapse stopped.
 enum class DecimateStop {
-  Tolerance,  ///< no edge is left whose collapse stays inside the envelope and flips nothing
+  Tolerance,  ///< no edge is left whose collapse keeps the distance bound and flips nothing
   Target,     ///< DecimateOptions::target_triangles reached
   Unchanged,  ///< no round gave a valid mesh: the input is returned as it came
 };
@@ -65,10 +78,10 @@ enum class DecimateStop {
 /// "tolerance", "target", "unchanged".
 const char* decimate_stop_name(DecimateStop stop);
 
-/// Distances between the input and the result, mm, over sample points: each triangle's
-/// corners and centroid (evenly thinned to about 600,000 points on large meshes), each measured
-/// to the nearest point of the other surface (CGAL's AABB tree). A sampled maximum is a lower
-/// bound of the true one-sided Hausdorff distance.
+/// Distances between the input and the result, mm, over sample points: on each triangle the
+/// barycentric grid of order 4 (15 points) and the centroid, evenly thinned to about 2,000,000
+/// points on large meshes, each measured to the nearest point of the other surface (CGAL's AABB
+/// tree). A sampled maximum is a lower bound of the true one-sided Hausdorff distance.
 struct DecimateDistance {
   double to_input = 0;        ///< result → input, max over the result's samples
   double to_input_p95 = 0;    ///< 95th percentile of the same
@@ -90,9 +103,9 @@ struct DecimateReport {
   double volume_after = 0;          ///< signed, mm^3
   double area_before = 0;           ///< mm^2
   double area_after = 0;            ///< mm^2
-  /// Proven bound on the distance from the result to the input: the tolerance (the envelope);
-  /// 0 when the result is the input unchanged.
-  double bound_to_input = 0;
+  /// Proven bound on the symmetric Hausdorff distance between the result and the input: the
+  /// tolerance; 0 when the result is the input unchanged.
+  double hausdorff_bound = 0;
   DecimateDistance distance;          ///< measured (see DecimateDistance)
   int rounds = 0;                     ///< simplifications run (1 when the first was valid)
   std::uint64_t locked_vertices = 0;  ///< input vertices locked in the last round
@@ -135,7 +148,7 @@ DecimateResult decimate(const TriangleSoup& mesh, const DecimateOptions& options
 /// The JSON object of a decimation (2-space indent, keys in this order): tolerance,
 /// target_triangles (null without a target), triangles_before, triangles_after, reduction,
 /// vertices_before, vertices_after, merged_points, volume_before, volume_after, volume_change
-/// (fraction), area_before, area_after, bound_to_input (mm), hausdorff (mm, sampled),
+/// (fraction), area_before, area_after, hausdorff_bound (mm), hausdorff (mm, sampled),
 /// to_input {max, p95}, from_input {max, p95} (mm), rounds, locked_vertices, invalid_pairs,
 /// stop, seconds, valid, problems, warnings. Each field means what the DecimateReport member
 /// of the same name means.

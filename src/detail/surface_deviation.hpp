@@ -4,6 +4,7 @@
 /// percentile. Plain data in and out; CGAL stays in the .cpp.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "tpmsfill/types.hpp"
@@ -15,12 +16,16 @@ struct DistanceStats {
   std::uint64_t samples = 0;  ///< points measured
 };
 
-/// Distances from samples of `from` (its triangles' corners and centroids, evenly thinned to
-/// about 600,000 points on large meshes) to the surface of `to` (its non-degenerate
-/// triangles). With `skip_inside`, samples off `to`'s surface and inside it (odd crossings
-/// of a ray; `to` closed) are left out: surface a union removed from inside a solid is not a
-/// lost feature. Deterministic and parallel. Zero samples when either side has no triangle.
+/// Distances from samples of `from` to the surface of `to` (its non-degenerate triangles).
+/// The samples of a triangle are the points of its barycentric grid of order `grid` (grid 1:
+/// the corners; grid n: the points with barycentric coordinates in multiples of 1/n) and its
+/// centroid, on every triangle or, where that would exceed `max_samples` points, on every
+/// k-th triangle (evenly thinned). With `skip_inside`, samples off `to`'s surface and inside
+/// it (odd crossings of a ray; `to` closed) are left out: surface a union removed from inside
+/// a solid is not a lost feature. Deterministic and parallel. Zero samples when either side
+/// has no triangle.
 DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to,
-                                bool skip_inside = false);
+                                bool skip_inside = false, int grid = 1,
+                                std::size_t max_samples = 600000);
 
 }  // namespace tpmsfill::detail
