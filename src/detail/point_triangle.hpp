@@ -12,8 +12,20 @@ namespace tpmsfill::detail {
 
 inline double squared_distance_to_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
   auto squared = [&](Vec3 q) { return dot(p - q, p - q); };
+  const Vec3 n = cross(ab, ac);
+  if (!(dot(n, n) > 0)) {  // degenerate (collinear or repeated corners): the nearest edge
+    auto segment = [&](Vec3 s, Vec3 t) {
+      const Vec3 st = t - s;
+      const double len2 = dot(st, st);
+      double u = len2 > 0 ? dot(p - s, st) / len2 : 0;
+      u = u < 0 ? 0 : (u > 1 ? 1 : u);
+      return squared(s + u * st);
+    };
+    const double x = segment(a, b), y = segment(b, c), z = segment(c, a);
+    return x < y ? (x < z ? x : z) : (y < z ? y : z);
+  }
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
   if (d1 <= 0 && d2 <= 0) return squared(a);
   const Vec3 bp = p - b;
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
@@ -29,17 +41,6 @@ inline double squared_distance_to_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
   if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
     return squared(b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b));
   const double sum = va + vb + vc;
-  if (!(sum > 0)) {  // degenerate (collinear corners): the nearest of the three edges
-    auto segment = [&](Vec3 s, Vec3 t) {
-      const Vec3 st = t - s;
-      const double len2 = dot(st, st);
-      double u = len2 > 0 ? dot(p - s, st) / len2 : 0;
-      u = u < 0 ? 0 : (u > 1 ? 1 : u);
-      return squared(s + u * st);
-    };
-    const double x = segment(a, b), y = segment(b, c), z = segment(c, a);
-    return x < y ? (x < z ? x : z) : (y < z ? y : z);
-  }
   const double v = vb / sum, w = vc / sum;
   return squared(a + v * ab + w * ac);
 }
