@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -45,14 +45,15 @@
 # 19. `tpmsfill fill --decimate voxel/4` on the femur at 35 mm, a = 0.05 mm (issue 17's target:
 #     at least 4x fewer triangles, still valid) and on every mesh of ../shared/meshes: triangles
 #     before and after, measured distances both ways, volume change, rounds, time, peak memory,
-#     and `tpmsfill check` of the written file
+#     and `tpmsfill check` of the written file (each mesh stopped after 900 s by `timeout`);
+#     `decimate-meshes` runs the meshes only
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -654,7 +655,7 @@ PY
   fi
 fi
 
-if [[ "$section" == all || "$section" == decimate ]]; then
+if [[ "$section" == all || "$section" == decimate || "$section" == decimate-meshes ]]; then
   echo
   echo "## 19. decimation that keeps the proof (fill --decimate TOL, TOL = voxel/4)"
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
@@ -676,6 +677,7 @@ PY
   }
   header='| case | exit | triangles before → after | reduction | TOL mm | measured max mm (to / from input) | volume change | rounds | decimate s | wall s | peak MB | check of output |'
   rule='|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---|'
+  if [[ "$section" != decimate-meshes ]]; then
   echo
   echo "femur 35 mm, gyroid network T = 2 mm, a = 0.05 mm, TOL = 0.0125 mm:"
   echo "\`tpmsfill fill femur35.stl out.stl --cell 2 --voxel 0.05 --decimate 0.0125 --report r.json\`"
@@ -686,6 +688,7 @@ PY
   if [[ $code == 0 ]]; then decimate_row "femur 35 mm, a = 0.05" "$tmp/dec.stl" "$tmp/dec.json"
   else echo "| femur | $code | $(head -c 120 "$tmp/err.txt") |"; fi
   sed 's/^/    /' "$tmp/err.txt"
+  fi
   if [[ -d ../shared/meshes ]]; then
     echo
     echo "every mesh of ../shared/meshes: cell = longest side / 15, voxel a = cell / 10, TOL = a / 4:"
@@ -696,8 +699,8 @@ PY
       ./build/tpmsfill check --no-self-intersections --json "$f" >"$tmp/c.json" 2>/dev/null || true
       read -r cell voxel tol < <(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); b=j["bbox"]; L=max(b["max"][i]-b["min"][i] for i in range(3)); print(L/15, L/150, L/600)' "$tmp/c.json" 2>/dev/null || echo "0 0 0")
       [[ "$cell" != 0 ]] || continue
-      timed ./build/tpmsfill fill "$f" "$tmp/dec.stl" --quiet --cell "$cell" --voxel "$voxel" \
-        --decimate "$tol" --report "$tmp/dec.json" 2>"$tmp/err.txt"
+      timed timeout 900 ./build/tpmsfill fill "$f" "$tmp/dec.stl" --quiet --cell "$cell" \
+        --voxel "$voxel" --decimate "$tol" --report "$tmp/dec.json" 2>"$tmp/err.txt"
       if [[ $code == 0 ]]; then decimate_row "$(basename "$f")" "$tmp/dec.stl" "$tmp/dec.json"
       else echo "| $(basename "$f") | $code | $(head -c 120 "$tmp/err.txt" | tr '\n|' '  ') |"; fi
       grep -h "warning" "$tmp/err.txt" | sed 's/^/    /' || true
