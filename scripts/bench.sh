@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -47,13 +47,16 @@
 #     before and after, measured distances both ways, volume change, rounds, time, peak memory,
 #     and `tpmsfill check` of the written file (each mesh stopped after 900 s by `timeout`);
 #     `decimate-meshes` runs the meshes only
+#  decimate-cgal:
+# 19. `tpmsfill decimate IN OUT --tolerance D/500` (D: the bounding box's diagonal) on every mesh
+#     of libcgal-demo's data/meshes that `tpmsfill check` calls valid, each output checked
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -653,6 +656,42 @@ print()
 print(f"reference: OpenVDB {reports('femur-0.1-lut')[0]['openvdb']}, threads {reports('femur-0.1-lut')[0]['threads']}")
 PY
   fi
+fi
+
+if [[ "$section" == all || "$section" == decimate-cgal ]]; then
+  echo
+  echo "## 19. decimate every valid libcgal-demo mesh (TOL = bounding-box diagonal / 500)"
+  mkdir -p "$tmp/cgal"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/cgal" --strip-components=2 data/meshes
+  echo
+  echo "| mesh | triangles before → after | reduction | TOL mm | measured max mm (to / from input) | volume change | rounds | wall s | peak MB | check of output |"
+  echo "|---|---|---:|---:|---|---:|---:|---:|---:|---|"
+  valid=0 skipped=0
+  for f in "$tmp"/cgal/*.{off,stl,obj,ply}; do
+    [[ -f "$f" ]] || continue
+    if ! ./build/tpmsfill check --json "$f" >"$tmp/c.json" 2>/dev/null; then
+      skipped=$((skipped + 1)); continue
+    fi
+    valid=$((valid + 1))
+    tol=$(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5/500)' "$tmp/c.json")
+    out="$tmp/dec.${f##*.}"; [[ "$out" == *.off ]] && out="$tmp/dec.ply"
+    timed timeout 900 ./build/tpmsfill decimate "$f" "$out" --tolerance "$tol" --quiet \
+      --report "$tmp/dec.json" 2>"$tmp/err.txt"
+    if [[ $code != 0 ]]; then
+      echo "| $(basename "$f") | exit $code: $(head -c 120 "$tmp/err.txt" | tr '\n|' '  ') | | | | | | | | |"; continue
+    fi
+    ./build/tpmsfill check "$out" >/dev/null 2>&1 && verdict="valid" || verdict="NOT VALID"
+    python3 - "$tmp/dec.json" "$(basename "$f")" "$wall" "$kb" "$verdict" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+print(f"| {sys.argv[2]} | {d['triangles_before']:,} → {d['triangles_after']:,} | "
+      f"**{d['reduction']:.2f}×** | {d['tolerance']:.4g} | {d['to_input']['max']:.4g} / "
+      f"{d['from_input']['max']:.4g} | {100 * d['volume_change']:+.3f} % | {d['rounds']} | "
+      f"{float(sys.argv[3]):.1f} | {int(sys.argv[4]) / 1024:.0f} | {sys.argv[5]} |")
+PY
+  done
+  echo
+  echo "$valid valid meshes decimated; $skipped files not valid (or unreadable) were left out"
 fi
 
 if [[ "$section" == all || "$section" == decimate || "$section" == decimate-meshes ]]; then

@@ -71,6 +71,14 @@ TEST(FieldCli, FitInfoMeshAndFill) {
   EXPECT_NEAR(1 - volume / (12.0 * 12 * 12), 0.6, 0.01) << out;
   EXPECT_NE(out.find("smaller"), std::string::npos) << out;
 
+  // To 3MF: validated as lib3mf's micrometres hold it, so the package reads back valid.
+  ASSERT_EQ(run("field mesh " + (dir / "s.itdf").string() + " " + (dir / "s.3mf").string() +
+                    " --voxel 0.4 --porosity 0.6",
+                &out),
+            0)
+      << out;
+  EXPECT_EQ(run("check " + (dir / "s.3mf").string(), &out), 0) << out;
+
   // The surface type without thickness: an open 2-manifold with a boundary on the box.
   ASSERT_EQ(run("field mesh " + (dir / "s.itdf").string() + " " + (dir / "open.ply").string() +
                     " --voxel 0.3 --surface 0",

@@ -306,6 +306,9 @@ int run_mesh(const FieldArgs& a) {
   if (a.structure.porosity) o.design.porosity = a.structure.porosity;
   o.measure = false;
   o.keep_islands = a.keep_islands;
+  // Validate what the file will hold: a 3MF keeps lib3mf's micrometres, not floats.
+  if (rounding_for(format_from_extension(a.output)) == CoordinateRounding::ThreeMf)
+    o.rounding = CoordinateRounding::ThreeMf;
   std::unique_ptr<TerminalProgress> progress;
   if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
