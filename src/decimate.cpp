@@ -27,6 +27,7 @@
 
 #include "detail/cgal_types.hpp"
 #include "detail/disjoint_sets.hpp"
+#include "detail/self_intersections.hpp"
 #include "detail/soup_topology.hpp"
 #include "detail/stage_progress.hpp"
 #include "detail/surface_deviation.hpp"
@@ -366,15 +367,202 @@ class DistanceBound {
   HalfedgeIndex planned_;
 };
 
+/// Keeps the simplified surface free of self-intersections: a collapse is refused when one of
+/// the triangles it makes meets another triangle of the mesh, decided as validation decides
+/// it (detail::triangle_pair_intersects: exact predicates, shared corners by index). The other
+/// triangles are found through a uniform grid of cells, each listing the faces whose bounding
+/// box met it when they were last moved (an entry can be stale: every candidate's current
+/// box is tested).
+class IntersectionGuard {
+ public:
+  IntersectionGuard(const SurfaceMesh& sm, const TriangleSoup& input) {
+    Vec3 lo = input.points.front(), hi = lo;
+    double edges = 0;
+    for (const Vec3& p : input.points) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    for (const Triangle& t : input.triangles)
+      edges += norm(input.points[t[1]] - input.points[t[0]]);
+    // Cells of about 4 mean edges (a decimated face spans a few), at most 2^23 of them.
+    cell_ = std::max(4 * edges / static_cast<double>(input.triangles.size()), 1e-300);
+    const Vec3 size = hi - lo;
+    while ((size.x / cell_ + 1) * (size.y / cell_ + 1) * (size.z / cell_ + 1) > 8388608.0)
+      cell_ *= 1.25;
+    origin_ = lo;
+    for (int a = 0; a < 3; ++a) dim_[a] = static_cast<std::int64_t>(size[a] / cell_) + 1;
+    cells_.resize(static_cast<std::size_t>(dim_[0] * dim_[1] * dim_[2]));
+    stamp_.assign(sm.number_of_faces(), 0);
+    visited_.assign(sm.number_of_faces(), 0);
+    for (FaceIndex f : sm.faces()) insert(sm, f);
+  }
+
+  /// Whether collapsing halfedge `h` with the kept vertex at `p` leaves the mesh free of
+  /// self-intersections (given it was before).
+  bool accepts(const SurfaceMesh& sm, HalfedgeIndex h, Vec3 p) {
+    const VertexIndex v0 = sm.source(h), v1 = sm.target(h);
+    const FaceIndex gone[2] = {sm.face(h), sm.face(sm.opposite(h))};
+    // The new triangles, by vertex index with v0 and v1 both named v1, at `p`.
+    news_.clear();
+    for (VertexIndex v : {v0, v1})
+      for (HalfedgeIndex g : sm.halfedges_around_target(sm.halfedge(v))) {
+        const FaceIndex f = sm.face(g);
+        if (f == gone[0] || f == gone[1]) continue;
+        const HalfedgeIndex n = sm.next(g);
+        news_.push_back({static_cast<std::uint32_t>(v1), static_cast<std::uint32_t>(sm.target(n)),
+                         static_cast<std::uint32_t>(sm.target(sm.next(n)))});
+      }
+    const std::uint32_t kept = static_cast<std::uint32_t>(v1);
+    auto point = [&](std::uint32_t v) { return v == kept ? p : vec(sm.point(VertexIndex(v))); };
+    // The new triangles against each other.
+    for (std::size_t i = 0; i < news_.size(); ++i)
+      for (std::size_t j = i + 1; j < news_.size(); ++j)
+        if (meet(news_[i], news_[j], point)) return false;
+    // Against every other face near them (none holds v0 or v1: those all change or go).
+    if (++epoch_ == 0) {
+      std::fill(stamp_.begin(), stamp_.end(), 0);
+      epoch_ = 1;
+    }
+    for (FaceIndex f : sm.faces_around_target(sm.halfedge(v0))) mark(f);
+    for (FaceIndex f : sm.faces_around_target(sm.halfedge(v1))) mark(f);
+    for (const Triangle& t : news_) {
+      const Box b = box(Corners{point(t[0]), point(t[1]), point(t[2])});
+      if (++visit_ == 0) {
+        std::fill(visited_.begin(), visited_.end(), 0);
+        visit_ = 1;
+      }
+      for_cells(b, [&](std::vector<std::uint32_t>& cell) {
+        for (std::uint32_t f : cell) {
+          const FaceIndex face(f);
+          // Once per new triangle (a face can be filed under several cells).
+          if (stamp_[f] == epoch_ || visited_[f] == visit_ || sm.is_removed(face)) continue;
+          visited_[f] = visit_;
+          const Triangle other = face_vertices(sm, face);
+          if (!overlap(b, box(Corners{point(other[0]), point(other[1]), point(other[2])})))
+            continue;
+          if (meet(t, other, point)) return false;
+        }
+        return true;
+      });
+      if (found_) {
+        found_ = false;
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// Files the faces around the kept vertex `v` under the cells their new boxes meet.
+  void commit(const SurfaceMesh& sm, VertexIndex v) {
+    for (FaceIndex f : sm.faces_around_target(sm.halfedge(v))) insert(sm, f);
+  }
+
+ private:
+  struct Box {
+    Vec3 lo, hi;
+  };
+
+  static Box box(const Corners& t) {
+    Box b{t[0], t[0]};
+    for (const Vec3& p : t) {
+      b.lo = {std::min(b.lo.x, p.x), std::min(b.lo.y, p.y), std::min(b.lo.z, p.z)};
+      b.hi = {std::max(b.hi.x, p.x), std::max(b.hi.y, p.y), std::max(b.hi.z, p.z)};
+    }
+    return b;
+  }
+
+  static bool overlap(const Box& a, const Box& b) {
+    return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y &&
+           a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
+  }
+
+  static Triangle face_vertices(const SurfaceMesh& sm, FaceIndex f) {
+    const HalfedgeIndex h = sm.halfedge(f);
+    return {static_cast<std::uint32_t>(sm.target(h)),
+            static_cast<std::uint32_t>(sm.target(sm.next(h))),
+            static_cast<std::uint32_t>(sm.target(sm.next(sm.next(h))))};
+  }
+
+  void mark(FaceIndex f) {
+    if (f != SurfaceMesh::null_face()) stamp_[f] = epoch_;
+  }
+
+  /// Whether triangles `a` and `b` (vertex indices; `point` gives their places) meet.
+  template <class Point>
+  bool meet(const Triangle& a, const Triangle& b, const Point& point) {
+    // Local indices: shared corners stay shared.
+    ids_.clear();
+    local_.clear();
+    auto local = [&](std::uint32_t v) {
+      for (std::uint32_t i = 0; i < ids_.size(); ++i)
+        if (ids_[i] == v) return i;
+      ids_.push_back(v);
+      local_.push_back(point(v));
+      return static_cast<std::uint32_t>(ids_.size() - 1);
+    };
+    const Triangle la{local(a[0]), local(a[1]), local(a[2])};
+    const Triangle lb{local(b[0]), local(b[1]), local(b[2])};
+    return detail::triangle_pair_intersects(la, lb, local_);
+  }
+
+  /// Calls `visit(cell)` for every cell `b` meets while it returns true; found_ is set when a
+  /// visit returned false.
+  template <class Visit>
+  void for_cells(const Box& b, const Visit& visit) {
+    std::int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::clamp(static_cast<std::int64_t>(std::floor((b.lo[a] - origin_[a]) / cell_)),
+                         std::int64_t{0}, dim_[a] - 1);
+      hi[a] = std::clamp(static_cast<std::int64_t>(std::floor((b.hi[a] - origin_[a]) / cell_)),
+                         std::int64_t{0}, dim_[a] - 1);
+    }
+    for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+          if (!visit(cells_[static_cast<std::size_t>((z * dim_[1] + y) * dim_[0] + x)])) {
+            found_ = true;
+            return;
+          }
+  }
+
+  void insert(const SurfaceMesh& sm, FaceIndex f) {
+    const Triangle t = face_vertices(sm, f);
+    const Box b = box(Corners{vec(sm.point(VertexIndex(t[0]))), vec(sm.point(VertexIndex(t[1]))),
+                              vec(sm.point(VertexIndex(t[2])))});
+    const std::uint32_t id = static_cast<std::uint32_t>(f);
+    for_cells(b, [&](std::vector<std::uint32_t>& cell) {
+      // Drop removed faces while here; file f once.
+      std::erase_if(cell, [&](std::uint32_t g) { return sm.is_removed(FaceIndex(g)); });
+      if (std::find(cell.begin(), cell.end(), id) == cell.end()) cell.push_back(id);
+      return true;
+    });
+  }
+
+  double cell_ = 1;
+  Vec3 origin_;
+  std::int64_t dim_[3] = {1, 1, 1};
+  std::vector<std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint32_t> stamp_;  ///< per face: the last epoch_ (collapse) it changes in
+  std::uint32_t epoch_ = 0;
+  std::vector<std::uint32_t> visited_;  ///< per face: the last visit_ (new triangle) it met
+  std::uint32_t visit_ = 0;
+  bool found_ = false;
+  std::vector<Triangle> news_;
+  std::vector<std::uint32_t> ids_;
+  std::vector<Vec3> local_;
+};
+
 /// CGAL's filter: no face around the collapse turns over (Bounded_normal_change_filter), and
 /// the DistanceBound holds.
 struct BoundFilter {
   DistanceBound* bound;
+  IntersectionGuard* guard;
   template <class Profile>
   boost::optional<typename Profile::Point> operator()(
       const Profile& profile, boost::optional<typename Profile::Point> p) const {
     p = SMS::Bounded_normal_change_filter<>()(profile, p);
     if (p && !bound->accepts(profile.surface_mesh(), profile.v0_v1(), vec(*p))) return {};
+    if (p && !guard->accepts(profile.surface_mesh(), profile.v0_v1(), vec(*p))) return {};
     return p;
   }
 };
@@ -393,12 +581,14 @@ struct RoundState {
 struct Visitor : SMS::Edge_collapse_visitor_base<SurfaceMesh> {
   RoundState* state;
   DistanceBound* bound;
-  Visitor(RoundState* s, DistanceBound* b) : state(s), bound(b) {}
+  IntersectionGuard* guard;
+  Visitor(RoundState* s, DistanceBound* b, IntersectionGuard* g) : state(s), bound(b), guard(g) {}
   template <class Profile>
-  void OnCollapsed(const Profile& profile, VertexIndex) const {
+  void OnCollapsed(const Profile& profile, VertexIndex kept) const {
     state->absorbed.unite(static_cast<std::uint32_t>(profile.v0()),
                           static_cast<std::uint32_t>(profile.v1()));
     bound->commit(profile.v0_v1());
+    guard->commit(profile.surface_mesh(), kept);
   }
 };
 
@@ -445,12 +635,13 @@ RoundResult simplify(const TriangleSoup& input, const std::vector<std::uint8_t>&
   const Placement placement(
       lock, FloatPlacement<SMS::LindstromTurk_placement<SurfaceMesh>>(options.rounding));
   DistanceBound bound(input, options.tolerance);
+  IntersectionGuard guard(sm, input);
   SMS::edge_collapse(sm, StopPredicate{&state},
                      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<SurfaceMesh>())
                          .get_placement(placement)
-                         .filter(BoundFilter{&bound})
+                         .filter(BoundFilter{&bound, &guard})
                          .edge_is_constrained_map(lock)
-                         .visitor(Visitor(&state, &bound)));
+                         .visitor(Visitor(&state, &bound, &guard)));
   if (state.cancelled) throw Cancelled("cancelled");
 
   RoundResult r;

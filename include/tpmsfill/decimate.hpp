@@ -63,7 +63,7 @@ struct DecimateOptions {
   /// are kept and new vertices are doubles.
   CoordinateRounding rounding = CoordinateRounding::Float;
   /// Simplifications from the input, at most, while locking where the result was invalid.
-  int max_rounds = 4;
+  int max_rounds = 8;
   bool self_intersections = true;  ///< validate with the self-intersection search (exact)
   Progress* progress = nullptr;
 };

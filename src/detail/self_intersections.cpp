@@ -602,6 +602,14 @@ std::optional<std::vector<Pair>> intersecting_pairs_in_cells(const TriangleSoup&
 
 }  // namespace
 
+bool triangle_pair_intersects(const Triangle& h, const Triangle& g,
+                              const std::vector<Vec3>& points) {
+  std::vector<Point3> p(points.size());
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = to_cgal(points[i]);
+  return triangles_intersect(h, g, plane_coefficients(p[h[0]], p[h[1]], p[h[2]]),
+                             plane_coefficients(p[g[0]], p[g[1]], p[g[2]]), p);
+}
+
 SelfIntersections find_self_intersections(const TriangleSoup& mesh,
                                           const std::vector<std::uint8_t>& skip,
                                           const std::optional<Grid>& cell_grid,

@@ -43,4 +43,10 @@ SelfIntersections find_self_intersections(const TriangleSoup& mesh,
                                           const std::optional<Grid>& cell_grid,
                                           ProgressCounter& progress);
 
+/// Whether triangles `h` and `g` (indices into `points`) intersect, decided as the search
+/// decides a pair (shared corners by index, exact predicates). For one pair at a time (a
+/// decimation's new triangles against their neighbours): the points are converted per call.
+bool triangle_pair_intersects(const Triangle& h, const Triangle& g,
+                              const std::vector<Vec3>& points);
+
 }  // namespace tpmsfill::detail
