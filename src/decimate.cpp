@@ -103,7 +103,7 @@ SurfaceMesh surface_mesh(const TriangleSoup& mesh) {
 // --- the edge collapse's policies ------------------------------------------------------------
 
 /// A placement whose points are rounded as the file will hold them (DecimateOptions::rounding),
-/// so the envelope and the normal filter judge the point that will be written.
+/// so the filters judge the point that will be written.
 template <class Base>
 class FloatPlacement : public Base {
  public:

@@ -220,6 +220,10 @@ TEST(Decimate, FilledLatticeStaysValid) {
   const DecimateResult r = decimate(filled.mesh, {.tolerance = tolerance});
   expect_valid_within(filled.mesh, r, tolerance);
   EXPECT_LT(r.report.triangles_after, r.report.triangles_before);
+  // No collapse made triangles meet (the guard runs validation's own pair test), so the first
+  // round's result was valid.
+  EXPECT_EQ(r.report.rounds, 1);
+  EXPECT_TRUE(r.report.invalid_pairs.empty());
   // The lattice keeps its pieces and its genus.
   const MeshCheck before = check_mesh(filled.mesh), after = check_mesh(r.mesh);
   EXPECT_EQ(after.components, before.components);

@@ -3,11 +3,12 @@
 /// within a distance tolerance of it, and still valid.
 ///
 /// Edge collapse (CGAL's Surface_mesh_simplification: Lindstrom–Turk cost and placement) with
-/// two filters on every collapse: no triangle around the collapse may flip its normal, and the
+/// three filters on every collapse: no triangle around the collapse may flip its normal; the
 /// collapse must keep the result and the input within `tolerance` of each other, both ways
-/// (the distance bound below). CGAL's link condition keeps the mesh a combinatorial
-/// 2-manifold. Nothing in CGAL's edge collapse prevents self-intersections, so the result is
-/// validated (validate_mesh(), the checks every output of fill() gets: closed, 2-manifold,
+/// (the distance bound below); and no triangle it makes may meet another triangle of the mesh
+/// (validation's exact pair test, against the faces near it found through a uniform grid).
+/// CGAL's link condition keeps the mesh a combinatorial 2-manifold. The result is validated
+/// all the same (validate_mesh(), the checks every output of fill() gets: closed, 2-manifold,
 /// outward, no degenerate faces, no duplicate points, no self-intersections); where it fails,
 /// the vertices of the input that collapsed into the offending triangles are locked (with
 /// their one-ring: edges at a locked vertex are never collapsed, and their neighbours keep

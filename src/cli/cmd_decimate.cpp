@@ -111,12 +111,12 @@ Command add_decimate_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "decimate", "Fewer triangles within a tolerance of a valid mesh, still valid");
   sub->footer(
-      "Collapses edges (CGAL surface mesh simplification, Lindstrom-Turk placement) while the "
-      "new triangles stay inside an envelope of --tolerance mm around IN and no triangle turns "
-      "over, so every point of OUT lies within --tolerance of IN. The result is validated like "
-      "every output (closed, 2-manifold, outward, no degenerate faces, no self-intersections); "
-      "where a collapse made triangles intersect, those parts of IN are locked and the "
-      "simplification runs again (up to 4 rounds); if none is valid, IN is written unchanged "
+      "Collapses edges (CGAL surface mesh simplification, Lindstrom-Turk placement) while OUT "
+      "and IN stay within --tolerance mm of each other both ways (a Hausdorff bound, proven at "
+      "every collapse), no triangle turns over and no new triangle meets another. The result is "
+      "validated like every output (closed, 2-manifold, outward, no degenerate faces, no "
+      "self-intersections); should triangles intersect, those parts of IN are locked and the "
+      "simplification runs again (up to 8 rounds); if none is valid, IN is written unchanged "
       "with a warning. IN must be valid already (`tpmsfill check`; `tpmsfill repair` makes it "
       "so). The report gives the triangles before and after, the measured distances both ways "
       "and the volume change. Lengths are millimetres.\n\n"
