@@ -133,6 +133,50 @@ Vec3 vec(const Point3& p) {
 
 using detail::Corners;
 
+/// Per-index marks that are all cleared at once: next() starts a fresh set in O(1) (a stamp per
+/// index, compared with the current one; the stamps are reset when the counter wraps).
+class Marks {
+ public:
+  explicit Marks(std::size_t n = 0) : stamp_(n, 0) {}
+  void next() {
+    if (++current_ == 0) {
+      std::fill(stamp_.begin(), stamp_.end(), 0);
+      current_ = 1;
+    }
+  }
+  bool marked(std::size_t i) const { return stamp_[i] == current_; }
+  void mark(std::size_t i) { stamp_[i] = current_; }
+  /// Marks `i`; false when it was marked already.
+  bool mark_once(std::size_t i) {
+    if (marked(i)) return false;
+    mark(i);
+    return true;
+  }
+
+ private:
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t current_ = 0;
+};
+
+/// The faces a collapse of halfedge `h` changes: the two it removes, and every other face
+/// around its two ends, each by its halfedge that ends at v0 or v1 (its corners: that end, then
+/// the next two). Both filters (DistanceBound, IntersectionGuard) read it.
+struct CollapseRegion {
+  VertexIndex v0, v1;
+  std::array<FaceIndex, 2> removed;
+  std::vector<HalfedgeIndex> kept;
+
+  void of(const SurfaceMesh& sm, HalfedgeIndex h) {
+    v0 = sm.source(h);
+    v1 = sm.target(h);
+    removed = {sm.face(h), sm.face(sm.opposite(h))};
+    kept.clear();
+    for (VertexIndex v : {v0, v1})
+      for (HalfedgeIndex g : sm.halfedges_around_target(sm.halfedge(v)))
+        if (sm.face(g) != removed[0] && sm.face(g) != removed[1]) kept.push_back(g);
+  }
+};
+
 /// Holds the simplified surface and the input within the tolerance of each other, both ways,
 /// at every point (decimate.hpp, "The distance bound").
 ///
@@ -157,17 +201,17 @@ class DistanceBound {
       : mesh_(input),
         dependants_(input.triangles.size()),
         depends_on_(input.triangles.size()),
-        seen_(input.triangles.size(), 0),
+        seen_(input.triangles.size()),
         slot_(input.triangles.size(), 0),
-        slot_epoch_(input.triangles.size(), 0),
+        slotted_(input.triangles.size()),
         cover_(tolerance) {
     for (std::uint32_t t = 0; t < dependants_.size(); ++t) dependants_[t] = depends_on_[t] = {t};
   }
 
   /// Whether collapsing halfedge `h` (source into target) with the kept vertex at `p` keeps
   /// both surfaces within the tolerance; if so, what the proofs used is kept for commit().
-  bool accepts(const SurfaceMesh& sm, HalfedgeIndex h, Vec3 p) {
-    region(sm, h, p);
+  bool accepts(const SurfaceMesh& sm, const CollapseRegion& region, HalfedgeIndex h, Vec3 p) {
+    gather_region(sm, region, p);
     if (news_ == 0) return false;
     uses_.clear();
     use_begin_.assign(1, 0);
@@ -242,14 +286,12 @@ class DistanceBound {
   /// Whether face `f` is removed or moved by the collapse being checked.
   bool changes(std::uint32_t f) const {
     return f == static_cast<std::uint32_t>(removed_[0]) ||
-           f == static_cast<std::uint32_t>(removed_[1]) ||
-           (slot_epoch_[f] == epoch_ && slot_[f] < news_);
+           f == static_cast<std::uint32_t>(removed_[1]) || (slotted_.marked(f) && slot_[f] < news_);
   }
 
   /// Adds face `f`'s triangle (as it is now) to the result triangles of this collapse, once.
   std::uint32_t slot(std::uint32_t f, const Corners& corners) {
-    if (slot_epoch_[f] != epoch_) {
-      slot_epoch_[f] = epoch_;
+    if (slotted_.mark_once(f)) {
       slot_[f] = static_cast<std::uint32_t>(result_.size());
       result_.push_back(corners);
       result_face_.push_back(f);
@@ -296,44 +338,33 @@ class DistanceBound {
   /// Adds the dependants of face `f` not yet seen in this collapse to `out`.
   void gather(FaceIndex f, std::vector<std::uint32_t>& out) {
     for (std::uint32_t t : dependants_[f])
-      if (seen_[t] != epoch_) {
-        seen_[t] = epoch_;
-        out.push_back(t);
-      }
+      if (seen_.mark_once(t)) out.push_back(t);
   }
 
-  /// The faces around both ends of `h` but the two it removes, their corners after the
-  /// collapse, and the dependants of all of them; then the faces across the region's outer
-  /// edges (unchanged) and their dependants.
-  void region(const SurfaceMesh& sm, HalfedgeIndex h, Vec3 p) {
-    if (++epoch_ == 0) {  // wrapped: start the marks afresh
-      std::fill(seen_.begin(), seen_.end(), 0);
-      std::fill(slot_epoch_.begin(), slot_epoch_.end(), 0);
-      epoch_ = 1;
-    }
-    const VertexIndex v0 = sm.source(h), v1 = sm.target(h);
-    removed_ = {sm.face(h), sm.face(sm.opposite(h))};
+  /// The region's faces after the collapse (their moved corner at `p`) and the dependants of
+  /// them and of the removed faces; then the faces across the region's outer edges (unchanged)
+  /// and their dependants.
+  void gather_region(const SurfaceMesh& sm, const CollapseRegion& region, Vec3 p) {
+    seen_.next();
+    slotted_.next();
+    removed_ = region.removed;
     result_.clear();
     result_face_.clear();
     inputs_.clear();
     around_.clear();
-    across_.clear();
     for (FaceIndex f : removed_) gather(f, inputs_);
-    for (VertexIndex v : {v0, v1})
-      for (HalfedgeIndex g : sm.halfedges_around_target(sm.halfedge(v))) {
-        const FaceIndex f = sm.face(g);  // g ends at v: corners v, next, the one after
-        if (f == removed_[0] || f == removed_[1]) continue;
-        Corners c = face_corners(sm, g);
-        c[0] = p;
-        slot(f, c);
-        gather(f, inputs_);
-        across_.push_back(sm.opposite(sm.next(sm.next(g))));  // across the edge away from v
-      }
+    for (HalfedgeIndex g : region.kept) {
+      Corners c = face_corners(sm, g);
+      c[0] = p;
+      slot(sm.face(g), c);
+      gather(sm.face(g), inputs_);
+    }
     news_ = static_cast<std::uint32_t>(result_.size());
-    for (HalfedgeIndex g : across_) {
-      const FaceIndex f = sm.face(g);
-      if (changes(f) || slot_epoch_[f] == epoch_) continue;
-      slot(f, face_corners(sm, g));
+    for (HalfedgeIndex g : region.kept) {
+      const HalfedgeIndex across = sm.opposite(sm.next(sm.next(g)));  // the edge away from v
+      const FaceIndex f = sm.face(across);
+      if (changes(f) || slotted_.marked(f)) continue;
+      slot(f, face_corners(sm, across));
       gather(f, around_);
     }
     around_begin_ = static_cast<std::uint32_t>(result_.size());
@@ -344,22 +375,20 @@ class DistanceBound {
   std::vector<std::vector<std::uint32_t>> dependants_;
   /// Per input triangle: the faces its proof uses.
   std::vector<std::vector<std::uint32_t>> depends_on_;
-  std::vector<std::uint32_t> seen_;  ///< per input triangle: the last epoch_ it was gathered
-  std::vector<std::uint32_t> slot_;  ///< per face: its index in result_ (when slot_epoch_)
-  std::vector<std::uint32_t> slot_epoch_;
-  std::uint32_t epoch_ = 0;
+  Marks seen_;                       ///< input triangles gathered in this collapse
+  std::vector<std::uint32_t> slot_;  ///< per face: its index in result_ (when slotted_)
+  Marks slotted_;                    ///< faces in result_ in this collapse
   // The collapse being checked:
   std::array<FaceIndex, 2> removed_;
   std::uint32_t news_ = 0;                  ///< result_[0, news_): the region's faces after it
   std::uint32_t around_begin_ = 0;          ///< result_[news_, around_begin_): the outer faces
   std::vector<Corners> result_;             ///< then the other unchanged faces that proofs use
   std::vector<std::uint32_t> result_face_;  ///< the face of each result_
-  std::vector<HalfedgeIndex> across_;
-  std::vector<std::uint32_t> inputs_;  ///< the dependants of the region and the removed faces
-  std::vector<std::uint32_t> around_;  ///< the dependants of the outer faces not in inputs_
-  std::vector<Corners> input_;         ///< the corners of inputs_, then of around_
-  std::vector<std::uint32_t> owner_;   ///< per inputs_: the new triangle nearest to it
-  std::vector<std::uint32_t> uses_;    ///< per inputs_ (use_begin_): result_ its proof used
+  std::vector<std::uint32_t> inputs_;       ///< the dependants of the region and the removed faces
+  std::vector<std::uint32_t> around_;       ///< the dependants of the outer faces not in inputs_
+  std::vector<Corners> input_;              ///< the corners of inputs_, then of around_
+  std::vector<std::uint32_t> owner_;        ///< per inputs_: the new triangle nearest to it
+  std::vector<std::uint32_t> uses_;         ///< per inputs_ (use_begin_): result_ its proof used
   std::vector<std::uint32_t> use_begin_;
   std::vector<std::uint32_t> candidates_;
   std::vector<std::uint32_t> unused_;
@@ -392,51 +421,39 @@ class IntersectionGuard {
     origin_ = lo;
     for (int a = 0; a < 3; ++a) dim_[a] = static_cast<std::int64_t>(size[a] / cell_) + 1;
     cells_.resize(static_cast<std::size_t>(dim_[0] * dim_[1] * dim_[2]));
-    stamp_.assign(sm.number_of_faces(), 0);
-    visited_.assign(sm.number_of_faces(), 0);
+    changing_ = Marks(sm.number_of_faces());
+    visited_ = Marks(sm.number_of_faces());
     for (FaceIndex f : sm.faces()) insert(sm, f);
   }
 
   /// Whether collapsing halfedge `h` with the kept vertex at `p` leaves the mesh free of
   /// self-intersections (given it was before).
-  bool accepts(const SurfaceMesh& sm, HalfedgeIndex h, Vec3 p) {
-    const VertexIndex v0 = sm.source(h), v1 = sm.target(h);
-    const FaceIndex gone[2] = {sm.face(h), sm.face(sm.opposite(h))};
+  bool accepts(const SurfaceMesh& sm, const CollapseRegion& region, Vec3 p) {
     // The new triangles, by vertex index with v0 and v1 both named v1, at `p`.
+    const std::uint32_t kept = static_cast<std::uint32_t>(region.v1);
     news_.clear();
-    for (VertexIndex v : {v0, v1})
-      for (HalfedgeIndex g : sm.halfedges_around_target(sm.halfedge(v))) {
-        const FaceIndex f = sm.face(g);
-        if (f == gone[0] || f == gone[1]) continue;
-        const HalfedgeIndex n = sm.next(g);
-        news_.push_back({static_cast<std::uint32_t>(v1), static_cast<std::uint32_t>(sm.target(n)),
-                         static_cast<std::uint32_t>(sm.target(sm.next(n)))});
-      }
-    const std::uint32_t kept = static_cast<std::uint32_t>(v1);
+    for (HalfedgeIndex g : region.kept) {
+      const HalfedgeIndex n = sm.next(g);
+      news_.push_back({kept, static_cast<std::uint32_t>(sm.target(n)),
+                       static_cast<std::uint32_t>(sm.target(sm.next(n)))});
+    }
     auto point = [&](std::uint32_t v) { return v == kept ? p : vec(sm.point(VertexIndex(v))); };
     // The new triangles against each other.
     for (std::size_t i = 0; i < news_.size(); ++i)
       for (std::size_t j = i + 1; j < news_.size(); ++j)
         if (meet(news_[i], news_[j], point)) return false;
     // Against every other face near them (none holds v0 or v1: those all change or go).
-    if (++epoch_ == 0) {
-      std::fill(stamp_.begin(), stamp_.end(), 0);
-      epoch_ = 1;
-    }
-    for (FaceIndex f : sm.faces_around_target(sm.halfedge(v0))) mark(f);
-    for (FaceIndex f : sm.faces_around_target(sm.halfedge(v1))) mark(f);
+    changing_.next();
+    for (FaceIndex f : region.removed) changing_.mark(f);
+    for (HalfedgeIndex g : region.kept) changing_.mark(sm.face(g));
     for (const Triangle& t : news_) {
       const Box b = box(Corners{point(t[0]), point(t[1]), point(t[2])});
-      if (++visit_ == 0) {
-        std::fill(visited_.begin(), visited_.end(), 0);
-        visit_ = 1;
-      }
+      visited_.next();
       for_cells(b, [&](std::vector<std::uint32_t>& cell) {
         for (std::uint32_t f : cell) {
           const FaceIndex face(f);
           // Once per new triangle (a face can be filed under several cells).
-          if (stamp_[f] == epoch_ || visited_[f] == visit_ || sm.is_removed(face)) continue;
-          visited_[f] = visit_;
+          if (changing_.marked(f) || sm.is_removed(face) || !visited_.mark_once(f)) continue;
           const Triangle other = face_vertices(sm, face);
           if (!overlap(b, box(Corners{point(other[0]), point(other[1]), point(other[2])})))
             continue;
@@ -481,10 +498,6 @@ class IntersectionGuard {
     return {static_cast<std::uint32_t>(sm.target(h)),
             static_cast<std::uint32_t>(sm.target(sm.next(h))),
             static_cast<std::uint32_t>(sm.target(sm.next(sm.next(h))))};
-  }
-
-  void mark(FaceIndex f) {
-    if (f != SurfaceMesh::null_face()) stamp_[f] = epoch_;
   }
 
   /// Whether triangles `a` and `b` (vertex indices; `point` gives their places) meet.
@@ -542,10 +555,8 @@ class IntersectionGuard {
   Vec3 origin_;
   std::int64_t dim_[3] = {1, 1, 1};
   std::vector<std::vector<std::uint32_t>> cells_;
-  std::vector<std::uint32_t> stamp_;  ///< per face: the last epoch_ (collapse) it changes in
-  std::uint32_t epoch_ = 0;
-  std::vector<std::uint32_t> visited_;  ///< per face: the last visit_ (new triangle) it met
-  std::uint32_t visit_ = 0;
+  Marks changing_;  ///< faces the collapse being checked removes or moves
+  Marks visited_;   ///< faces met by the new triangle being checked
   bool found_ = false;
   std::vector<Triangle> news_;
   std::vector<std::uint32_t> ids_;
@@ -557,12 +568,17 @@ class IntersectionGuard {
 struct BoundFilter {
   DistanceBound* bound;
   IntersectionGuard* guard;
+  CollapseRegion* region;  ///< scratch, reused from collapse to collapse
   template <class Profile>
   boost::optional<typename Profile::Point> operator()(
       const Profile& profile, boost::optional<typename Profile::Point> p) const {
     p = SMS::Bounded_normal_change_filter<>()(profile, p);
-    if (p && !bound->accepts(profile.surface_mesh(), profile.v0_v1(), vec(*p))) return {};
-    if (p && !guard->accepts(profile.surface_mesh(), profile.v0_v1(), vec(*p))) return {};
+    if (!p) return p;
+    const SurfaceMesh& sm = profile.surface_mesh();
+    region->of(sm, profile.v0_v1());
+    if (!bound->accepts(sm, *region, profile.v0_v1(), vec(*p)) ||
+        !guard->accepts(sm, *region, vec(*p)))
+      return {};
     return p;
   }
 };
@@ -636,10 +652,11 @@ RoundResult simplify(const TriangleSoup& input, const std::vector<std::uint8_t>&
       lock, FloatPlacement<SMS::LindstromTurk_placement<SurfaceMesh>>(options.rounding));
   DistanceBound bound(input, options.tolerance);
   IntersectionGuard guard(sm, input);
+  CollapseRegion region;
   SMS::edge_collapse(sm, StopPredicate{&state},
                      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<SurfaceMesh>())
                          .get_placement(placement)
-                         .filter(BoundFilter{&bound, &guard})
+                         .filter(BoundFilter{&bound, &guard, &region})
                          .edge_is_constrained_map(lock)
                          .visitor(Visitor(&state, &bound, &guard)));
   if (state.cancelled) throw Cancelled("cancelled");

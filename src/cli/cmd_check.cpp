@@ -1,7 +1,5 @@
 // `tpmsfill check FILE [--json]`: is FILE a closed 2-manifold ready to print, and if not,
 // where not? The facts come from tpmsfill::check_mesh; this file only prints them.
-#include <tbb/global_control.h>
-
 #include <algorithm>
 #include <cinttypes>
 #include <cstdint>
@@ -18,6 +16,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/picture_flags.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -165,8 +164,7 @@ void write_picture(const CheckArgs& args, TriangleSoup soup, const MeshCheck& ch
 }
 
 int run_check(const CheckArgs& args) {
-  std::optional<tbb::global_control> threads;
-  if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+  const auto threads = thread_limit(args.threads);
   if (!args.picture.empty()) {
     require_png_name("--picture", args.picture);
     require_writable_outputs({args.input}, {{"--picture", args.picture}});
@@ -247,8 +245,7 @@ Command add_check_command(CLI::App& app) {
   sub->add_option("--max-examples", args->max_examples,
                   "Locations kept per defect class (default 10)")
       ->check(between(0, 1000000, "0 to 1000000"));
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_option("--picture", args->picture,
                   "Also draw the mesh with its defects marked to this PNG (written whatever the "
                   "verdict); --view, --clip and --size as for render");

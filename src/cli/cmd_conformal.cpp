@@ -1,6 +1,5 @@
 // `tpmsfill conformal SURFACE OUT --height H`: a lattice layer that follows a surface (seed
 // 004's microchannels; tpmsfill::conformal_fill). This file only parses and prints.
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +17,7 @@
 #include "cli/design_flags.hpp"
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -57,10 +57,7 @@ ConformalJobOptions job_options(const ConformalArgs& a) {
 }
 
 int run_conformal(const ConformalArgs& a) {
-  std::optional<tbb::global_control> threads;
-  if (a.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism,
-                    static_cast<std::size_t>(a.threads));
+  const auto threads = thread_limit(a.threads);
   ConformalJobOptions o = job_options(a);
   if (format_from_extension(a.output) == MeshFormat::Auto)
     throw InputError(unknown_mesh_extension(a.output));
@@ -186,8 +183,7 @@ Command add_conformal_command(CLI::App& app) {
   sub->add_flag("--keep-islands", args->keep_islands,
                 "Keep lattice pieces that float free of the main body (removed by default)");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_conformal(*args); };
 }

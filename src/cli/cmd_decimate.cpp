@@ -1,7 +1,6 @@
 // `tpmsfill decimate IN OUT --tolerance TOL`: fewer triangles within TOL of a valid mesh, still
 // valid (tpmsfill::decimate). The input must already be valid (the check stage decides, and
 // `tpmsfill repair` makes it so). This file only parses, checks the input, times and prints.
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -20,6 +19,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -46,10 +46,7 @@ void require_valid_input(const std::string& path, const TriangleSoup& soup) {
 }
 
 int run_decimate(const DecimateArgs& args) {
-  std::optional<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism,
-                    static_cast<std::size_t>(args.threads));
+  const auto threads = thread_limit(args.threads);
   // Fail on a bad output name, or one that would replace the input, before the work.
   const MeshFormat format = format_from_extension(args.output);
   if (format == MeshFormat::Auto) throw InputError(unknown_mesh_extension(args.output));
@@ -145,8 +142,7 @@ Command add_decimate_command(CLI::App& app) {
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   sub->add_flag("--json", args->json,
                 "Print the JSON report instead of text (fields: docs/cli.md)");
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_decimate(*args); };
 }

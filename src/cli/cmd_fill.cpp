@@ -1,6 +1,5 @@
 // `tpmsfill fill IN OUT`: read a mesh, fill it with a TPMS lattice (tpmsfill::fill), write the
 // validated lattice and, when asked, the report. This file only parses, times I/O and prints.
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -29,6 +28,7 @@
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -96,10 +96,7 @@ Decimation decimate_file(const std::filesystem::path& raw, const std::filesystem
 }
 
 int run_fill(FillArgs args) {
-  std::optional<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism,
-                    static_cast<std::size_t>(args.threads));
+  const auto threads = thread_limit(args.threads);
 
   FillOptions options = job_options(args.job);
   if (options.memory_budget != 0) return_freed_memory_at_once();  // a budget given
@@ -253,8 +250,7 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("--preview", args->preview,
                   "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "
                   "middle of its box, seen from the three-quarter view of `tpmsfill render`");
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_fill(*args); };
 }

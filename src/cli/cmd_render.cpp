@@ -1,7 +1,5 @@
 // `tpmsfill render IN OUT.png`: a picture of a mesh (tpmsfill::render_mesh). This file only
 // parses and checks the names; the drawing is the library's.
-#include <tbb/global_control.h>
-
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -14,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/picture_flags.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -33,8 +32,7 @@ Rgb rgb(const std::vector<int>& c) {
 }
 
 int run_render(const RenderArgs& args) {
-  std::optional<tbb::global_control> threads;
-  if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+  const auto threads = thread_limit(args.threads);
   RenderOptions options = picture_options(args.picture);
   if (args.colour.size() == 3) options.colour = rgb(args.colour);
   if (args.background.size() == 3) options.background = rgb(args.background);
@@ -79,8 +77,7 @@ Command add_render_command(CLI::App& app) {
   sub->add_option("--background", args->background, "Background colour R G B (default white)")
       ->expected(3)
       ->check(between(0, 255, "0 to 255"));
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_render(*args); };
 }

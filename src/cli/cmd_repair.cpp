@@ -1,7 +1,6 @@
 // `tpmsfill repair IN OUT`: make a mesh a closed, outward 2-manifold without
 // self-intersections (tpmsfill::repair_mesh) and write it only if it is one. This file only
 // parses, times and prints.
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +18,7 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -35,10 +35,7 @@ struct RepairArgs {
 };
 
 int run_repair(const RepairArgs& args) {
-  std::optional<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism,
-                    static_cast<std::size_t>(args.threads));
+  const auto threads = thread_limit(args.threads);
   // Fail on a bad output name before the work, not after it.
   const MeshFormat format = format_from_extension(args.output);
   if (format == MeshFormat::Auto) throw InputError(unknown_mesh_extension(args.output));
@@ -158,8 +155,7 @@ Command add_repair_command(CLI::App& app) {
                   "Remove components whose area is below this fraction of the largest one's "
                   "(default 0.001; 0 keeps all)")
       ->check(between(0, 0.999999, "at least 0 and below 1"));
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_repair(*args); };
 }

@@ -1,7 +1,6 @@
 // `tpmsfill slice IN OUT --layer L`: printer layers straight from fill's field
 // (tpmsfill::slice), written as they come (tpmsfill::LayerFileWriter). This file only parses,
 // stages the outputs and prints.
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,6 +26,7 @@
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/thread_flags.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -127,10 +127,7 @@ bool inside_folder(const fs::path& file, const fs::path& folder) {
 }
 
 int run_slice(SliceArgs a) {
-  std::optional<tbb::global_control> threads;
-  if (a.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism,
-                    static_cast<std::size_t>(a.threads));
+  const auto threads = thread_limit(a.threads);
   FillOptions options = job_options(a.job);
   if (options.memory_budget != 0) return_freed_memory_at_once();  // a budget given
   const SliceOptions slice_options{.layer = a.layer, .start = a.start};
@@ -252,8 +249,7 @@ Command add_slice_command(CLI::App& app) {
   sub->add_option("--pixel", args->pixel, "PNG pixel size in mm (default 0.05)")->check(positive());
   add_job_options(sub, args->job);
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
-      ->check(between(1, 1024, "1 to 1024"));
+  add_threads_option(sub, args->threads);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_slice(*args); };
 }
