@@ -176,7 +176,8 @@ class ToleranceCover {
       return true;
     }
     if (cuts == 0 || ++pieces_ > max_pieces_) return false;
-    const std::vector<std::uint32_t> passed = kept;  // scratch_[cuts] is reused below
+    // The pieces below write scratch_[cuts - 1] and deeper, never this level's list: no copy.
+    const std::vector<std::uint32_t>& passed = kept;
     // Peel the parts beyond each side of the prism over the triangle nearest to the piece's
     // centroid (it overlaps the piece, so every part peeled off is smaller than the piece).
     Vec3 centroid{};
