@@ -388,4 +388,60 @@ FillOptions gyroid_options(double cell, double voxel) {
   return o;
 }
 
+TetMesh make_tet_grid(Vec3 min, Vec3 max, std::array<int, 3> cells, double jitter,
+                      const std::function<bool(int, int, int)>& keep) {
+  const int nx = cells[0] + 1, ny = cells[1] + 1, nz = cells[2] + 1;
+  auto id = [&](int i, int j, int k) { return static_cast<std::uint32_t>(i + nx * (j + ny * k)); };
+  TetMesh mesh;
+  std::uint64_t state = 0x9e3779b97f4a7c15ULL;
+  auto random = [&] {  // in [-1, 1)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 52) - 1.0;
+  };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int index[3] = {i, j, k};
+        double p[3];
+        for (int a = 0; a < 3; ++a) {
+          const double step = (max[a] - min[a]) / cells[a];
+          const double shift = random() * jitter;
+          p[a] = min[a] + step * (index[a] + (index[a] == 0 || index[a] == cells[a] ? 0 : shift));
+        }
+        mesh.points.push_back({p[0], p[1], p[2]});
+      }
+  // Kuhn: the six paths from the cube's corner 0 to corner 7, one axis at a time.
+  constexpr int kPaths[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (int k = 0; k < cells[2]; ++k)
+    for (int j = 0; j < cells[1]; ++j)
+      for (int i = 0; i < cells[0]; ++i) {
+        if (keep && !keep(i, j, k)) continue;
+        for (int p = 0; p < 6; ++p) {
+          int at[3] = {i, j, k};
+          Tet t{};
+          t[0] = id(at[0], at[1], at[2]);
+          for (int s = 0; s < 3; ++s) {
+            ++at[kPaths[p][s]];
+            t[s + 1] = id(at[0], at[1], at[2]);
+          }
+          // Odd permutations of the axes give negative tets: turn them.
+          if (p == 1 || p == 2 || p == 5) std::swap(t[2], t[3]);
+          mesh.tets.push_back(t);
+        }
+      }
+  // Points in no kept cube are left out, so the mesh has no unused points.
+  std::vector<std::int64_t> renumber(mesh.points.size(), -1);
+  TetMesh used;
+  for (Tet& t : mesh.tets)
+    for (std::uint32_t& v : t) {
+      if (renumber[v] < 0) {
+        renumber[v] = static_cast<std::int64_t>(used.points.size());
+        used.points.push_back(mesh.points[v]);
+      }
+      v = static_cast<std::uint32_t>(renumber[v]);
+    }
+  used.tets = std::move(mesh.tets);
+  return used;
+}
+
 }  // namespace tpmsfill::test

@@ -8,6 +8,7 @@
 #include <tpmsfill/design.hpp>
 #include <tpmsfill/field.hpp>
 #include <tpmsfill/fill.hpp>
+#include <tpmsfill/tet_mesh.hpp>
 #include <tpmsfill/types.hpp>
 #include <vector>
 
@@ -34,6 +35,13 @@ TriangleSoup make_tube(double outer_radius, double inner_radius, double height, 
                        int rings);
 /// make_box without the two triangles of its +x side: one hole of four border edges.
 TriangleSoup make_box_with_hole(Vec3 min, Vec3 max);
+/// A box of cells[0] × cells[1] × cells[2] cubes, each split into 6 positive tets (Kuhn), with
+/// `keep(i, j, k)` choosing the cubes (all when empty: holes, cavities, pieces otherwise).
+/// `jitter` moves each vertex by up to that share of a cube, pseudo-randomly, along the axes on
+/// which it is not on the box's side: face vertices stay on their face, edge vertices on their
+/// edge, corners fixed, so the boundary is still the box. No material.
+TetMesh make_tet_grid(Vec3 min, Vec3 max, std::array<int, 3> cells, double jitter = 0,
+                      const std::function<bool(int, int, int)>& keep = {});
 /// Two tetrahedra sharing one apex: closed, but the shared vertex is pinched (non-manifold).
 TriangleSoup make_bow_tie();
 /// Open surfaces (seed 004's layouts): an n × n grid of squares over [0, L]² lifted by z(x, y),

@@ -91,6 +91,7 @@ struct TetMeshReport {
   std::uint64_t pinched_vertices = 0;   ///< boundary vertices whose boundary faces form several fans
   std::uint64_t boundary_vertices = 0;
   std::uint64_t components = 0;         ///< pieces of tets joined by shared faces
+  std::uint64_t boundary_shells = 0;    ///< pieces of the boundary joined by shared edges
   /// Of the boundary surface: V − E + F, and (when the surface is a closed 2-manifold in one
   /// piece) its genus (2 − χ) / 2.
   std::int64_t euler_characteristic = 0;
@@ -108,8 +109,8 @@ TetMeshReport check_tet_mesh(const TetMesh& mesh);
 
 /// The first reason a checked mesh cannot be mapped onto the unit cube, as one sentence
 /// ("3 tets have no volume, the first is tet 17"), or nothing when it can: every tet positive,
-/// no face in more than two tets, a closed 2-manifold boundary, one piece, genus 0, material
-/// finite. A mesh whose tets are *all* negative (the other orientation convention) passes:
+/// no face in more than two tets, a closed 2-manifold boundary, one piece with one boundary
+/// shell (no cavity), genus 0, material finite. A mesh whose tets are *all* negative (the other orientation convention) passes:
 /// with_positive_tets() turns it.
 std::optional<std::string> ball_problem(const TetMeshReport& report);
 

@@ -1,0 +1,82 @@
+/// @file cube_map.hpp
+/// @brief Stage "cube map" of the material pipeline (seed 001 §2.2, issue 18): a genus-0 tet
+/// mesh mapped onto the unit cube [0, 1]³, the volumetric parameterization that the
+/// trivariate spline G(u, v, w) is fitted over.
+///
+///  1. Corners: eight boundary vertices, corner k going to (k & 1, k >> 1 & 1, k >> 2 & 1):
+///     given, or the boundary vertex furthest towards that corner of the bounding box (each
+///     axis scaled by the box's size).
+///  2. Curves: the cube's twelve edges as shortest boundary-edge paths (Dijkstra) between
+///     their corners, traced so that they must bound six patches as the cube's edges bound its
+///     faces: one face's loop first, which cuts the boundary into two disks; the opposite
+///     face's loop inside the disk that holds its corners, leaving an annulus; the four side
+///     curves across the annulus, each past the curves before it. Each face in turn goes first
+///     until one works; when none does (corners at the tips of limbs, tets too coarse for a
+///     thin part), the stage refuses and asks for corners or smaller tets. Each curve is
+///     mapped onto its cube edge by normalised arc length.
+///  3. Patches: each patch onto its cube face by Floater's mean-value coordinates
+///     (w_ij = (tan(α/2) + tan(β/2)) / |x_j − x_i|, α and β the angles at x_i beside edge ij;
+///     the seed calls them dihedral angles). The face is convex, so the patch map is a
+///     bijection (Floater 2003); the stage counts flipped triangles rather than assume it.
+///  4. Interior: the P1 finite-element harmonic map, K_ij = Σ_T V_T ∇λ_i · ∇λ_j over the tets
+///     T at edge ij (the seed's eq. 4 with its two slips mended), solved as K_II f_I = −K_IB f_B
+///     for the three coordinates (one sparse Cholesky factorization). A 3D harmonic map is not
+///     always a bijection: the stage counts the tets whose image is inverted, and those that are
+///     flat.
+///
+/// A box whose corners are the box's corners maps to the box's affine image, to round-off:
+/// mean-value coordinates and P1 harmonic maps both reproduce linear functions.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/tet_mesh.hpp"
+
+namespace tpmsfill {
+
+struct CubeMapOptions {
+  /// Point indices of the boundary vertices placed at the cube's corners, corner k at
+  /// (k & 1, k >> 1 & 1, k >> 2 & 1), so that the boundary's outward side maps to the cube's
+  /// outside (a mirrored choice is refused). Unset: found as the file comment says.
+  std::optional<std::array<std::uint32_t, 8>> corners = {};
+  Progress* progress = nullptr;  ///< reports the stage's steps (corners, patches, interior)
+};
+
+/// The cube's 12 edges: edge e joins corners cube_edge_corners(e)[0] → [1], which differ in
+/// one bit, the axis e / 4 (edges 0-3 run along u, 4-7 along v, 8-11 along w).
+std::array<int, 2> cube_edge_corners(int edge);
+
+struct CubeMap {
+  /// Per point of the mesh, (u, v, w) in [0, 1]³; NaN for points in no tet.
+  std::vector<std::array<double, 3>> uvw;
+  std::array<std::uint32_t, 8> corners{};  ///< point ids at the cube's corners
+  /// Per cube edge (cube_edge_corners), its point ids from the first corner to the second.
+  std::array<std::vector<std::uint32_t>, 12> curves;
+  /// Boundary faces per cube face (face 2·axis + side lies at coordinate `axis` = `side`).
+  std::array<std::uint64_t, 6> patch_faces{};
+  std::uint64_t boundary_faces = 0;
+  std::uint64_t flipped_boundary_faces = 0;  ///< image on their cube face reversed or flat
+  std::uint64_t inverted_tets = 0;           ///< image inverted (exact orientation)
+  /// Image with no volume: all four corners on one cube face (a tet whose four corners lie on
+  /// one patch of the boundary), or otherwise coplanar.
+  std::uint64_t flat_tets = 0;
+  std::uint64_t tets = 0;
+  std::uint64_t interior_points = 0;  ///< unknowns of the harmonic solve
+};
+
+/// Maps a tet mesh onto the unit cube (see the file comment).
+/// @param[in] mesh  a solid ball: check_tet_mesh() finds no ball_problem(); tets positive (an
+///                  all-negative mesh is refused: call with_positive_tets() first)
+/// @throws InputError  the mesh is not a ball (the sentence ball_problem() gives); corners
+///                     given that are not boundary vertices, repeat, or are mirrored; corners
+///                     found that coincide (a flat or thin part: give them); curves that do
+///                     not cut the boundary into the cube's six faces (give corners); a
+///                     solver failure
+/// @throws Cancelled   options.progress asked to stop
+CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options = {});
+
+}  // namespace tpmsfill

@@ -1,0 +1,37 @@
+/// @file tetrahedralize.hpp
+/// @brief Stage "tetrahedralize" of the material pipeline (issue 18): a closed surface mesh
+/// filled with tets by CGAL's 3D mesh generation (Mesh_3, Delaunay refinement of a polyhedral
+/// domain), for parts that come as a surface rather than a tet mesh.
+///
+/// The tets' boundary approximates the surface (within facet_distance), it does not keep its
+/// triangles: Mesh_3 places new vertices on the surface by the sizes asked, and keeps the sharp
+/// edges it detects (feature_angle) as polylines of tet edges. The result is manifold (CGAL's
+/// manifold option) with positive tets; the run is deterministic.
+#pragma once
+
+#include "tpmsfill/progress.hpp"
+#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+struct TetrahedralizeOptions {
+  /// Largest tet circumradius and boundary-triangle size, mm; 0: the bounding box's diagonal / 30.
+  double cell_size = 0;
+  /// Largest distance between a boundary triangle's centre and the surface, mm; 0: cell_size / 10.
+  double facet_distance = 0;
+  /// Edges where the surface's normal turns by more than this many degrees are kept as sharp
+  /// edges of the tets' boundary (CGAL's detect_features); 180: none kept (everything smooth).
+  double feature_angle = 60;
+  Progress* progress = nullptr;  ///< reports the stage's start and end
+};
+
+/// Fills a closed surface with tets.
+/// @param[in] surface  a closed, oriented 2-manifold (outward normals), one or more shells
+/// @throws InputError  no triangles; the surface is not a closed 2-manifold (the sentence says
+///                     why); sizes that are not positive and finite, an angle outside (0, 180];
+///                     Mesh_3 made no tets
+/// @throws Cancelled   options.progress asked to stop (checked before and after)
+TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions& options = {});
+
+}  // namespace tpmsfill

@@ -1,0 +1,113 @@
+// Stage "tetrahedralize" (tetrahedralize.hpp): CGAL Mesh_3 on a polyhedral domain. The only file
+// that compiles Mesh_3.
+#include "tpmsfill/tetrahedralize.hpp"
+
+// Boost.Graph's edge descriptors in CGAL's feature detection (split_graph_into_polylines) are
+// copied before GCC can see them set; no path reads them unset.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include <CGAL/Handle_hash_function.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
+#include <CGAL/make_mesh_3.h>
+
+#include <cmath>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "detail/cgal_types.hpp"
+#include "detail/stage_progress.hpp"
+#include "tpmsfill/error.hpp"
+
+namespace tpmsfill {
+
+namespace {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using detail::Kernel;
+using detail::SurfaceMesh;
+using Domain = CGAL::Polyhedral_mesh_domain_with_features_3<Kernel, SurfaceMesh>;
+using Triangulation = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
+using Complex = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation, Domain::Corner_index,
+                                                        Domain::Curve_index>;
+using Criteria = CGAL::Mesh_criteria_3<Triangulation>;
+
+SurfaceMesh closed_surface_mesh(const TriangleSoup& surface) {
+  if (surface.triangles.empty()) throw InputError("the surface has no triangles");
+  std::vector<std::vector<std::size_t>> polygons;
+  polygons.reserve(surface.triangles.size());
+  for (const Triangle& t : surface.triangles) polygons.push_back({t[0], t[1], t[2]});
+  std::vector<detail::Point3> points;
+  points.reserve(surface.points.size());
+  for (const Vec3& p : surface.points) points.push_back(detail::to_cgal(p));
+  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
+    throw InputError(
+        "the surface is not an oriented 2-manifold (an edge in more than two triangles, two "
+        "triangles that disagree on orientation, or a pinched vertex); run tpmsfill repair first");
+  SurfaceMesh mesh;
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, mesh);
+  if (!CGAL::is_closed(mesh))
+    throw InputError("the surface has holes (it is not closed); run tpmsfill repair first");
+  return mesh;
+}
+
+double positive_size(double value, double fallback, const char* name) {
+  if (value == 0) return fallback;
+  if (!(value > 0) || !std::isfinite(value))
+    throw InputError(std::string(name) + " must be a positive number of mm");
+  return value;
+}
+
+}  // namespace
+
+TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions& options) {
+  detail::begin_stage(options.progress, "tetrahedralize");
+  SurfaceMesh mesh = closed_surface_mesh(surface);
+  if (!PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
+  const Box3 box = bounding_box(surface);
+  const double cell = positive_size(options.cell_size, norm(box.size()) / 30, "cell_size");
+  const double distance = positive_size(options.facet_distance, cell / 10, "facet_distance");
+  if (!(options.feature_angle > 0 && options.feature_angle <= 180))
+    throw InputError("feature_angle must be in (0, 180] degrees");
+  detail::report_or_cancel(options.progress, 0.0);
+
+  using namespace CGAL::parameters;
+  Domain domain(mesh);
+  if (options.feature_angle < 180) domain.detect_features(options.feature_angle);
+  Criteria criteria(edge_size = cell, facet_angle = 25, facet_size = cell,
+                    facet_distance = distance, cell_radius_edge_ratio = 3, cell_size = cell);
+  const Complex complex =
+      CGAL::make_mesh_3<Complex>(domain, criteria, no_perturb(), no_exude(), manifold());
+
+  TetMesh tets;
+  std::unordered_map<Triangulation::Vertex_handle, std::uint32_t, CGAL::Handle_hash_function> index;
+  for (auto cell_it = complex.cells_in_complex_begin(); cell_it != complex.cells_in_complex_end();
+       ++cell_it) {
+    Tet tet{};
+    for (int k = 0; k < 4; ++k) {
+      const auto vertex = cell_it->vertex(k);
+      const auto [at, added] =
+          index.emplace(vertex, static_cast<std::uint32_t>(tets.points.size()));
+      if (added) {
+        const auto p = complex.triangulation().point(vertex);
+        tets.points.push_back({p.x(), p.y(), p.z()});
+      }
+      tet[k] = at->second;
+    }
+    tets.tets.push_back(tet);
+  }
+  if (tets.tets.empty())
+    throw InputError("Mesh_3 made no tets (the surface may be too thin for cell_size " +
+                     std::to_string(cell) + " mm)");
+  // CGAL's cells are positive in its own convention; check ours and turn if needed.
+  detail::report_or_cancel(options.progress, 1.0);
+  const TetMeshReport report = check_tet_mesh(tets);
+  return with_positive_tets(std::move(tets), report);
+}
+
+}  // namespace tpmsfill

@@ -1,0 +1,186 @@
+// Stage "cube map" (cube_map.hpp): the box maps affinely, a ball and a warped box map without
+// flips, and meshes the cube cannot take are refused with a sentence.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <tpmsfill/cube_map.hpp>
+#include <tpmsfill/error.hpp>
+
+#include "test_util.hpp"
+
+namespace tpmsfill {
+namespace {
+
+using test::make_tet_grid;
+
+// The point ids of the box's corners, corner k at (k & 1, k >> 1 & 1, k >> 2 & 1) of the box.
+std::array<std::uint32_t, 8> box_corners(const TetMesh& mesh, Vec3 min, Vec3 max) {
+  std::array<std::uint32_t, 8> corners{};
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 at{k & 1 ? max.x : min.x, k & 2 ? max.y : min.y, k & 4 ? max.z : min.z};
+    for (std::uint32_t v = 0; v < mesh.points.size(); ++v)
+      if (mesh.points[v] == at) corners[k] = v;
+  }
+  return corners;
+}
+
+void expect_affine_image(const TetMesh& mesh, const CubeMap& map, Vec3 min, Vec3 max) {
+  const Vec3 size = max - min;
+  double worst = 0;
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    for (int a = 0; a < 3; ++a)
+      worst = std::max(worst, std::abs(map.uvw[v][a] - (mesh.points[v][a] - min[a]) / size[a]));
+  EXPECT_LT(worst, 1e-12);
+}
+
+TEST(CubeMap, CubeEdgesJoinCornersThatDifferInTheirAxis) {
+  std::set<std::pair<int, int>> seen;
+  for (int e = 0; e < 12; ++e) {
+    const auto [a, b] = cube_edge_corners(e);
+    EXPECT_EQ(b - a, 1 << (e / 4)) << "edge " << e;
+    EXPECT_EQ(a & (1 << (e / 4)), 0);
+    seen.insert({a, b});
+  }
+  EXPECT_EQ(seen.size(), 12u);
+}
+
+TEST(CubeMap, BoxMapsToItsAffineImage) {
+  const Vec3 min{-1, 2, 0.5}, max{3, 3, 2};
+  const TetMesh box = make_tet_grid(min, max, {6, 4, 5}, 0.12);
+  const CubeMap map = map_to_cube(box);  // corners found: the box's corners
+  EXPECT_EQ(map.corners, box_corners(box, min, max));
+  expect_affine_image(box, map, min, max);
+  EXPECT_EQ(map.flipped_boundary_faces, 0u);
+  EXPECT_EQ(map.inverted_tets, 0u);
+  EXPECT_EQ(map.flat_tets, 0u);
+  EXPECT_EQ(map.tets, box.tets.size());
+  EXPECT_EQ(map.interior_points, 5u * 3 * 4);
+  // Faces u = 0 and u = 1 hold 4 × 5 squares of two triangles each, and so on.
+  EXPECT_EQ(map.patch_faces, (std::array<std::uint64_t, 6>{40, 40, 60, 60, 48, 48}));
+  for (int e = 0; e < 12; ++e) EXPECT_EQ(map.curves[e].size(), (e < 4 ? 6u : e < 8 ? 4u : 5u) + 1);
+}
+
+TEST(CubeMap, GivenCornersAreUsed) {
+  const Vec3 min{0, 0, 0}, max{2, 1, 1};
+  const TetMesh box = make_tet_grid(min, max, {4, 2, 2}, 0.1);
+  const CubeMap map = map_to_cube(box, {.corners = box_corners(box, min, max)});
+  expect_affine_image(box, map, min, max);
+}
+
+TEST(CubeMap, MirroredCornersAreRefused) {
+  const Vec3 min{0, 0, 0}, max{1, 1, 1};
+  const TetMesh box = make_tet_grid(min, max, {3, 3, 3});
+  auto corners = box_corners(box, min, max);
+  for (int k = 0; k < 8; k += 2) std::swap(corners[k], corners[k + 1]);  // x mirrored
+  try {
+    map_to_cube(box, {.corners = corners});
+    FAIL() << "mirrored corners were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mirrored"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CubeMap, BadCornersAreRefused) {
+  const TetMesh box = make_tet_grid({0, 0, 0}, {1, 1, 1}, {2, 2, 2});
+  std::array<std::uint32_t, 8> corners = box_corners(box, {0, 0, 0}, {1, 1, 1});
+  auto refused = [&](std::array<std::uint32_t, 8> c, const std::string& words) {
+    try {
+      map_to_cube(box, {.corners = c});
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  auto inner = corners;
+  for (std::uint32_t v = 0; v < box.points.size(); ++v)
+    if (box.points[v] == Vec3{0.5, 0.5, 0.5}) inner[3] = v;  // the centre, inside
+  ASSERT_NE(inner[3], corners[3]);
+  refused(inner, "not a vertex of the boundary");
+  auto twice = corners;
+  twice[5] = twice[4];
+  refused(twice, "same vertex");
+  auto outside = corners;
+  outside[0] = 1000;
+  refused(outside, "not a vertex of the boundary");
+}
+
+// The cube [-1, 1]³ onto the ball, smoothly (the elliptical grid map): corners to the
+// diagonals, faces to the sphere.
+Vec3 cube_to_ball(Vec3 p) {
+  const double x2 = p.x * p.x, y2 = p.y * p.y, z2 = p.z * p.z;
+  return {p.x * std::sqrt(1 - y2 / 2 - z2 / 2 + y2 * z2 / 3),
+          p.y * std::sqrt(1 - z2 / 2 - x2 / 2 + z2 * x2 / 3),
+          p.z * std::sqrt(1 - x2 / 2 - y2 / 2 + x2 * y2 / 3)};
+}
+
+TEST(CubeMap, BallMapsWithoutFlips) {
+  TetMesh ball = make_tet_grid({-1, -1, -1}, {1, 1, 1}, {8, 8, 8}, 0.1);
+  for (Vec3& p : ball.points) p = cube_to_ball(p);
+  ASSERT_FALSE(ball_problem(check_tet_mesh(ball))) << *ball_problem(check_tet_mesh(ball));
+  const CubeMap map = map_to_cube(ball);
+  EXPECT_EQ(map.flipped_boundary_faces, 0u);
+  EXPECT_EQ(map.inverted_tets, 0u);
+  EXPECT_EQ(map.flat_tets, 0u);
+  for (const auto& p : map.uvw)
+    for (double c : p) {
+      EXPECT_GE(c, 0);
+      EXPECT_LE(c, 1);
+    }
+  // By symmetry each corner is the sphere's point on a diagonal, and every face holds a sixth.
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 p = ball.points[map.corners[k]];
+    EXPECT_NEAR(std::abs(p.x), 1 / std::sqrt(3.0), 1e-12);
+    EXPECT_NEAR(std::abs(p.y), std::abs(p.z), 1e-12);
+  }
+  for (std::uint64_t faces : map.patch_faces) EXPECT_EQ(faces, map.boundary_faces / 6);
+}
+
+TEST(CubeMap, WarpedBoxKeepsItsCornersOnTheCube) {
+  TetMesh blob = make_tet_grid({0, 0, 0}, {2, 1, 1}, {10, 5, 5}, 0.1);
+  for (Vec3& p : blob.points)
+    p = Vec3{p.x + 0.2 * std::sin(3 * p.y), p.y + 0.15 * std::sin(2 * p.z + p.x),
+             p.z * (1 + 0.3 * p.x)};
+  const auto report = check_tet_mesh(blob);
+  ASSERT_FALSE(ball_problem(report)) << *ball_problem(report);
+  const CubeMap map = map_to_cube(blob);
+  EXPECT_EQ(map.flipped_boundary_faces, 0u);
+  EXPECT_EQ(map.inverted_tets, 0u);
+  EXPECT_EQ(map.flat_tets, 0u);
+  for (int k = 0; k < 8; ++k)
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(map.uvw[map.corners[k]][a], (k >> a) & 1);
+}
+
+TEST(CubeMap, NonBallsAreRefusedWithTheCheckSentence) {
+  const TetMesh ring = make_tet_grid({0, 0, 0}, {3, 3, 1}, {3, 3, 1}, 0,
+                                     [](int i, int j, int) { return !(i == 1 && j == 1); });
+  try {
+    map_to_cube(ring);
+    FAIL() << "a ring was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("genus 1"), std::string::npos) << e.what();
+  }
+  TetMesh box = make_tet_grid({0, 0, 0}, {1, 1, 1}, {2, 2, 2});
+  for (Tet& t : box.tets) std::swap(t[0], t[1]);
+  EXPECT_THROW(map_to_cube(box), InputError);
+  EXPECT_NO_THROW(map_to_cube(with_positive_tets(box, check_tet_mesh(box))));
+}
+
+TEST(CubeMap, ThinSlabCornersCoincideAndAreRefused) {
+  // One cube thick along z, a single vertex per corner column: still eight distinct corners.
+  const TetMesh slab = make_tet_grid({0, 0, 0}, {4, 4, 0.1}, {4, 4, 1});
+  EXPECT_NO_THROW(map_to_cube(slab));
+  // A tet alone has four vertices: two corners must coincide.
+  TetMesh tet;
+  tet.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tet.tets = {{0, 1, 2, 3}};
+  try {
+    map_to_cube(tet);
+    FAIL() << "a single tet was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("give the eight corner"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tpmsfill

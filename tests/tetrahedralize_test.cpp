@@ -1,0 +1,72 @@
+// Stage "tetrahedralize" (tetrahedralize.hpp): closed surfaces filled with positive tets whose
+// boundary stays within the asked distance of the surface, keeping its topology.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tpmsfill/cube_map.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/tetrahedralize.hpp>
+
+#include "test_util.hpp"
+
+namespace tpmsfill {
+namespace {
+
+double surface_area(const TriangleSoup& soup) {
+  double area = 0;
+  for (const Triangle& t : soup.triangles)
+    area +=
+        norm(cross(soup.points[t[1]] - soup.points[t[0]], soup.points[t[2]] - soup.points[t[0]])) /
+        2;
+  return area;
+}
+
+TEST(Tetrahedralize, SphereBecomesABallOfTheSameVolume) {
+  const TriangleSoup sphere = test::make_sphere({1, 2, 3}, 5, 4);
+  const TetrahedralizeOptions options{.cell_size = 1.0, .facet_distance = 0.05};
+  const TetMesh ball = tetrahedralize(sphere, options);
+  const TetMeshReport r = check_tet_mesh(ball);
+  EXPECT_FALSE(ball_problem(r)) << *ball_problem(r);
+  EXPECT_EQ(r.negative_tets, 0u);
+  EXPECT_EQ(r.unused_points, 0u);
+  EXPECT_GT(r.tets, 500u);
+  // Boundary triangles lie within facet_distance of the surface (at their centres; their
+  // corners lie on it), so the volumes differ by at most about area × distance.
+  const double expected = test::signed_volume(sphere);
+  EXPECT_NEAR(r.volume, expected, surface_area(sphere) * options.facet_distance);
+  // And it maps onto the cube.
+  const CubeMap map = map_to_cube(ball);
+  EXPECT_EQ(map.flipped_boundary_faces, 0u);
+}
+
+TEST(Tetrahedralize, TorusKeepsItsHandleAndTheCubeRefusesIt) {
+  const TetMesh ring = tetrahedralize(test::make_torus(4, 1.5, 48, 24), {.cell_size = 0.8});
+  const TetMeshReport r = check_tet_mesh(ring);
+  ASSERT_TRUE(r.genus);
+  EXPECT_EQ(*r.genus, 1);
+  EXPECT_THROW(map_to_cube(ring), InputError);
+}
+
+TEST(Tetrahedralize, OpenAndNonManifoldSurfacesAreRefused) {
+  const TriangleSoup box = test::make_box({0, 0, 0}, {1, 1, 1});
+  try {
+    tetrahedralize(test::without_triangles(box, [](const Vec3& c) { return c.z > 0.99; }));
+    FAIL() << "an open box was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not closed"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(tetrahedralize(test::make_bow_tie()), InputError);
+  EXPECT_THROW(tetrahedralize(TriangleSoup{}), InputError);
+  EXPECT_THROW(tetrahedralize(box, {.cell_size = -1}), InputError);
+}
+
+TEST(Tetrahedralize, InwardSurfaceGivesTheSameSolid) {
+  const TriangleSoup box = test::make_box({0, 0, 0}, {2, 1, 1});
+  const TetMesh out = tetrahedralize(box, {.cell_size = 0.3});
+  const TetMesh in = tetrahedralize(test::flip(box), {.cell_size = 0.3});
+  EXPECT_NEAR(check_tet_mesh(out).volume, 2.0, 1e-9);
+  EXPECT_NEAR(check_tet_mesh(in).volume, 2.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace tpmsfill
