@@ -237,9 +237,9 @@ SolLayout sol_layout(TextScanner& in, std::uint64_t dim) {
 void sol_section(TextScanner& in, std::string_view section, std::uint64_t dim,
                  std::optional<std::uint64_t> points, std::vector<double>* material,
                  std::optional<std::uint64_t>& no_scalar_line) {
-  const std::uint64_t count_line = in.line();
   const std::string what = std::string(section) + " count";
   const std::uint64_t n = in.non_negative(need(in, what), what);
+  const std::uint64_t count_line = in.line();
   if (points && n != *points)
     in.fail(std::string(section) + " holds " + std::to_string(n) + " values but the mesh has " +
             std::to_string(*points) + " vertices");

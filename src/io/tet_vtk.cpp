@@ -485,12 +485,12 @@ void VtkReader::scalars(TetMesh& mesh) {
   const VtkType& type = type_arg();
   const std::uint64_t components = in().at_line_end() ? 1 : count_arg("the component count");
   if (components == 0) in().fail("SCALARS '" + name + "' has 0 components");
+  const bool material = wants_material(name, components, tuples_);
   const Mark after_line = mark();
   if (lower_ascii(in().token_any_line()) == "lookup_table")
     in().required_token("the lookup table name");
   else
     restore(after_line);
-  const bool material = wants_material(name, components, tuples_);
   array_values(material, times(tuples_, components), type, "SCALARS '" + name + "'", mesh);
 }
 
