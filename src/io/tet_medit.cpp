@@ -80,7 +80,8 @@ std::uint64_t row_count(TextScanner& in, std::string_view section, std::uint64_t
 
 void skip_rows(TextScanner& in, std::string_view section, std::uint64_t numbers) {
   const std::uint64_t count = row_count(in, section, numbers);
-  for (std::uint64_t i = 0; i < count * numbers; ++i) need(in, std::string(section) + " values");
+  const std::string what = std::string(section) + " values";
+  for (std::uint64_t i = 0; i < count * numbers; ++i) need(in, what);
 }
 
 std::uint64_t dimension(TextScanner& in) {

@@ -12,8 +12,13 @@ namespace tpmsfill::io {
 namespace {
 
 // A header or row must start on a line of its own: skips blank and comment lines first.
-void next_row(TextScanner& in, std::string_view what) {
+void next_header(TextScanner& in, std::string_view what) {
   if (!in.skip_empty_lines()) in.fail("the file ends where " + std::string(what) + " should be");
+}
+void next_row(TextScanner& in, std::uint64_t row, std::uint64_t rows, std::string_view what) {
+  if (!in.skip_empty_lines())
+    in.fail("the file ends after " + std::to_string(row) + " of " + std::to_string(rows) + " " +
+            std::string(what));
 }
 
 // Refuses `rows` rows of `numbers` numbers (each at least a character and a separator) that
@@ -39,7 +44,7 @@ struct NodeFile {
 };
 
 NodeFile read_nodes(TextScanner& in, TetMesh& mesh) {
-  next_row(in, "the .node header");
+  next_header(in, "the .node header");
   const std::uint64_t header_line = in.line();
   const std::uint64_t n = in.non_negative(in.required_token("the node count"), "node count");
   const std::uint64_t dim = in.non_negative(in.required_token("the dimension"), "dimension");
@@ -56,7 +61,7 @@ NodeFile read_nodes(TextScanner& in, TetMesh& mesh) {
   mesh.points.reserve(n);
   if (attributes > 0) mesh.material.reserve(n);
   for (std::uint64_t i = 0; i < n; ++i) {
-    next_row(in, "node " + std::to_string(i + file.base) + " of " + std::to_string(n));
+    next_row(in, i, n, "nodes");
     const std::int64_t number = in.integer(in.required_token("the node number"), "node number");
     if (i == 0) {
       if (number != 0 && number != 1)
@@ -82,7 +87,7 @@ NodeFile read_nodes(TextScanner& in, TetMesh& mesh) {
 }
 
 void read_elements(TextScanner& in, const NodeFile& nodes, TetMesh& mesh) {
-  next_row(in, "the .ele header");
+  next_header(in, "the .ele header");
   const std::uint64_t header_line = in.line();
   const std::uint64_t n =
       in.non_negative(in.required_token("the tetrahedron count"), "tetrahedron count");
@@ -97,7 +102,7 @@ void read_elements(TextScanner& in, const NodeFile& nodes, TetMesh& mesh) {
   mesh.tets.reserve(n);
   const std::uint64_t points = mesh.points.size();
   for (std::uint64_t i = 0; i < n; ++i) {
-    next_row(in, "tetrahedron row " + std::to_string(i + 1) + " of " + std::to_string(n));
+    next_row(in, i, n, "tetrahedra");
     const std::int64_t number =
         in.integer(in.required_token("the tetrahedron number"), "tetrahedron number");
     Tet t{};
