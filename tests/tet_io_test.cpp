@@ -286,6 +286,15 @@ TEST(TetIo, VtkLegacyAsciiMixedCellsAndArrays) {
   expect_parse_error([&] { vtk(f, "rgb"); }, "a.vtk", 36);  // 3 components
 }
 
+TEST(TetIo, VtkOtherAttributesAreTheMaterialOnlyWhenNamed) {
+  const std::string f = kVtkUnitTet +
+                        "POINT_DATA 4\nTEXTURE_COORDINATES t 1 float\n1 2 3 4\n"
+                        "GLOBAL_IDS ids int\n5 6 7 8\nSCALARS s float\n9 10 11 12\n";
+  EXPECT_EQ(vtk(f).material, (std::vector<double>{9, 10, 11, 12}));  // no LOOKUP_TABLE: fine
+  EXPECT_EQ(vtk(f, "t").material, (std::vector<double>{1, 2, 3, 4}));
+  EXPECT_EQ(vtk(f, "ids").material, (std::vector<double>{5, 6, 7, 8}));
+}
+
 TEST(TetIo, Vtk51OffsetsAndConnectivity) {
   const std::string file =
       "# vtk DataFile Version 5.1\nvtk output\nASCII\nDATASET UNSTRUCTURED_GRID\n"

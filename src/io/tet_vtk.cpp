@@ -170,7 +170,8 @@ class VtkReader {
   void field(TetMesh& mesh);
   void skip_metadata();
   void skip_metadata_if_next();
-  bool wants_material(const std::string& name, std::uint64_t components, std::uint64_t tuples);
+  bool wants_material(const std::string& name, std::uint64_t components, std::uint64_t tuples,
+                      bool first_may_be_it = true);
   void finish(TetMesh& mesh);
 
   // Reads `count` values of `type` (ASCII: the next tokens; BINARY: the bytes after the current
@@ -440,12 +441,14 @@ void VtkReader::skip_metadata_if_next() {
     restore(before);
 }
 
+// Whether this point array is the material: the one named so, or (no name given, and
+// `first_may_be_it`: SCALARS and FIELD arrays) the first with one component.
 bool VtkReader::wants_material(const std::string& name, std::uint64_t components,
-                               std::uint64_t tuples) {
+                               std::uint64_t tuples, bool first_may_be_it) {
   if (!point_data_.value_or(false)) return false;
   point_arrays_.push_back(name);
   if (have_material_) return false;
-  if (material_name_.empty()) return components == 1 && tuples == tuples_;
+  if (material_name_.empty()) return first_may_be_it && components == 1 && tuples == tuples_;
   if (name != material_name_) return false;
   if (components != 1)
     in().fail("point array '" + name + "' has " + std::to_string(components) +
@@ -538,8 +541,8 @@ void VtkReader::attribute(std::string_view word, const std::string& key, TetMesh
     if (components == 0) in().fail(what + " has dimension 0");
   }
   const VtkType& type = type_arg();
-  const bool ids = key == "global_ids" || key == "pedigree_ids";
-  const bool material = !ids && wants_material(name, components, tuples_);
+  // VECTORS, NORMALS, ids ...: the material only when named.
+  const bool material = wants_material(name, components, tuples_, false);
   array_values(material, times(tuples_, components), type, what, mesh);
 }
 
