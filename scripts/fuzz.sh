@@ -139,6 +139,18 @@ put("vtk", "classic.vtk", b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRU
 put("vtk", "v51.vtk", b"# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
     b"POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nMETADATA\nINFORMATION 0\n\nCELLS 2 4\n"
     b"OFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\nCELL_TYPES 1\n10\n")
+put("vtk", "attributes.vtk", b"# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+    b"FIELD FieldData 1\nTIME 1 1 double\n0.5\nPOINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\n"
+    b"CELLS 2 7\n4 0 1 2 3\n1 0\nCELL_TYPES 2\n10 1\nPOINT_DATA 4\nCOLOR_SCALARS c 2\n0 0 1 1 0 0 1 1\n"
+    b"LOOKUP_TABLE lut 1\n0 0 0 1\nNORMALS n float\n0 0 1 0 0 1 0 0 1 0 0 1\n"
+    b"TEXTURE_COORDINATES uv 1 float\n0 1 0 1\nTENSORS6 t float\n" + b"0 " * 24 +
+    b"\nGLOBAL_IDS ids int\n0 1 2 3\nSCALARS e vtktypeint64 1\nLOOKUP_TABLE default\n1 2 3 4\n"
+    b"METADATA\nINFORMATION 0\n\n")
+put("medit", "sections.mesh", b"MeshVersionFormatted 1\nDimension\n3\nTetrahedraP2 1\n1 2 3 4 1 2 3 4 1 2 0\n"
+    b"Vertices 4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\nQuadrilaterals 1 1 2 3 4 0\nRidges 1 1\n"
+    b"NormalAtVertices 1 1 1\nNormals 1 0 0 1\nIdentifier\n\"x y\"\nGeometry g.mesh\nEnd\n",
+    b"MeshVersionFormatted 2\nDimension 3\nTime 0.5\nSolAtTetrahedra\n1\n1 3\n1 2 3 4 5 6\n"
+    b"SolAtVertices\n4\n2 2 1\n0 0 0 1\n0 0 0 2\n0 0 0 3\n0 0 0 4\nEnd\n")
 be = b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n"
 be += struct.pack(">12f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1)
 be += b"\nCELLS 1 5\n" + struct.pack(">5i", 4, 0, 1, 2, 3) + b"\nCELL_TYPES 1\n" + struct.pack(">i", 10)
