@@ -342,6 +342,9 @@ TEST(TetIo, ReadTetMeshFilesAndLimits) {
   expect_error<IoError>([&] { read_tet_mesh(dir / "u.node"); }, "u.ele");
   test::write_file(dir / "u.ele", "1 4 0\n0 0 1 2 3\n");
   EXPECT_EQ(read_tet_mesh(dir / "u.ele").tets.size(), 1u);
+  TetReadOptions tetgen_base;  // TetGen's base name: u.node and u.ele
+  tetgen_base.format = TetFormat::TetGen;
+  EXPECT_EQ(read_tet_mesh(dir / "u", tetgen_base).tets.size(), 1u);
   expect_error<InputError>([&] { read_tet_mesh(dir / "u.off"); }, "unknown extension");
   TetReadOptions small;
   small.max_bytes = 10;

@@ -139,11 +139,17 @@ TetMesh read_tet_mesh(const std::filesystem::path& path, const TetReadOptions& o
                             options);
     }
     case TetFormat::TetGen: {
-      const bool ele_given = extension_of(path) == ".ele";
-      const std::filesystem::path node =
-          ele_given ? std::filesystem::path(path).replace_extension(".node") : path;
-      const std::filesystem::path ele =
-          ele_given ? path : std::filesystem::path(path).replace_extension(".ele");
+      // x.node or x.ele: the pair x.node, x.ele; any other name is a base name, as TetGen's
+      // own command line takes it ("cube.1": cube.1.node, cube.1.ele).
+      const std::string ext = extension_of(path);
+      std::filesystem::path node = path, ele = path;
+      if (ext == ".node" || ext == ".ele") {
+        node.replace_extension(".node");
+        ele.replace_extension(".ele");
+      } else {
+        node += ".node";
+        ele += ".ele";
+      }
       const std::string node_bytes = read_nonblank(node, options.max_bytes);
       const std::string ele_bytes = read_nonblank(ele, options.max_bytes);
       return parse_tet_mesh(TetFormat::TetGen, node_bytes, node.string(), ele_bytes, ele.string(),
