@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the mesh readers, the recipe reader and the field/ITDF readers with libFuzzer + ASan + UBSan, one run each.
+# Fuzzes the mesh readers, the recipe reader, the field/ITDF readers and the tet-mesh readers with libFuzzer + ASan + UBSan, one run each.
 #   scripts/fuzz.sh [seconds per reader]        (default 120)
 # Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
 set -euo pipefail
@@ -17,7 +17,7 @@ fi
 
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTPMSFILL_FUZZ=ON -DTPMSFILL_BUILD_TESTS=OFF -DTPMSFILL_BUILD_EXAMPLES=OFF
-cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz read_volume_fuzz
+cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz read_volume_fuzz read_tet_mesh_fuzz
 fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 
 # Seed corpus: one small valid file per format, written here, plus assimp's test models when
@@ -112,4 +112,52 @@ if [ -x "$root/build/tpmsfill" ]; then
   rm -f "$tmp_itdf" "${tmp_itdf%.itdf}.tdf"
 fi
 fuzz volume "$build/tests/fuzz/read_volume_fuzz" 65536
+# Tet meshes (MEDIT, TetGen, VTK), one reader at a time. An input is: a byte (the format when
+# TPMSFILL_FUZZ_FORMAT is unset), the first file's length (2 bytes, little-endian), the first
+# file (.mesh, .node, .vtk), the second (.sol, .ele; for VTK a non-empty rest names the array).
+mkdir -p "$seeds"/tet-{medit,tetgen,vtk}
+python3 - "$seeds" <<'PY'
+import struct, sys
+d = sys.argv[1]
+def put(fmt, name, first, second=b""):
+    code = {"medit": 0, "tetgen": 1, "vtk": 2}[fmt]
+    open(f"{d}/tet-{fmt}/{name}", "wb").write(bytes([code]) + struct.pack("<H", len(first)) + first + second)
+put("medit", "unit.mesh", b"MeshVersionFormatted 2\nDimension 3\n# c\nVertices\n5\n0 0 0 0\n1 0 0 0\n"
+    b"0 1 0 0\n0 0 1 0\n1 1 1 0\nEdges 1\n1 2 0\nTriangles 1 1 2 3 0\nTetrahedra\n2\n1 2 3 4 0\n"
+    b"2 3 4 5 0\nCorners 1 1\nEnd\n",
+    b"MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n5\n2 2 1\n0 0 0 1\n0 0 0 2\n0 0 0 3\n"
+    b"0 0 0 4\n0 0 0 5\nEnd\n")
+put("tetgen", "one.node", b"5 3 1 1\n1 0 0 0 0.5 0\n2 1 0 0 1.5 1\n3 0 1 0 2.5 0\n4 0 0 1 3.5 0\n"
+    b"5 1 1 1 4.5 0\n", b"2 4 1\n1 1 2 3 4 7\n2 2 3 4 5 7\n")
+put("tetgen", "zero10.node", b"# zero-based\r\n4 3 0 0\r\n0 0 0 0\r\n1 1 0 0\r\n2 0 1 0\r\n3 0 0 1\r\n",
+    b"1 10 0\r\n0 0 1 2 3 0 1 2 3 0 1\r\n")
+put("vtk", "classic.vtk", b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+    b"POINTS 5 float\n0 0 0 1 0 0 0 1 0 0 0 1 1 1 1\nCELLS 3 14\n4 0 1 2 3\n4 1 2 3 4\n3 0 1 2\n"
+    b"CELL_TYPES 3\n10 10 5\nCELL_DATA 3\nSCALARS r int 1\nLOOKUP_TABLE default\n1 2 3\n"
+    b"POINT_DATA 5\nVECTORS v float\n0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\nSCALARS material double\n"
+    b"LOOKUP_TABLE default\n1 2 3 4 5\nFIELD f 1\nm 1 5 float\n1 2 3 4 5\n", b"x")
+put("vtk", "v51.vtk", b"# vtk DataFile Version 5.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+    b"POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nMETADATA\nINFORMATION 0\n\nCELLS 2 4\n"
+    b"OFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\nCELL_TYPES 1\n10\n")
+put("vtk", "attributes.vtk", b"# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+    b"FIELD FieldData 1\nTIME 1 1 double\n0.5\nPOINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\n"
+    b"CELLS 2 7\n4 0 1 2 3\n1 0\nCELL_TYPES 2\n10 1\nPOINT_DATA 4\nCOLOR_SCALARS c 2\n0 0 1 1 0 0 1 1\n"
+    b"LOOKUP_TABLE lut 1\n0 0 0 1\nNORMALS n float\n0 0 1 0 0 1 0 0 1 0 0 1\n"
+    b"TEXTURE_COORDINATES uv 1 float\n0 1 0 1\nTENSORS6 t float\n" + b"0 " * 24 +
+    b"\nGLOBAL_IDS ids int\n0 1 2 3\nSCALARS e vtktypeint64 1\nLOOKUP_TABLE default\n1 2 3 4\n"
+    b"METADATA\nINFORMATION 0\n\n")
+put("medit", "sections.mesh", b"MeshVersionFormatted 1\nDimension\n3\nTetrahedraP2 1\n1 2 3 4 1 2 3 4 1 2 0\n"
+    b"Vertices 4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\nQuadrilaterals 1 1 2 3 4 0\nRidges 1 1\n"
+    b"NormalAtVertices 1 1 1\nNormals 1 0 0 1\nIdentifier\n\"x y\"\nGeometry g.mesh\nEnd\n",
+    b"MeshVersionFormatted 2\nDimension 3\nTime 0.5\nSolAtTetrahedra\n1\n1 3\n1 2 3 4 5 6\n"
+    b"SolAtVertices\n4\n2 2 1\n0 0 0 1\n0 0 0 2\n0 0 0 3\n0 0 0 4\nEnd\n")
+be = b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n"
+be += struct.pack(">12f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1)
+be += b"\nCELLS 1 5\n" + struct.pack(">5i", 4, 0, 1, 2, 3) + b"\nCELL_TYPES 1\n" + struct.pack(">i", 10)
+be += b"\nPOINT_DATA 4\nSCALARS material double 1\nLOOKUP_TABLE default\n" + struct.pack(">4d", 1, 2, 3, 4) + b"\n"
+put("vtk", "binary.vtk", be)
+PY
+for reader in medit tetgen vtk; do
+  TPMSFILL_FUZZ_FORMAT="$reader" fuzz "tet-$reader" "$build/tests/fuzz/read_tet_mesh_fuzz" 65536
+done
 exit $status

@@ -10,7 +10,8 @@
 ///  - TetGen `.node` + `.ele` (either name given; 0- or 1-based), material from the first node
 ///    attribute; 10-node tets keep their 4 corners;
 ///  - legacy VTK `.vtk` UNSTRUCTURED_GRID (ASCII or BINARY, versions 2 to 5.1), tets of cell
-///    type 10 (other cells skipped), material from POINT_DATA SCALARS (by name, or the first).
+///    type 10 (24, the quadratic tetra, keeps its 4 corners; other cells skipped), material
+///    from POINT_DATA SCALARS or FIELD arrays (by name, or the first with one component).
 #pragma once
 
 #include <array>
@@ -43,36 +44,44 @@ enum class TetFormat { Auto, Medit, TetGen, Vtk };
 std::string_view tet_format_name(TetFormat format);
 
 struct TetReadOptions {
-  TetFormat format = TetFormat::Auto;  ///< Auto: by extension (.mesh, .node/.ele, .vtk)
-  /// MEDIT: the .sol file holding the material. Empty: the mesh's path with ".sol" when that
-  /// file exists (no material otherwise).
+  TetFormat format = TetFormat::Auto;  ///< Auto: by extension (.mesh, .node/.ele, .vtk; any case)
+  /// MEDIT: the .sol file holding the material (must exist). Empty: the mesh's path with
+  /// ".sol" when that file exists (no material otherwise).
   std::filesystem::path material_file = {};
-  /// VTK: the POINT_DATA SCALARS (or FIELD array) to read as material. Empty: the first one.
+  /// VTK: the POINT_DATA SCALARS (or FIELD array, or other point attribute) to read as
+  /// material; absent is a ParseError listing the arrays present. Empty: the first
+  /// single-component SCALARS or FIELD array of POINT_DATA, or none.
   std::string material_name = {};
   /// Largest file accepted, in bytes (each file of a pair). Guards memory.
   std::uint64_t max_bytes = std::uint64_t{4} << 30;
 };
 
-/// Reads a tet mesh; the material when the files hold one.
+/// Reads a tet mesh; the material when the files hold one. Every declared count is checked
+/// against the bytes present before memory is reserved for it (docs/formats.md).
 /// @param[in] path  the .mesh, .node, .ele or .vtk file
-/// @throws IoError     a file cannot be opened or read (e.g. the .ele beside a .node)
+/// @throws IoError     a file cannot be opened or read (e.g. the .ele beside a .node, a named
+///                     material_file)
 /// @throws ParseError  malformed bytes (message names the file and line or byte offset), an
-///                     index out of range, a material count that is not one per point
-/// @throws InputError  no tets, an unknown extension, a file over options.max_bytes
+///                     index out of range, a material count that is not one per point, a
+///                     non-finite coordinate or material value, binary MEDIT (.meshb)
+/// @throws InputError  no tets (a VTK file's message lists the cell types it has), an unknown
+///                     extension, an empty file, a file over options.max_bytes, more than
+///                     2^32 − 1 points
 TetMesh read_tet_mesh(const std::filesystem::path& path, const TetReadOptions& options = {});
 
 /// Parses a tet mesh already in memory: `first` is the .mesh, .node or .vtk bytes, `second`
 /// the .sol (optional, may be empty) or the .ele (required); the names label errors.
-/// The same rules and errors as read_tet_mesh(); format must not be Auto.
+/// The same rules and errors as read_tet_mesh(); format must not be Auto (InputError).
 TetMesh parse_tet_mesh(TetFormat format, std::string_view first, const std::string& first_name,
                        std::string_view second = {}, const std::string& second_name = {},
                        const TetReadOptions& options = {});
 
 /// Writes a tet mesh atomically: `.mesh` (MEDIT, with a `.sol` beside it when the mesh has
-/// material) or `.vtk` (legacy ASCII, material as POINT_DATA SCALARS "material"). Coordinates
-/// and material as shortest round-trip text, so they read back bit-identical.
+/// material; without material no `.sol` is written and one already there is left alone) or
+/// `.vtk` (legacy ASCII 4.2, material as POINT_DATA SCALARS "material"). Coordinates and
+/// material as shortest round-trip text, so they read back bit-identical.
 /// @throws InputError  another extension, an index out of range, a material count that is not
-///                     one per point
+///                     one per point, a non-finite coordinate or material value
 /// @throws IoError     the folder is not writable, the disk is full, ...
 void write_tet_mesh(const std::filesystem::path& path, const TetMesh& mesh);
 

@@ -1,0 +1,146 @@
+// write_tet_mesh(): MEDIT `.mesh` (with a `.sol` beside it when the mesh has material) or
+// legacy VTK `.vtk`, ASCII, numbers as their shortest round-trip text, each file written
+// atomically.
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "io/tet_formats.hpp"
+#include "tpmsfill/io.hpp"
+
+namespace tpmsfill {
+namespace {
+
+// Shortest text that reads back to the same value (std::to_chars' round-trip guarantee).
+template <typename T>
+void append(std::string& out, T value) {
+  std::array<char, 32> buf;
+  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), value);
+  out.append(buf.data(), end);
+}
+
+// Refuses what the readers would refuse, before anything is written.
+void check_writable(const std::filesystem::path& path, const TetMesh& mesh) {
+  const auto refuse = [&](const std::string& why) {
+    throw InputError("cannot write " + path.string() + ": " + why);
+  };
+  if (!detail::fits_32bit_ids(mesh.points.size())) refuse("too many points");
+  for (std::size_t i = 0; i < mesh.points.size(); ++i) {
+    const Vec3& p = mesh.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      refuse("point " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  for (std::size_t i = 0; i < mesh.tets.size(); ++i)
+    for (const std::uint32_t v : mesh.tets[i])
+      if (v >= mesh.points.size())
+        refuse("tetrahedron " + std::to_string(i) + " refers to point " + std::to_string(v) +
+               ", but there are only " + std::to_string(mesh.points.size()) + " points");
+  if (!mesh.material.empty() && mesh.material.size() != mesh.points.size())
+    refuse(std::to_string(mesh.material.size()) + " material values for " +
+           std::to_string(mesh.points.size()) + " points");
+  for (std::size_t i = 0; i < mesh.material.size(); ++i)
+    if (!std::isfinite(mesh.material[i]))
+      refuse("the material of point " + std::to_string(i) + " is not a finite number");
+}
+
+std::string medit_mesh(const TetMesh& mesh) {
+  std::string out = "MeshVersionFormatted 2\nDimension 3\n\nVertices\n";
+  append(out, mesh.points.size());
+  out += '\n';
+  for (const Vec3& p : mesh.points) {
+    for (const double c : {p.x, p.y, p.z}) {
+      append(out, c);
+      out += ' ';
+    }
+    out += "0\n";
+  }
+  out += "\nTetrahedra\n";
+  append(out, mesh.tets.size());
+  out += '\n';
+  for (const Tet& t : mesh.tets) {
+    for (const std::uint32_t v : t) {
+      append(out, std::uint64_t{v} + 1);
+      out += ' ';
+    }
+    out += "0\n";
+  }
+  out += "\nEnd\n";
+  return out;
+}
+
+std::string medit_sol(const TetMesh& mesh) {
+  std::string out = "MeshVersionFormatted 2\nDimension 3\n\nSolAtVertices\n";
+  append(out, mesh.material.size());
+  out += "\n1 1\n";
+  for (const double m : mesh.material) {
+    append(out, m);
+    out += '\n';
+  }
+  out += "\nEnd\n";
+  return out;
+}
+
+std::string vtk(const TetMesh& mesh) {
+  std::string out =
+      "# vtk DataFile Version 4.2\ntpmsfill tetrahedral mesh\nASCII\nDATASET "
+      "UNSTRUCTURED_GRID\nPOINTS ";
+  append(out, mesh.points.size());
+  out += " double\n";
+  for (const Vec3& p : mesh.points) {
+    append(out, p.x);
+    out += ' ';
+    append(out, p.y);
+    out += ' ';
+    append(out, p.z);
+    out += '\n';
+  }
+  out += "CELLS ";
+  append(out, mesh.tets.size());
+  out += ' ';
+  append(out, mesh.tets.size() * 5);
+  out += '\n';
+  for (const Tet& t : mesh.tets) {
+    out += '4';
+    for (const std::uint32_t v : t) {
+      out += ' ';
+      append(out, v);
+    }
+    out += '\n';
+  }
+  out += "CELL_TYPES ";
+  append(out, mesh.tets.size());
+  out += '\n';
+  for (std::size_t i = 0; i < mesh.tets.size(); ++i) out += "10\n";
+  if (!mesh.material.empty()) {
+    out += "POINT_DATA ";
+    append(out, mesh.points.size());
+    out += "\nSCALARS material double 1\nLOOKUP_TABLE default\n";
+    for (const double m : mesh.material) {
+      append(out, m);
+      out += '\n';
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_tet_mesh(const std::filesystem::path& path, const TetMesh& mesh) {
+  const std::string ext = io::lower_ascii(path.extension().string());
+  if (ext != ".mesh" && ext != ".vtk")
+    throw InputError("cannot write " + path.string() +
+                     ": unknown extension for a tetrahedral mesh (use .mesh or .vtk)");
+  check_writable(path, mesh);
+  if (ext == ".vtk") {
+    write_file_atomically(path, vtk(mesh));
+    return;
+  }
+  // The material first: a reader never finds the new mesh beside the old material.
+  if (!mesh.material.empty())
+    write_file_atomically(std::filesystem::path(path).replace_extension(".sol"), medit_sol(mesh));
+  write_file_atomically(path, medit_mesh(mesh));
+}
+
+}  // namespace tpmsfill
