@@ -2,9 +2,11 @@
 #define EIGEN_NO_DEBUG 1  // Eigen's checks abort() rather than throw: leave them out
 #include "tpmsfill/cube_map.hpp"
 
+#if defined(CGAL_EIGEN3_ENABLED)
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +17,7 @@
 
 #include "detail/disjoint_sets.hpp"
 #include "detail/exact_orientation.hpp"
+#include "detail/harmonic.hpp"
 #include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -401,6 +404,7 @@ double half_angle_tangent(Vec3 e1, Vec3 e2) {
   return norm(cross(e1, e2)) / std::max(scale + dot(e1, e2), 1e-30 * scale);
 }
 
+#if defined(CGAL_EIGEN3_ENABLED)
 // One patch onto its cube face by mean-value coordinates: Σ_j w_ij (f_j − f_i) = 0 at each
 // vertex not on a curve, for the face's two free coordinates.
 void map_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
@@ -452,61 +456,21 @@ void map_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
   }
 }
 
-// The P1 stiffness of one tet: V ∇λ_a · ∇λ_b. False when the tet has no volume.
-bool tet_stiffness(const TetMesh& mesh, const Tet& t, Eigen::Matrix4d& k) {
-  Eigen::Matrix3d edges;
-  for (int r = 0; r < 3; ++r) {
-    const Vec3 e = mesh.points[t[r + 1]] - mesh.points[t[0]];
-    edges.row(r) << e.x, e.y, e.z;
-  }
-  const double det = edges.determinant();
-  if (!(det > 0)) return false;
-  const Eigen::Matrix3d inverse = edges.inverse();  // column r: ∇λ_{r+1}
-  Eigen::Matrix<double, 3, 4> grad;
-  grad.rightCols<3>() = inverse;
-  grad.col(0) = -inverse.rowwise().sum();
-  k = (det / 6) * grad.transpose() * grad;
-  return true;
+#else
+void map_patch(const TetMesh&, const std::vector<Triangle>&, const std::vector<std::uint32_t>&, int,
+               const std::vector<char>&, std::vector<Uvw>&) {
+  throw InputError("this tpmsfill was built without Eigen, which the cube map needs");
 }
+#endif
 
-// The interior by the P1 harmonic map: K_II f_I = −K_IB f_B for the three coordinates.
+// The interior by the P1 harmonic map, for the three coordinates.
 void map_interior(const TetMesh& mesh, const std::vector<char>& fixed, CubeMap& map) {
-  std::vector<std::int64_t> unknown(mesh.points.size(), -1);
-  std::int64_t n = 0;
-  for (const Tet& t : mesh.tets)
-    for (std::uint32_t v : t)
-      if (!fixed[v] && unknown[v] < 0) unknown[v] = n++;
-  map.interior_points = static_cast<std::uint64_t>(n);
-  if (n == 0) return;
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(mesh.tets.size() * 10);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3);
-  Eigen::Matrix4d k;
-  for (const Tet& t : mesh.tets) {
-    if (!tet_stiffness(mesh, t, k)) continue;
-    for (int a = 0; a < 4; ++a) {
-      const std::int64_t row = unknown[t[a]];
-      if (row < 0) continue;
-      for (int b = 0; b < 4; ++b) {
-        const std::int64_t col = unknown[t[b]];
-        if (col >= 0) {
-          if (col <= row) entries.emplace_back(row, col, k(a, b));  // the lower half
-        } else {
-          for (int axis = 0; axis < 3; ++axis) rhs(row, axis) -= k(a, b) * map.uvw[t[b]][axis];
-        }
-      }
-    }
-  }
-  Eigen::SparseMatrix<double> matrix(n, n);
-  matrix.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-  solver.compute(matrix);
-  if (solver.info() != Eigen::Success)
-    throw InputError("the harmonic system of the interior could not be factored");
-  const Eigen::MatrixXd solution = solver.solve(rhs);
-  for (std::size_t v = 0; v < unknown.size(); ++v)
-    if (unknown[v] >= 0)
-      for (int axis = 0; axis < 3; ++axis) map.uvw[v][axis] = solution(unknown[v], axis);
+  std::vector<double> values(mesh.points.size() * 3);
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    for (int a = 0; a < 3; ++a) values[3 * v + a] = map.uvw[v][a];  // NaN where not fixed
+  map.interior_points = detail::harmonic_extension(mesh, fixed, 3, values);
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    for (int a = 0; a < 3; ++a) map.uvw[v][a] = values[3 * v + a];
 }
 
 void count_flips(const TetMesh& mesh, const std::vector<Triangle>& faces,

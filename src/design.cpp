@@ -294,7 +294,6 @@ void require_valid(const LatticeDesign& d) {
 // The ramp with its unset positions taken from `model`: linear ramps span the box along their
 // axis, radial ones from its centre to its farthest corner, depth 0 to a quarter of its
 // smallest side. `what` names the ramp in errors.
-namespace {
 Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what) {
   if ((ramp.point || ramp.shape == RampShape::Depth) && ramp.from && ramp.to) return ramp;
   if (model.empty())
@@ -324,7 +323,12 @@ Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what) {
   return ramp;
 }
 
-}  // namespace
+double ramp_value(const Ramp& resolved, Vec3 p) {
+  if (resolved.shape == RampShape::Depth)
+    throw InputError("a depth ramp needs the model's occupancy; ramp_value takes linear or radial");
+  const RampEval e(resolved);
+  return e.value(e.coordinate(p));
+}
 
 Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int counts) {
   if (ramp.shape == RampShape::Depth)

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "detail/cgal_types.hpp"
+#include "detail/soup_topology.hpp"
 #include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -39,12 +40,16 @@ using Criteria = CGAL::Mesh_criteria_3<Triangulation>;
 
 SurfaceMesh closed_surface_mesh(const TriangleSoup& surface) {
   if (surface.triangles.empty()) throw InputError("the surface has no triangles");
+  // Points with equal coordinates are one vertex (STL stores three per triangle).
+  const detail::PointMerge merge = detail::merge_equal_points(surface.points);
   std::vector<std::vector<std::size_t>> polygons;
   polygons.reserve(surface.triangles.size());
-  for (const Triangle& t : surface.triangles) polygons.push_back({t[0], t[1], t[2]});
+  for (const Triangle& t : surface.triangles)
+    polygons.push_back({merge.vertex_of_point[t[0]], merge.vertex_of_point[t[1]],
+                        merge.vertex_of_point[t[2]]});
   std::vector<detail::Point3> points;
-  points.reserve(surface.points.size());
-  for (const Vec3& p : surface.points) points.push_back(detail::to_cgal(p));
+  points.reserve(merge.first_point.size());
+  for (std::uint32_t p : merge.first_point) points.push_back(detail::to_cgal(surface.points[p]));
   if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
     throw InputError(
         "the surface is not an oriented 2-manifold (an edge in more than two triangles, two "

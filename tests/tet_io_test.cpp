@@ -153,6 +153,8 @@ TEST(TetIo, RoundTripMeditWithSol) {
 TEST(TetIo, RoundTripMeditWithoutMaterialWritesNoSol) {
   const auto dir = test::scratch_dir();
   const TetMesh mesh = two_tets(false);
+  write_tet_mesh(dir / "m.mesh", two_tets(true));  // an old material beside it goes
+  ASSERT_TRUE(std::filesystem::exists(dir / "m.sol"));
   write_tet_mesh(dir / "m.mesh", mesh);
   EXPECT_FALSE(std::filesystem::exists(dir / "m.sol"));
   expect_same(read_tet_mesh(dir / "m.mesh"), mesh);

@@ -64,6 +64,9 @@ TEST(Tetrahedralize, InwardSurfaceGivesTheSameSolid) {
   const TriangleSoup box = test::make_box({0, 0, 0}, {2, 1, 1});
   const TetMesh out = tetrahedralize(box, {.cell_size = 0.3});
   const TetMesh in = tetrahedralize(test::flip(box), {.cell_size = 0.3});
+  // As an STL stores it: three points per triangle, merged by their equal coordinates.
+  const TetMesh soup = tetrahedralize(test::unshare_points(box), {.cell_size = 0.3});
+  EXPECT_NEAR(check_tet_mesh(soup).volume, 2.0, 1e-9);
   EXPECT_NEAR(check_tet_mesh(out).volume, 2.0, 1e-9);
   EXPECT_NEAR(check_tet_mesh(in).volume, 2.0, 1e-9);
 }

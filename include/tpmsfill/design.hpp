@@ -153,6 +153,16 @@ FieldSource design_source(const LatticeDesign& design, const Field* depth = null
 ///                     outside 2 to 16, a size not positive
 Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int counts = 6);
 
+/// The ramp with its unset point, from and to taken from `model`'s box, as resolve_design()
+/// does (linear: the box's extent along the axis; radial: 0 at the box centre to the farthest
+/// corner; depth: 0 to a quarter of the smallest side). `what` names the ramp in errors.
+/// @throws InputError  positions unset and an empty model, from == to
+Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what = "ramp");
+
+/// A resolved ramp's value at p: start at ramp coordinate from, end at to, constant beyond.
+/// @throws InputError  a depth ramp (depth needs the model's occupancy)
+double ramp_value(const Ramp& resolved, Vec3 p);
+
 /// Names used by the CLI and recipes: "porosity", "level", "thickness", "cell"; "linear",
 /// "radial", "depth"; "half-space", "slab", "sphere", "cylinder"; "sigmoid", "beta".
 std::string_view graded_name(Graded what);

@@ -77,7 +77,8 @@ TetMesh parse_tet_mesh(TetFormat format, std::string_view first, const std::stri
                        const TetReadOptions& options = {});
 
 /// Writes a tet mesh atomically: `.mesh` (MEDIT, with a `.sol` beside it when the mesh has
-/// material; without material no `.sol` is written and one already there is left alone) or
+/// material; without material, a `.sol` of that name is removed, since readers would take it
+/// for this mesh's material) or
 /// `.vtk` (legacy ASCII 4.2, material as POINT_DATA SCALARS "material"). Coordinates and
 /// material as shortest round-trip text, so they read back bit-identical.
 /// @throws InputError  another extension, an index out of range, a material count that is not

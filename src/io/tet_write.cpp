@@ -137,10 +137,13 @@ void write_tet_mesh(const std::filesystem::path& path, const TetMesh& mesh) {
     write_file_atomically(path, vtk(mesh));
     return;
   }
-  // The material first: a reader never finds the new mesh beside the old material.
-  if (!mesh.material.empty())
-    write_file_atomically(std::filesystem::path(path).replace_extension(".sol"), medit_sol(mesh));
+  // The material first: a reader never finds the new mesh beside the old material. Without
+  // material, an old .sol beside the mesh would be read as its material: it goes.
+  const auto sol = std::filesystem::path(path).replace_extension(".sol");
+  if (!mesh.material.empty()) write_file_atomically(sol, medit_sol(mesh));
   write_file_atomically(path, medit_mesh(mesh));
+  std::error_code ignored;
+  if (mesh.material.empty()) std::filesystem::remove(sol, ignored);
 }
 
 }  // namespace tpmsfill
