@@ -27,5 +27,6 @@ Command add_field_command(CLI::App& app);
 Command add_conformal_command(CLI::App& app);
 Command add_slice_command(CLI::App& app);
 Command add_render_command(CLI::App& app);
+Command add_material_command(CLI::App& app);
 
 }  // namespace tpmsfill::cli

@@ -40,6 +40,7 @@ int run(int argc, char** argv) {
   Command conformal = add_conformal_command(app);
   Command slice = add_slice_command(app);
   Command render = add_render_command(app);
+  Command material = add_material_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
@@ -90,6 +91,8 @@ int run(int argc, char** argv) {
         return slice();
       else if (sub->get_name() == "render")
         return render();
+      else if (sub->get_name() == "material")
+        return material();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());

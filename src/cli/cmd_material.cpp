@@ -1,0 +1,235 @@
+// `tpmsfill material info IN`: the heterogeneous-material pipeline's input (seed 001): a tet
+// mesh, or a closed surface filled with tets, given a material, checked and mapped onto the
+// unit cube. This file only parses, calls the stages, times and prints.
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <tpmsfill/cube_map.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/material.hpp>
+#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/tetrahedralize.hpp>
+#include <tpmsfill/units.hpp>
+#include <tpmsfill/volume.hpp>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/job_files.hpp"
+#include "cli/validators.hpp"
+
+namespace tpmsfill::cli {
+namespace {
+
+struct MaterialArgs {
+  std::string input, tets_output, units = "mm";
+  double cell = 0, feature_angle = 180;
+  std::vector<std::string> material;  // KIND ARGS...
+  std::vector<double> up{0, 0, 1};
+  std::vector<std::uint32_t> corners;
+  bool json = false;
+};
+
+bool is_tet_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".vtk";
+}
+
+double number_argument(const std::string& text, const std::string& what) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw InputError("--material " + what + " must be a number, not '" + text + "'");
+}
+
+// The material the arguments name, and a phrase saying what it is.
+std::string apply_material(const MaterialArgs& a, TetMesh& mesh) {
+  const auto& m = a.material;
+  if (m.empty()) return mesh.material.empty() ? "none" : "from the file";
+  auto need = [&](std::size_t n, const char* usage) {
+    if (m.size() != n) throw InputError(std::string("--material takes ") + usage);
+  };
+  const std::string& kind = m[0];
+  if (kind == "point") {
+    need(4, "point X Y Z");
+    const Vec3 c{number_argument(m[1], "X"), number_argument(m[2], "Y"),
+                 number_argument(m[3], "Z")};
+    mesh.material = distance_material(mesh, c);
+    return "distance to (" + m[1] + ", " + m[2] + ", " + m[3] + ")";
+  }
+  if (kind == "geodesic") {
+    need(2,
+         "geodesic DEPTH (the bottom: boundary points within DEPTH mm of the lowest along --up)");
+    const double depth = number_argument(m[1], "DEPTH");
+    const auto sources = bottom_boundary_points(mesh, {a.up[0], a.up[1], a.up[2]}, depth);
+    mesh.material = geodesic_material(mesh, sources);
+    return "geodesic distance to the bottom (" + std::to_string(sources.size()) + " points)";
+  }
+  if (kind == "x" || kind == "y" || kind == "z" || kind == "radial") {
+    need(3, "x|y|z|radial START END");
+    Ramp ramp{.shape = kind == "radial" ? RampShape::Radial : RampShape::Linear,
+              .axis = {kind == "x" ? 1.0 : 0.0, kind == "y" ? 1.0 : 0.0,
+                       kind == "z" || kind == "radial" ? 1.0 : 0.0},
+              .start = number_argument(m[1], "START"),
+              .end = number_argument(m[2], "END")};
+    mesh.material = ramp_material(mesh, ramp);
+    return kind + " ramp " + m[1] + " to " + m[2];
+  }
+  if (kind == "ct") {
+    need(2, "ct FILE (a volume: NRRD, MetaImage, INR, .tdf)");
+    std::uint64_t outside = 0;
+    mesh.material = volume_material(mesh, read_volume_file(m[1]).volume, &outside);
+    if (outside > 0)
+      print_warnings({std::to_string(outside) + " of " + std::to_string(mesh.points.size()) +
+                      " points lie outside " + m[1] + "'s box: they take its border values"});
+    return "sampled from " + m[1];
+  }
+  throw InputError("unknown --material '" + kind +
+                   "' (known: point, geodesic, x, y, z, radial, ct)");
+}
+
+// The input as a tet mesh: read, or a closed surface filled with tets.
+TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j) {
+  const ModelUnits units{.units = units_from_name(a.units)};
+  if (is_tet_file(a.input)) {
+    TetMesh mesh = read_tet_mesh(a.input);
+    const double factor = units.factor();
+    if (factor != 1)
+      for (Vec3& p : mesh.points) p = factor * p;
+    j["source"] = "tet mesh";
+    return mesh;
+  }
+  const TriangleSoup surface = to_millimetres(read_mesh(a.input), units);
+  TetMesh mesh = tetrahedralize(surface, {.cell_size = a.cell, .feature_angle = a.feature_angle});
+  double surface_volume = 0;
+  for (const Triangle& t : surface.triangles)
+    surface_volume +=
+        dot(surface.points[t[0]], cross(surface.points[t[1]], surface.points[t[2]])) / 6;
+  j["source"] = "surface";
+  j["surface_triangles"] = surface.triangles.size();
+  j["surface_volume_mm3"] = std::abs(surface_volume);
+  return mesh;
+}
+
+int run_material_info(const MaterialArgs& a) {
+  if (!a.tets_output.empty()) require_writable_outputs({a.input}, {{"--tets", a.tets_output}});
+  const auto t0 = std::chrono::steady_clock::now();
+  nlohmann::ordered_json j;
+  j["input"] = a.input;
+  TetMesh mesh = input_tets(a, j);
+  TetMeshReport report = check_tet_mesh(mesh);
+  mesh = with_positive_tets(std::move(mesh), report);
+  report = check_tet_mesh(mesh);
+  j["points"] = report.points;
+  j["tets"] = report.tets;
+  j["volume_mm3"] = report.volume;
+  j["boundary_faces"] = report.boundary_faces;
+  j["genus"] = report.genus ? nlohmann::ordered_json(*report.genus) : nullptr;
+  const std::optional<std::string> problem = ball_problem(report);
+  std::vector<std::string> warnings;
+  if (j.contains("surface_volume_mm3")) {
+    const double before = j["surface_volume_mm3"], change = report.volume / before - 1;
+    if (std::abs(change) > 0.01)
+      warnings.push_back("the tets' volume differs from the surface's by " +
+                         std::to_string(100 * change) +
+                         " % (sharp edges rounded? try --feature-angle 60 or a smaller --cell)");
+  }
+  if (!problem) {
+    j["material"] = apply_material(a, mesh);
+    if (!mesh.material.empty()) {
+      const TetMeshReport m = check_tet_mesh(mesh);
+      j["material_range"] = {m.material_min, m.material_max};
+    }
+    CubeMapOptions options;
+    if (!a.corners.empty()) {
+      std::array<std::uint32_t, 8> c{};
+      std::copy(a.corners.begin(), a.corners.end(), c.begin());
+      options.corners = c;
+    }
+    const CubeMap map = map_to_cube(mesh, options);
+    j["cube_map"] = {{"corners", map.corners},
+                     {"flipped_boundary_faces", map.flipped_boundary_faces},
+                     {"inverted_tets", map.inverted_tets},
+                     {"flat_tets", map.flat_tets},
+                     {"interior_points", map.interior_points}};
+    if (map.inverted_tets > 0)
+      warnings.push_back(std::to_string(map.inverted_tets) + " of " + std::to_string(map.tets) +
+                         " tets fold over in the cube map (a 3D harmonic map need not be a "
+                         "bijection; smaller tets or other corners usually help)");
+  }
+  j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!a.tets_output.empty() && !problem) write_tet_mesh(a.tets_output, mesh);
+  if (a.json) {
+    if (problem) j["problem"] = *problem;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    for (const auto& [key, value] : j.items())
+      std::printf("%-22s %s\n", key.c_str(), value.dump().c_str());
+  }
+  std::fflush(stdout);
+  print_warnings(warnings);
+  if (problem) {
+    std::fprintf(stderr, "tpmsfill: %s cannot be mapped onto the cube: %s\n", a.input.c_str(),
+                 problem->c_str());
+    return kNotValid;
+  }
+  return kOk;
+}
+
+}  // namespace
+
+Command add_material_command(CLI::App& app) {
+  auto args = std::make_shared<MaterialArgs>();
+  CLI::App* material = app.add_subcommand(
+      "material", "Heterogeneous-material solids (seed 001): tet meshes with a material");
+  material->require_subcommand(1);
+  CLI::App* info = material->add_subcommand(
+      "info",
+      "Check a tet mesh (or fill a closed surface with tets), give it a material, map it "
+      "onto the unit cube, and say what was found");
+  info->footer(
+      "IN is a tet mesh (.mesh + .sol, .node + .ele, .vtk) or a closed surface (STL, OBJ, PLY, "
+      "OFF), which is filled with tets by CGAL's 3D mesh generation. The tets must form a ball: "
+      "positive tets, a closed 2-manifold boundary, one piece, genus 0. The material comes from "
+      "the file, or from --material:\n"
+      "  point X Y Z          distance to a point, mm (the seed's duck)\n"
+      "  geodesic DEPTH       geodesic distance to the bottom (boundary points within DEPTH mm of "
+      "the lowest along --up; heat method, harmonic inside: the seed's femur)\n"
+      "  x|y|z|radial A B     a ramp from A to B across the part\n"
+      "  ct FILE              a CT or other volume, trilinear\n"
+      "The tets are mapped onto [0,1]^3 (corners, curves, mean-value patches, harmonic "
+      "interior: docs/method.md), and the flipped and inverted counts are reported.\n\n"
+      "Examples:\n"
+      "  tpmsfill material info femur-end.stl --cell 2 --material geodesic 1 --tets femur.vtk\n"
+      "  tpmsfill material info duck.mesh --material point 0 0 20 --json\n\n"
+      "Exit code 0: mapped; 1: the tets are not a ball (the sentence says why); 2: unreadable "
+      "input or bad arguments.");
+  info->add_option("IN", args->input, "Tet mesh or closed surface, mm")->required();
+  info->add_option("--cell", args->cell,
+                   "Surfaces: largest tet size, mm (default: the bounding box's diagonal / 30)")
+      ->check(positive());
+  info->add_option("--feature-angle", args->feature_angle,
+                   "Surfaces: keep edges sharper than this many degrees (default 180: none, for "
+                   "organic scans; 60 keeps a CAD part's edges)")
+      ->check(between(1, 180, "1 to 180"));
+  info->add_option("--material", args->material, "KIND ARGS...: see below")->expected(1, 4);
+  info->add_option("--up", args->up, "The up direction for --material geodesic (default 0 0 1)")
+      ->expected(3);
+  info->add_option("--corners", args->corners,
+                   "Eight boundary point ids for the cube's corners, corner k at (k&1, k>>1&1, "
+                   "k>>2&1) (default: found from the bounding box)")
+      ->expected(8);
+  info->add_option("--tets", args->tets_output,
+                   "Write the tets with their material here (.vtk or .mesh + .sol)");
+  info->add_option("--units", args->units, "Unit IN was modelled in: mm, cm, m, in or um");
+  info->add_flag("--json", args->json, "Print JSON instead of text");
+  return [args] { return run_material_info(*args); };
+}
+
+}  // namespace tpmsfill::cli

@@ -1,0 +1,80 @@
+// `tpmsfill material info` as a user runs it: a surface filled with tets and mapped onto the
+// cube, a tet mesh written and read back with its material, and refusals with their exit codes.
+#include <gtest/gtest.h>
+
+// GCC 12 reports a false -Wrestrict inside std::string concatenation here (GCC bug 105329).
+#pragma GCC diagnostic ignored "-Wrestrict"
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/tet_mesh.hpp>
+
+#include "test_util.hpp"
+
+using namespace tpmsfill;
+namespace fs = std::filesystem;
+
+namespace {
+
+int material_info(const std::string& args, std::string* output) {
+  return test::run_command(std::string(TPMSFILL_CLI) + " material info " + args, output);
+}
+
+nlohmann::json json_of(const std::string& out) {
+  const std::size_t open = out.find('{'), close = out.rfind('}');
+  EXPECT_NE(open, std::string::npos) << out;
+  return nlohmann::json::parse(out.substr(open, close - open + 1));
+}
+
+TEST(MaterialCli, SurfaceIsFilledGivenAMaterialAndMapped) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path in = dir / "ball.stl", tets = dir / "ball.vtk";
+  write_mesh(in, test::make_sphere({0, 0, 0}, 10, 3));
+  std::string out;
+  ASSERT_EQ(material_info("'" + in.string() + "' --cell 2 --material z 0 1 --json --tets '" +
+                              tets.string() + "'",
+                          &out),
+            0)
+      << out;
+  const nlohmann::json j = json_of(out);
+  EXPECT_EQ(j["source"], "surface");
+  EXPECT_EQ(j["genus"], 0);
+  EXPECT_EQ(j["cube_map"]["flipped_boundary_faces"], 0);
+  EXPECT_NEAR(j["material_range"][0].get<double>(), 0, 1e-12);
+  EXPECT_NEAR(j["material_range"][1].get<double>(), 1, 1e-12);
+  // The written tets hold the ramp: 0 at the bottom, 1 at the top, linear in z between.
+  const TetMesh back = read_tet_mesh(tets);
+  EXPECT_EQ(back.tets.size(), j["tets"].get<std::size_t>());
+  ASSERT_EQ(back.material.size(), back.points.size());
+  const Box3 box = check_tet_mesh(back).bounds;
+  for (std::size_t v = 0; v < back.points.size(); ++v)
+    EXPECT_NEAR(back.material[v], (back.points[v].z - box.min.z) / (box.max.z - box.min.z), 1e-9);
+
+  // Read back as a tet mesh, its material comes from the file.
+  ASSERT_EQ(material_info("'" + tets.string() + "' --json", &out), 0) << out;
+  EXPECT_EQ(json_of(out)["material"], "from the file");
+}
+
+TEST(MaterialCli, RefusalsAndTheirExitCodes) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path torus = dir / "torus.stl", out_tets = dir / "torus.vtk";
+  write_mesh(torus, test::make_torus(10, 4, 32, 16));
+  std::string out;
+  EXPECT_EQ(
+      material_info("'" + torus.string() + "' --cell 2 --tets '" + out_tets.string() + "'", &out),
+      1);
+  EXPECT_NE(out.find("genus 1"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(out_tets));  // nothing written for a mesh that is refused
+  const fs::path box = dir / "box.stl";
+  write_mesh(box, test::make_box({0, 0, 0}, {2, 2, 2}));
+  EXPECT_EQ(material_info("'" + box.string() + "' --material wood 1", &out), 2);
+  EXPECT_NE(out.find("unknown --material 'wood'"), std::string::npos) << out;
+  EXPECT_EQ(material_info("'" + box.string() + "' --material point 1 2", &out), 2);
+  EXPECT_NE(out.find("point X Y Z"), std::string::npos) << out;
+  EXPECT_EQ(material_info("'" + (dir / "missing.mesh").string() + "'", &out), 2);
+  EXPECT_EQ(material_info("'" + box.string() + "' --corners 1 2 3", &out), 2);
+}
+
+}  // namespace
