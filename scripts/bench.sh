@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -27,6 +27,9 @@
 # 15. seed 004: `tpmsfill conformal` on the dome, the wave, Debian's Nefertiti face and blade at
 #     a voxel of H/10 (layout flips and distortion, cells on the surface, heights, time, memory),
 #     and the layout alone on libcgal-demo's other disks
+#  material:
+# 20. seed 001: `tpmsfill material info` (tetrahedralize, geodesic material, cube map) on
+#     libcgal-demo's genus-0 meshes at two tet sizes
 #  any:
 # 16. any size: the femur at 35 mm and a = 0.0175 mm (1.1e9 samples) filled with the whole grid
 #     and in streamed slabs within --memory 4G and 1G (time, peak RSS, same bytes); sliced at 0.05 mm layers
@@ -56,7 +59,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -656,6 +659,47 @@ print()
 print(f"reference: OpenVDB {reports('femur-0.1-lut')[0]['openvdb']}, threads {reports('femur-0.1-lut')[0]['threads']}")
 PY
   fi
+fi
+
+if [[ "$section" == all || "$section" == material ]]; then
+  echo
+  echo "## 20. seed 001: tets, material and the cube map (tpmsfill material info)"
+  echo
+  echo "libcgal-demo's bear, bunny00, dino, elephant, fandisk and sphere (those tpmsfill check passes),"
+  echo "tets of size diagonal / D, material = geodesic distance to the bottom (boundary points within"
+  echo "diagonal / 100 of the lowest):"
+  echo
+  echo "| mesh | D | tets | points | volume vs surface | genus | flipped boundary faces | inverted tets | flat tets | wall s | peak MB | outcome |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+  mkdir -p "$tmp/mat"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
+    data/meshes/bunny00.off data/meshes/dino.off data/meshes/bear.off data/meshes/fandisk.off \
+    data/meshes/ellipe0.003.off data/meshes/elephant.off data/meshes/sphere.off 2>/dev/null || true
+  for f in "$tmp"/mat/*.off; do
+    ./build/tpmsfill check --json "$f" >"$tmp/c.json" 2>/dev/null || continue
+    diag=$(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5)' "$tmp/c.json")
+    for D in 30 60; do
+      cell=$(python3 -c "print($diag / $D)"); depth=$(python3 -c "print($diag / 100)")
+      timed timeout 900 ./build/tpmsfill material info "$f" --cell "$cell" \
+        --material geodesic "$depth" --json >"$tmp/m.json" 2>"$tmp/err.txt"
+      python3 - "$tmp/m.json" "$(basename "$f")" "$D" "$wall" "$kb" "$code" "$tmp/err.txt" <<'PY'
+import json, sys
+name, D, wall, kb, code = sys.argv[2], sys.argv[3], float(sys.argv[4]), int(sys.argv[5]), sys.argv[6]
+try:
+    d = json.load(open(sys.argv[1]))
+except Exception:
+    d = {}
+err = open(sys.argv[7]).read().strip().splitlines()
+why = [l for l in err if "warning" not in l]
+outcome = "mapped" if code == "0" else ("refused: " + (why[-1] if why else "exit " + code))[:150].replace("|", "/")
+cm = d.get("cube_map", {})
+vol = (100 * (d["volume_mm3"] / d["surface_volume_mm3"] - 1)) if "volume_mm3" in d else float("nan")
+print(f"| {name} | {D} | {d.get('tets', '')} | {d.get('points', '')} | {vol:+.2f} % | {d.get('genus', '')} | "
+      f"{cm.get('flipped_boundary_faces', '')} | {cm.get('inverted_tets', '')} | {cm.get('flat_tets', '')} | "
+      f"{wall:.2f} | {kb / 1024:.0f} | {outcome} |")
+PY
+    done
+  done
 fi
 
 if [[ "$section" == all || "$section" == decimate-cgal ]]; then
