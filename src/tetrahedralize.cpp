@@ -4,7 +4,9 @@
 
 // Boost.Graph's edge descriptors in CGAL's feature detection (split_graph_into_polylines) are
 // copied before GCC can see them set; no path reads them unset.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include <CGAL/Handle_hash_function.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
@@ -45,8 +47,8 @@ SurfaceMesh closed_surface_mesh(const TriangleSoup& surface) {
   std::vector<std::vector<std::size_t>> polygons;
   polygons.reserve(surface.triangles.size());
   for (const Triangle& t : surface.triangles)
-    polygons.push_back({merge.vertex_of_point[t[0]], merge.vertex_of_point[t[1]],
-                        merge.vertex_of_point[t[2]]});
+    polygons.push_back(
+        {merge.vertex_of_point[t[0]], merge.vertex_of_point[t[1]], merge.vertex_of_point[t[2]]});
   std::vector<detail::Point3> points;
   points.reserve(merge.first_point.size());
   for (std::uint32_t p : merge.first_point) points.push_back(detail::to_cgal(surface.points[p]));

@@ -47,6 +47,14 @@ TEST(Tetrahedralize, TorusKeepsItsHandleAndTheCubeRefusesIt) {
   EXPECT_THROW(map_to_cube(ring), InputError);
 }
 
+TEST(Tetrahedralize, SameSurfaceSameTets) {
+  const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 3, 3);
+  const TetMesh a = tetrahedralize(sphere, {.cell_size = 0.6});
+  const TetMesh b = tetrahedralize(sphere, {.cell_size = 0.6});
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.tets, b.tets);
+}
+
 TEST(Tetrahedralize, OpenAndNonManifoldSurfacesAreRefused) {
   const TriangleSoup box = test::make_box({0, 0, 0}, {1, 1, 1});
   try {

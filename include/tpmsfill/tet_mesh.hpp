@@ -89,19 +89,19 @@ void write_tet_mesh(const std::filesystem::path& path, const TetMesh& mesh);
 /// What check_tet_mesh() found. Counts, and the first offender of each kind (for messages).
 struct TetMeshReport {
   std::uint64_t points = 0, tets = 0;
-  std::uint64_t unused_points = 0;      ///< in no tet (ignored by the pipeline)
+  std::uint64_t unused_points = 0;  ///< in no tet (ignored by the pipeline)
   std::uint64_t repeated_corner_tets = 0;
-  std::uint64_t negative_tets = 0;      ///< exact orientation < 0
-  std::uint64_t flat_tets = 0;          ///< exact orientation = 0 (no volume)
+  std::uint64_t negative_tets = 0;  ///< exact orientation < 0
+  std::uint64_t flat_tets = 0;      ///< exact orientation = 0 (no volume)
   std::optional<std::uint64_t> first_negative_tet, first_flat_tet;
-  std::uint64_t overfull_faces = 0;     ///< faces in more than two tets
-  std::uint64_t boundary_faces = 0;     ///< faces in one tet
+  std::uint64_t overfull_faces = 0;  ///< faces in more than two tets
+  std::uint64_t boundary_faces = 0;  ///< faces in one tet
   std::uint64_t boundary_edges = 0;
-  std::uint64_t open_edges = 0;         ///< boundary edges not in exactly two boundary faces
-  std::uint64_t pinched_vertices = 0;   ///< boundary vertices whose boundary faces form several fans
+  std::uint64_t open_edges = 0;        ///< boundary edges not in exactly two boundary faces
+  std::uint64_t pinched_vertices = 0;  ///< boundary vertices whose boundary faces form several fans
   std::uint64_t boundary_vertices = 0;
-  std::uint64_t components = 0;         ///< pieces of tets joined by shared faces
-  std::uint64_t boundary_shells = 0;    ///< pieces of the boundary joined by shared edges
+  std::uint64_t components = 0;       ///< pieces of tets joined by shared faces
+  std::uint64_t boundary_shells = 0;  ///< pieces of the boundary joined by shared edges
   /// Of the boundary surface: V − E + F, and (when the surface is a closed 2-manifold in one
   /// piece) its genus (2 − χ) / 2.
   std::int64_t euler_characteristic = 0;
@@ -120,8 +120,8 @@ TetMeshReport check_tet_mesh(const TetMesh& mesh);
 /// The first reason a checked mesh cannot be mapped onto the unit cube, as one sentence
 /// ("3 tets have no volume, the first is tet 17"), or nothing when it can: every tet positive,
 /// no face in more than two tets, a closed 2-manifold boundary, one piece with one boundary
-/// shell (no cavity), genus 0, material finite. A mesh whose tets are *all* negative (the other orientation convention) passes:
-/// with_positive_tets() turns it.
+/// shell (no cavity), genus 0, material finite. A mesh whose tets are *all* negative (the other
+/// orientation convention) passes: with_positive_tets() turns it.
 std::optional<std::string> ball_problem(const TetMeshReport& report);
 
 /// The mesh with every tet's last two corners swapped when all its tets are negative (files

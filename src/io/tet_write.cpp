@@ -7,19 +7,14 @@
 #include <filesystem>
 #include <string>
 
+#include "io/number_text.hpp"
 #include "io/tet_formats.hpp"
 #include "tpmsfill/io.hpp"
 
 namespace tpmsfill {
 namespace {
 
-// Shortest text that reads back to the same value (std::to_chars' round-trip guarantee).
-template <typename T>
-void append(std::string& out, T value) {
-  std::array<char, 32> buf;
-  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), value);
-  out.append(buf.data(), end);
-}
+using io::append_number;
 
 // Refuses what the readers would refuse, before anything is written.
 void check_writable(const std::filesystem::path& path, const TetMesh& mesh) {
@@ -47,21 +42,21 @@ void check_writable(const std::filesystem::path& path, const TetMesh& mesh) {
 
 std::string medit_mesh(const TetMesh& mesh) {
   std::string out = "MeshVersionFormatted 2\nDimension 3\n\nVertices\n";
-  append(out, mesh.points.size());
+  append_number(out, mesh.points.size());
   out += '\n';
   for (const Vec3& p : mesh.points) {
     for (const double c : {p.x, p.y, p.z}) {
-      append(out, c);
+      append_number(out, c);
       out += ' ';
     }
     out += "0\n";
   }
   out += "\nTetrahedra\n";
-  append(out, mesh.tets.size());
+  append_number(out, mesh.tets.size());
   out += '\n';
   for (const Tet& t : mesh.tets) {
     for (const std::uint32_t v : t) {
-      append(out, std::uint64_t{v} + 1);
+      append_number(out, std::uint64_t{v} + 1);
       out += ' ';
     }
     out += "0\n";
@@ -72,10 +67,10 @@ std::string medit_mesh(const TetMesh& mesh) {
 
 std::string medit_sol(const TetMesh& mesh) {
   std::string out = "MeshVersionFormatted 2\nDimension 3\n\nSolAtVertices\n";
-  append(out, mesh.material.size());
+  append_number(out, mesh.material.size());
   out += "\n1 1\n";
   for (const double m : mesh.material) {
-    append(out, m);
+    append_number(out, m);
     out += '\n';
   }
   out += "\nEnd\n";
@@ -86,39 +81,39 @@ std::string vtk(const TetMesh& mesh) {
   std::string out =
       "# vtk DataFile Version 4.2\ntpmsfill tetrahedral mesh\nASCII\nDATASET "
       "UNSTRUCTURED_GRID\nPOINTS ";
-  append(out, mesh.points.size());
+  append_number(out, mesh.points.size());
   out += " double\n";
   for (const Vec3& p : mesh.points) {
-    append(out, p.x);
+    append_number(out, p.x);
     out += ' ';
-    append(out, p.y);
+    append_number(out, p.y);
     out += ' ';
-    append(out, p.z);
+    append_number(out, p.z);
     out += '\n';
   }
   out += "CELLS ";
-  append(out, mesh.tets.size());
+  append_number(out, mesh.tets.size());
   out += ' ';
-  append(out, mesh.tets.size() * 5);
+  append_number(out, mesh.tets.size() * 5);
   out += '\n';
   for (const Tet& t : mesh.tets) {
     out += '4';
     for (const std::uint32_t v : t) {
       out += ' ';
-      append(out, v);
+      append_number(out, v);
     }
     out += '\n';
   }
   out += "CELL_TYPES ";
-  append(out, mesh.tets.size());
+  append_number(out, mesh.tets.size());
   out += '\n';
   for (std::size_t i = 0; i < mesh.tets.size(); ++i) out += "10\n";
   if (!mesh.material.empty()) {
     out += "POINT_DATA ";
-    append(out, mesh.points.size());
+    append_number(out, mesh.points.size());
     out += "\nSCALARS material double 1\nLOOKUP_TABLE default\n";
     for (const double m : mesh.material) {
-      append(out, m);
+      append_number(out, m);
       out += '\n';
     }
   }

@@ -32,6 +32,7 @@
 #include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
 #include "detail/parallel.hpp"
+#include "io/number_text.hpp"
 #include "io/three_mf.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
@@ -39,13 +40,7 @@
 namespace tpmsfill {
 namespace {
 
-// Shortest text that reads back to the same value (std::to_chars' round-trip guarantee).
-template <typename T>
-void append_number(std::string& out, T value) {
-  std::array<char, 32> buf;
-  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), value);
-  out.append(buf.data(), end);
-}
+using io::append_number;
 
 void append_u64(std::string& out, std::uint64_t value) {
   append_number(out, value);
