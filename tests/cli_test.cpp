@@ -323,10 +323,17 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   write_mesh(in, test::make_box({0, 0, 0}, {10, 10, 10}));
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
-      {"", "a command is needed: check, fill, repair, decimate, field, conformal, slice or render"},
+      {"",
+       "a command is needed: check, fill, repair, decimate, field, conformal, slice, render or "
+       "material"},
       {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},
+      {"material", "material needs a command: info"},
+      {"material inf x", "unknown command 'inf' for material (did you mean info?)"},
+      {"material info", "material info needs IN"},
+      {"material info a.mesh --cell 0", "--cell must be > 0"},
+      {"material info a.mesh --corners 1 2", "--corners takes 8 values"},
       {"field fit a b --methd lspia",
        "unknown option --methd for field fit (did you mean --method?)"},
       {"fil a b", "unknown command 'fil' (did you mean fill?)"},
