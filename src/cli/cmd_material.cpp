@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tpmsfill/cube_map.hpp>
+#include <tpmsfill/cube_octree.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/material.hpp>
@@ -158,6 +159,12 @@ int run_material_info(const MaterialArgs& a) {
                      {"inverted_tets", map.inverted_tets},
                      {"flat_tets", map.flat_tets},
                      {"interior_points", map.interior_points}};
+    // The splines' octree: cells split while they hold more than 5 tets (the seed's rule).
+    const CubeOctree octree = build_cube_octree(tet_centroids(mesh, map));
+    j["octree"] = {{"leaves", octree.leaves.size()},
+                   {"deepest_level", octree.deepest},
+                   {"balance_splits", octree.balance_splits},
+                   {"overfull_leaves", octree.overfull}};
     if (map.inverted_tets > 0)
       warnings.push_back(std::to_string(map.inverted_tets) + " of " + std::to_string(map.tets) +
                          " tets fold over in the cube map (a 3D harmonic map need not be a "
