@@ -62,20 +62,33 @@ BoundaryGraph boundary_graph(std::size_t points, const std::vector<Triangle>& fa
   return graph;
 }
 
-// The boundary vertex furthest towards each corner of the bounding box, each axis scaled by
-// the box's size (lowest index on ties).
+using Frame = std::array<Vec3, 3>;  // orthonormal, right-handed
+
+// The boundary vertex furthest towards each corner of the boundary's box in `frame`, each axis
+// scaled by the box's size there (lowest index on ties).
 std::array<std::uint32_t, 8> find_corners(const TetMesh& mesh, const BoundaryGraph& graph,
-                                          const Box3& bounds) {
-  const Vec3 centre = bounds.centre(), size = bounds.size();
+                                          const Frame& frame) {
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  auto coordinates = [&](std::uint32_t v) {
+    const Vec3 p = mesh.points[v];
+    return Vec3{dot(p, frame[0]), dot(p, frame[1]), dot(p, frame[2])};
+  };
+  for (std::uint32_t v = 0; v < mesh.points.size(); ++v)
+    if (graph.on_boundary(v)) {
+      const Vec3 q = coordinates(v);
+      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+    }
+  const Vec3 centre = 0.5 * (lo + hi), size = hi - lo;
   std::array<std::uint32_t, 8> corners{};
   for (int k = 0; k < 8; ++k) {
     double best = -std::numeric_limits<double>::infinity();
     for (std::uint32_t v = 0; v < mesh.points.size(); ++v) {
       if (!graph.on_boundary(v)) continue;
+      const Vec3 q = coordinates(v);
       double reach = 0;
       for (int a = 0; a < 3; ++a)
-        reach += (corner_bit(k, a) ? 1 : -1) * (mesh.points[v][a] - centre[a]) /
-                 (size[a] > 0 ? size[a] : 1);
+        reach += (corner_bit(k, a) ? 1 : -1) * (q[a] - centre[a]) / (size[a] > 0 ? size[a] : 1);
       if (reach > best) {
         best = reach;
         corners[k] = v;
@@ -89,6 +102,37 @@ std::array<std::uint32_t, 8> find_corners(const TetMesh& mesh, const BoundaryGra
                          " were both found at vertex " + std::to_string(corners[a]) +
                          " (a thin or pointed part); give the eight corner vertices");
   return corners;
+}
+
+// The frames whose boxes give the corners to try: the axes, then the boundary's principal
+// axes (longest first), which suit a long or tilted part better.
+std::vector<Frame> corner_frames(const TetMesh& mesh, const BoundaryGraph& graph) {
+  std::vector<Frame> frames{Frame{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}};
+#if defined(CGAL_EIGEN3_ENABLED)
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  double n = 0;
+  for (std::uint32_t v = 0; v < mesh.points.size(); ++v)
+    if (graph.on_boundary(v)) {
+      mean += Eigen::Vector3d(mesh.points[v].x, mesh.points[v].y, mesh.points[v].z);
+      n += 1;
+    }
+  mean /= std::max(n, 1.0);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (std::uint32_t v = 0; v < mesh.points.size(); ++v)
+    if (graph.on_boundary(v)) {
+      const Eigen::Vector3d d =
+          Eigen::Vector3d(mesh.points[v].x, mesh.points[v].y, mesh.points[v].z) - mean;
+      covariance += d * d.transpose();
+    }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  auto axis = [&](int column) {
+    const Eigen::Vector3d e = solver.eigenvectors().col(column);
+    return Vec3{e.x(), e.y(), e.z()};
+  };
+  const Vec3 first = axis(2), second = axis(1);
+  frames.push_back({first, second, cross(first, second)});
+#endif
+  return frames;
 }
 
 void check_given_corners(const std::array<std::uint32_t, 8>& corners, const BoundaryGraph& graph,
@@ -337,6 +381,24 @@ void trace_curves(const TetMesh& mesh, const BoundaryGraph& graph,
       first_reason + "); give the corners (are they mirrored?), or use smaller tets");
 }
 
+// Corners from each frame in turn, until the curves between them can be traced.
+void find_corners_and_curves(const TetMesh& mesh, const BoundaryGraph& graph,
+                             const std::vector<Triangle>& faces, CubeMap& map) {
+  std::string first_error;
+  for (const Frame& frame : corner_frames(mesh, graph)) {
+    try {
+      map.corners = find_corners(mesh, graph, frame);
+      trace_curves(mesh, graph, faces, map);
+      return;
+    } catch (const InputError& e) {
+      if (first_error.empty()) first_error = e.what();
+    }
+  }
+  throw InputError(first_error +
+                   " (corners from the axes' box and from the principal axes' "
+                   "box both tried)");
+}
+
 // Cube face f = 2·axis + side: the mask of its four edges.
 int face_edge_mask(int face) {
   const int axis = face / 2, side = face % 2;
@@ -516,8 +578,12 @@ CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options) {
   map.tets = mesh.tets.size();
   map.boundary_faces = faces.size();
   if (options.corners) check_given_corners(*options.corners, graph, mesh.points.size());
-  map.corners = options.corners ? *options.corners : find_corners(mesh, graph, report.bounds);
-  trace_curves(mesh, graph, faces, map);
+  if (options.corners) {
+    map.corners = *options.corners;
+    trace_curves(mesh, graph, faces, map);
+  } else {
+    find_corners_and_curves(mesh, graph, faces, map);
+  }
   const auto patches = split_patches(faces, map);
   detail::report_or_cancel(options.progress, 0.1);
 

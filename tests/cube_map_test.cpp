@@ -68,6 +68,34 @@ TEST(CubeMap, GivenCornersAreUsed) {
   expect_affine_image(box, map, min, max);
 }
 
+TEST(CubeMap, TiltedBoxMapsAffinelyByItsPrincipalAxes) {
+  // Tilted, the box's corners are not the extremes towards its bounding box's corners (with
+  // only those the stage refuses); its principal axes are its own edges.
+  TetMesh box = make_tet_grid({-2, -1, -0.5}, {2, 1, 0.5}, {8, 4, 3}, 0.1);
+  const double a = 0.5, b = 0.3;
+  for (Vec3& p : box.points) {
+    const Vec3 q{std::cos(a) * p.x - std::sin(a) * p.y, std::sin(a) * p.x + std::cos(a) * p.y, p.z};
+    p = {q.x, std::cos(b) * q.y - std::sin(b) * q.z, std::sin(b) * q.y + std::cos(b) * q.z};
+  }
+  const CubeMap map = map_to_cube(box);
+  EXPECT_EQ(map.flipped_boundary_faces, 0u);
+  EXPECT_EQ(map.inverted_tets, 0u);
+  // (u, v, w) is the affine map that takes corners 0, 1, 2, 4 to the cube's.
+  const Vec3 o = box.points[map.corners[0]];
+  const Vec3 e[3] = {box.points[map.corners[1]] - o, box.points[map.corners[2]] - o,
+                     box.points[map.corners[4]] - o};
+  const double det = dot(e[0], cross(e[1], e[2]));
+  ASSERT_GT(det, 0);
+  double worst = 0;
+  for (std::size_t v = 0; v < box.points.size(); ++v) {
+    const Vec3 d = box.points[v] - o;
+    const double uvw[3] = {dot(d, cross(e[1], e[2])) / det, dot(e[0], cross(d, e[2])) / det,
+                           dot(e[0], cross(e[1], d)) / det};
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(map.uvw[v][k] - uvw[k]));
+  }
+  EXPECT_LT(worst, 1e-9);
+}
+
 TEST(CubeMap, MirroredCornersAreRefused) {
   const Vec3 min{0, 0, 0}, max{1, 1, 1};
   const TetMesh box = make_tet_grid(min, max, {3, 3, 3});

@@ -5,7 +5,8 @@
 ///
 ///  1. Corners: eight boundary vertices, corner k going to (k & 1, k >> 1 & 1, k >> 2 & 1):
 ///     given, or the boundary vertex furthest towards that corner of the bounding box (each
-///     axis scaled by the box's size).
+///     axis scaled by the box's size); when the curves between those cannot be traced, the
+///     same in the box along the boundary's principal axes (a tilted or long part).
 ///  2. Curves: the cube's twelve edges as shortest boundary-edge paths (Dijkstra) between
 ///     their corners, traced so that they must bound six patches as the cube's edges bound its
 ///     faces: one face's loop first, which cuts the boundary into two disks; the opposite
