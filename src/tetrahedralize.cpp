@@ -14,6 +14,7 @@
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
 #include <CGAL/make_mesh_3.h>
 
@@ -60,6 +61,11 @@ SurfaceMesh closed_surface_mesh(const TriangleSoup& surface) {
   PMP::polygon_soup_to_polygon_mesh(points, polygons, mesh);
   if (!CGAL::is_closed(mesh))
     throw InputError("the surface has holes (it is not closed); run tpmsfill repair first");
+  // Mesh_3 needs to tell inside from outside: a surface through itself can make it run for
+  // ever (a scan of a man with 848 crossing triangle pairs did not finish in 100 s).
+  if (PMP::does_self_intersect(mesh))
+    throw InputError("the surface intersects itself; run tpmsfill repair first (tpmsfill check "
+                     "lists the pairs)");
   return mesh;
 }
 

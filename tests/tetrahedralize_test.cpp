@@ -64,6 +64,13 @@ TEST(Tetrahedralize, OpenAndNonManifoldSurfacesAreRefused) {
     EXPECT_NE(std::string(e.what()).find("not closed"), std::string::npos) << e.what();
   }
   EXPECT_THROW(tetrahedralize(test::make_bow_tie()), InputError);
+  // Two boxes through each other: closed and manifold, but no inside to fill.
+  try {
+    tetrahedralize(test::concat(box, test::make_box({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5})));
+    FAIL() << "a self-intersecting surface was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("intersects itself"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(tetrahedralize(TriangleSoup{}), InputError);
   EXPECT_THROW(tetrahedralize(box, {.cell_size = -1}), InputError);
 }
