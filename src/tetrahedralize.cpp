@@ -64,8 +64,9 @@ SurfaceMesh closed_surface_mesh(const TriangleSoup& surface) {
   // Mesh_3 needs to tell inside from outside: a surface through itself can make it run for
   // ever (a scan of a man with 848 crossing triangle pairs did not finish in 100 s).
   if (PMP::does_self_intersect(mesh))
-    throw InputError("the surface intersects itself; run tpmsfill repair first (tpmsfill check "
-                     "lists the pairs)");
+    throw InputError(
+        "the surface intersects itself; run tpmsfill repair first (tpmsfill check "
+        "lists the pairs)");
   return mesh;
 }
 

@@ -30,8 +30,8 @@ struct TetrahedralizeOptions {
 /// @param[in] surface  a closed, oriented 2-manifold without self-intersections (inward normals
 ///                     are turned), one or more shells
 /// @throws InputError  no triangles; the surface is not a closed 2-manifold (the sentence says
-///                     why) or intersects itself; sizes that are not positive and finite, an angle outside (0, 180];
-///                     Mesh_3 made no tets
+///                     why) or intersects itself; sizes that are not positive and finite, an angle
+///                     outside (0, 180]; Mesh_3 made no tets
 /// @throws Cancelled   options.progress asked to stop (checked before and after)
 TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions& options = {});
 
