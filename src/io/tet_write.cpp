@@ -83,14 +83,7 @@ std::string vtk(const TetMesh& mesh) {
       "UNSTRUCTURED_GRID\nPOINTS ";
   append_number(out, mesh.points.size());
   out += " double\n";
-  for (const Vec3& p : mesh.points) {
-    append_number(out, p.x);
-    out += ' ';
-    append_number(out, p.y);
-    out += ' ';
-    append_number(out, p.z);
-    out += '\n';
-  }
+  for (const Vec3& p : mesh.points) io::append_xyz(out, p);
   out += "CELLS ";
   append_number(out, mesh.tets.size());
   out += ' ';

@@ -78,14 +78,7 @@ char* put_le(char* out, T value) {
   return out + bytes.size();
 }
 
-void append_xyz(std::string& out, const Vec3& p) {
-  append_number(out, p.x);
-  out += ' ';
-  append_number(out, p.y);
-  out += ' ';
-  append_number(out, p.z);
-  out += '\n';
-}
+using io::append_xyz;
 
 // ---- the formats, piece by piece ------------------------------------------------------------
 // A file is format_header, then append_points over the points in order, then append_triangles
