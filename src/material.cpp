@@ -72,7 +72,10 @@ std::vector<double> ramp_material(const TetMesh& mesh, const Ramp& ramp) {
     throw InputError("a material cannot follow depth (use a linear or radial ramp)");
   if (ramp.shape == RampShape::Linear && !(norm(ramp.axis) > 0))
     throw InputError("a linear ramp needs a non-zero direction");
-  const Ramp resolved = resolve_ramp(ramp, check_tet_mesh(mesh).bounds, "material ramp");
+  Box3 bounds;  // of the points in tets, as check_tet_mesh() gives it
+  for (const Tet& t : mesh.tets)
+    for (std::uint32_t v : t) bounds.extend(mesh.points[v]);
+  const Ramp resolved = resolve_ramp(ramp, bounds, "material ramp");
   std::vector<double> values;
   values.reserve(mesh.points.size());
   for (const Vec3& p : mesh.points) values.push_back(ramp_value(resolved, p));

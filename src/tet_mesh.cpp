@@ -142,10 +142,8 @@ std::string plural(std::uint64_t n, const std::string& one, const std::string& m
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
-}  // namespace
-
-TriangleSoup tet_boundary(const TetMesh& mesh) {
-  const std::vector<FaceUse> uses = sorted_face_uses(mesh);
+// The faces in one tet, outward, from the sorted face uses.
+std::vector<Triangle> boundary_faces(const TetMesh& mesh, const std::vector<FaceUse>& uses) {
   std::vector<std::pair<std::uint32_t, std::uint8_t>> single;  // (tet, opposite corner)
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i + 1;
@@ -154,14 +152,19 @@ TriangleSoup tet_boundary(const TetMesh& mesh) {
     i = j;
   }
   std::sort(single.begin(), single.end());
-  TriangleSoup soup;
-  soup.points = mesh.points;
-  soup.triangles.reserve(single.size());
+  std::vector<Triangle> faces;
+  faces.reserve(single.size());
   for (const auto& [t, k] : single) {
     const auto& f = kOutwardFace[k];
-    soup.triangles.push_back({mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]});
+    faces.push_back({mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]});
   }
-  return soup;
+  return faces;
+}
+
+}  // namespace
+
+TriangleSoup tet_boundary(const TetMesh& mesh) {
+  return {mesh.points, boundary_faces(mesh, sorted_face_uses(mesh))};
 }
 
 TetMeshReport check_tet_mesh(const TetMesh& mesh) {
@@ -195,7 +198,7 @@ TetMeshReport check_tet_mesh(const TetMesh& mesh) {
 
   // With a repeated corner a "face" is an edge: the surface checks would only repeat that.
   if (report.repeated_corner_tets == 0)
-    check_boundary_surface(mesh, tet_boundary(mesh).triangles, report);
+    check_boundary_surface(mesh, boundary_faces(mesh, uses), report);
   if (report.open_edges == 0 && report.pinched_vertices == 0 && report.boundary_shells == 1 &&
       report.overfull_faces == 0 && report.euler_characteristic % 2 == 0)
     report.genus = (2 - report.euler_characteristic) / 2;

@@ -43,6 +43,10 @@ enum class TetFormat { Auto, Medit, TetGen, Vtk };
 /// "MEDIT", "TetGen", "VTK" ("auto" for Auto).
 std::string_view tet_format_name(TetFormat format);
 
+/// The format a tet-mesh file's extension names (any case): .mesh (.meshb) MEDIT, .node and
+/// .ele TetGen, .vtk VTK; Auto for any other extension.
+TetFormat tet_format_from_extension(const std::filesystem::path& path);
+
 struct TetReadOptions {
   TetFormat format = TetFormat::Auto;  ///< Auto: by extension (.mesh, .node/.ele, .vtk; any case)
   /// MEDIT: the .sol file holding the material (must exist). Empty: the mesh's path with

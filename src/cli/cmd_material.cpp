@@ -1,10 +1,13 @@
 // `tpmsfill material info IN`: the heterogeneous-material pipeline's input (seed 001): a tet
 // mesh, or a closed surface filled with tets, given a material, checked and mapped onto the
 // unit cube. This file only parses, calls the stages, times and prints.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/cube_octree.hpp>
@@ -33,20 +36,11 @@ struct MaterialArgs {
   bool json = false;
 };
 
-bool is_tet_file(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".mesh" || ext == ".node" || ext == ".ele" || ext == ".vtk";
-}
-
 double number_argument(const std::string& text, const std::string& what) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(v)) return v;
-  } catch (const std::exception&) {
-  }
-  throw InputError("--material " + what + " must be a number, not '" + text + "'");
+  const std::optional<double> value = detail::as_number(text);
+  if (!value || !std::isfinite(*value))
+    throw InputError("--material " + what + " must be a number, not '" + text + "'");
+  return *value;
 }
 
 // The material the arguments name, and a phrase saying what it is.
@@ -98,7 +92,7 @@ std::string apply_material(const MaterialArgs& a, TetMesh& mesh) {
 // The input as a tet mesh: read, or a closed surface filled with tets.
 TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j) {
   const ModelUnits units{.units = units_from_name(a.units)};
-  if (is_tet_file(a.input)) {
+  if (tet_format_from_extension(a.input) != TetFormat::Auto) {
     TetMesh mesh = read_tet_mesh(a.input);
     const double factor = units.factor();
     if (factor != 1)
@@ -125,8 +119,10 @@ int run_material_info(const MaterialArgs& a) {
   j["input"] = a.input;
   TetMesh mesh = input_tets(a, j);
   TetMeshReport report = check_tet_mesh(mesh);
-  mesh = with_positive_tets(std::move(mesh), report);
-  report = check_tet_mesh(mesh);
+  if (report.tets > 0 && report.negative_tets == report.tets) {  // the other convention: turned
+    mesh = with_positive_tets(std::move(mesh), report);
+    report = check_tet_mesh(mesh);
+  }
   j["points"] = report.points;
   j["tets"] = report.tets;
   j["volume_mm3"] = report.volume;
@@ -144,8 +140,8 @@ int run_material_info(const MaterialArgs& a) {
   if (!problem) {
     j["material"] = apply_material(a, mesh);
     if (!mesh.material.empty()) {
-      const TetMeshReport m = check_tet_mesh(mesh);
-      j["material_range"] = {m.material_min, m.material_max};
+      const auto [lo, hi] = std::minmax_element(mesh.material.begin(), mesh.material.end());
+      j["material_range"] = {*lo, *hi};
     }
     CubeMapOptions options;
     if (!a.corners.empty()) {

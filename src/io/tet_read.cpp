@@ -60,10 +60,8 @@ std::string extension_of(const std::filesystem::path& path) {
 }
 
 TetFormat format_of(const std::filesystem::path& path) {
-  const std::string ext = extension_of(path);
-  if (ext == ".mesh" || ext == ".meshb") return TetFormat::Medit;
-  if (ext == ".node" || ext == ".ele") return TetFormat::TetGen;
-  if (ext == ".vtk") return TetFormat::Vtk;
+  const TetFormat format = tet_format_from_extension(path);
+  if (format != TetFormat::Auto) return format;
   throw InputError(path.string() +
                    ": unknown extension for a tetrahedral mesh (use .mesh, .node, .ele or .vtk)");
 }
@@ -80,6 +78,14 @@ std::string read_nonblank(const std::filesystem::path& path, std::uint64_t max_b
 }
 
 }  // namespace
+
+TetFormat tet_format_from_extension(const std::filesystem::path& path) {
+  const std::string ext = extension_of(path);
+  if (ext == ".mesh" || ext == ".meshb") return TetFormat::Medit;
+  if (ext == ".node" || ext == ".ele") return TetFormat::TetGen;
+  if (ext == ".vtk") return TetFormat::Vtk;
+  return TetFormat::Auto;
+}
 
 std::string_view tet_format_name(TetFormat format) {
   switch (format) {
