@@ -73,6 +73,12 @@ TEST(Tetrahedralize, OpenAndNonManifoldSurfacesAreRefused) {
   }
   EXPECT_THROW(tetrahedralize(TriangleSoup{}), InputError);
   EXPECT_THROW(tetrahedralize(box, {.cell_size = -1}), InputError);
+  try {  // 5 / 1e-9 tets: refused at once, with the cell that would do
+    tetrahedralize(box, {.cell_size = 0.001});
+    FAIL() << "a cell of 1 um in a 1 mm box was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("use a cell of at least"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Tetrahedralize, InwardSurfaceGivesTheSameSolid) {

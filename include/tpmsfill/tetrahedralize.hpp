@@ -9,6 +9,8 @@
 /// manifold option) with positive tets; the run is deterministic.
 #pragma once
 
+#include <cstdint>
+
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/tet_mesh.hpp"
 #include "tpmsfill/types.hpp"
@@ -23,6 +25,9 @@ struct TetrahedralizeOptions {
   /// Edges where the surface's normal turns by more than this many degrees are kept as sharp
   /// edges of the tets' boundary (CGAL's detect_features); 180: none kept (everything smooth).
   double feature_angle = 60;
+  /// Refuse when cell_size would make more tets than this (estimated as 5 V / cell_size³
+  /// before meshing): memory and time grow with the count.
+  std::uint64_t max_tets = 20'000'000;
   Progress* progress = nullptr;  ///< reports the stage's start and end
 };
 

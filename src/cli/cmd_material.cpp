@@ -2,6 +2,7 @@
 // mesh, or a closed surface filled with tets, given a material, checked and mapped onto the
 // unit cube. This file only parses, calls the stages, times and prints.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -113,7 +114,14 @@ TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j) {
 }
 
 int run_material_info(const MaterialArgs& a) {
-  if (!a.tets_output.empty()) require_writable_outputs({a.input}, {{"--tets", a.tets_output}});
+  if (!a.tets_output.empty()) {
+    // What write_tet_mesh() takes, checked before the work rather than after it.
+    std::string ext = std::filesystem::path(a.tets_output).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".vtk" && ext != ".mesh")
+      throw InputError("--tets " + a.tets_output + ": a tet mesh is written as .vtk or .mesh");
+    require_writable_outputs({a.input}, {{"--tets", a.tets_output}});
+  }
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::ordered_json j;
   j["input"] = a.input;
