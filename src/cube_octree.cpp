@@ -86,6 +86,23 @@ bool balance_pass(Leaves& leaves, const std::vector<std::array<double, 3>>& poin
   return changed;
 }
 
+// Balances (when asked) and lists the leaves.
+CubeOctree finish(Leaves& leaves, const std::vector<std::array<double, 3>>& points,
+                  const CubeOctreeOptions& options, std::uint64_t balance_splits) {
+  CubeOctree octree;
+  octree.balance_splits = balance_splits;
+  if (options.balance)
+    while (balance_pass(leaves, points, octree.balance_splits)) {
+    }
+  for (const auto& [cell, held] : leaves) {
+    octree.leaves.push_back(cell);
+    octree.points_per_leaf.push_back(static_cast<std::uint32_t>(held.size()));
+    octree.deepest = std::max(octree.deepest, cell.level);
+    octree.overfull += static_cast<int>(held.size()) > options.max_per_cell;
+  }
+  return octree;
+}
+
 }  // namespace
 
 std::vector<std::array<double, 3>> tet_centroids(const TetMesh& mesh, const CubeMap& map) {
@@ -131,17 +148,25 @@ CubeOctree build_cube_octree(const std::vector<std::array<double, 3>>& points,
       ++it;
     }
   }
-  CubeOctree octree;
-  if (options.balance)
-    while (balance_pass(leaves, points, octree.balance_splits)) {
-    }
-  for (const auto& [cell, held] : leaves) {
-    octree.leaves.push_back(cell);
-    octree.points_per_leaf.push_back(static_cast<std::uint32_t>(held.size()));
-    octree.deepest = std::max(octree.deepest, cell.level);
-    octree.overfull += static_cast<int>(held.size()) > options.max_per_cell;
+  return finish(leaves, points, options, 0);
+}
+
+CubeOctree split_octree_leaves(const CubeOctree& octree, const std::vector<std::size_t>& chosen,
+                               const std::vector<std::array<double, 3>>& points,
+                               const CubeOctreeOptions& options) {
+  Leaves leaves;
+  for (const Cell& leaf : octree.leaves) leaves.emplace(leaf, std::vector<std::uint32_t>{});
+  for (std::uint32_t p = 0; p < points.size(); ++p)
+    leaves[octree.leaves[octree_leaf_at(octree, points[p])]].push_back(p);
+  for (std::size_t s : chosen) {
+    if (s >= octree.leaves.size())
+      throw InputError("leaf " + std::to_string(s) + " to split is past the octree's " +
+                       std::to_string(octree.leaves.size()) + " leaves");
+    const auto leaf = leaves.find(octree.leaves[s]);
+    if (leaf != leaves.end() && leaf->first.level < options.max_level)
+      split(leaves, leaf, points);  // (not found: listed twice, split already)
   }
-  return octree;
+  return finish(leaves, points, options, octree.balance_splits);
 }
 
 std::size_t octree_leaf_at(const CubeOctree& octree, std::array<double, 3> uvw) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 
+#include "detail/binary_io.hpp"
 #include "detail/file_bytes.hpp"
 #include "detail/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
@@ -18,7 +19,8 @@
 namespace tpmsfill {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "ITDF I/O assumes a little-endian host");
+using detail::Reader;
+using detail::Writer;
 
 constexpr char kMagic[4] = {'I', 'T', 'D', 'F'};
 constexpr std::uint16_t kVersion = 1;
@@ -26,21 +28,6 @@ constexpr std::size_t kFitRecordBytes = 76;
 constexpr std::size_t kMaxProvenance = 64 * 1024;
 constexpr int kMaxDegree = 7;
 constexpr double kQuantMax = 32767;
-
-class Writer {
- public:
-  template <class T>
-  void put(T value) {
-    char b[sizeof(T)];
-    std::memcpy(b, &value, sizeof(T));
-    bytes_.append(b, sizeof(T));
-  }
-  void put_bytes(std::string_view s) { bytes_.append(s); }
-  std::string& bytes() { return bytes_; }
-
- private:
-  std::string bytes_;
-};
 
 void write_function(Writer& w, const Threshold& f, const CoefficientEncoding& encoding) {
   if (!f.spline) {
@@ -101,48 +88,6 @@ void write_fit(Writer& w, const std::optional<FitRecord>& fit) {
                    fit->seconds})
     w.put<double>(x);
 }
-
-// Reads little-endian values with the byte offset of every failure.
-class Reader {
- public:
-  Reader(std::string_view bytes, const std::string& source) : bytes_(bytes), source_(source) {}
-
-  [[noreturn]] void fail(const std::string& why, std::size_t at) const {
-    detail::fail_at_byte(source_, at, why);
-  }
-  [[noreturn]] void fail(const std::string& why) const { fail(why, at_); }
-  void need(std::uint64_t n, const std::string& what) const {
-    if (n > bytes_.size() - at_)
-      fail("the file ends inside " + what + " (" + std::to_string(n) + " bytes needed, " +
-           std::to_string(bytes_.size() - at_) + " left)");
-  }
-  template <class T>
-  T get(const std::string& what) {
-    need(sizeof(T), what);
-    T value;
-    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return value;
-  }
-  double finite(const std::string& what) {
-    const double v = get<double>(what);
-    if (!std::isfinite(v)) fail(what + " is not finite", at_ - 8);
-    return v;
-  }
-  std::string_view take(std::size_t n, const std::string& what) {
-    need(n, what);
-    const std::string_view s = bytes_.substr(at_, n);
-    at_ += n;
-    return s;
-  }
-  std::size_t at() const { return at_; }
-  std::size_t left() const { return bytes_.size() - at_; }
-
- private:
-  std::string_view bytes_;
-  const std::string& source_;
-  std::size_t at_ = 0;
-};
 
 std::vector<double> read_coefficients(Reader& r, std::size_t count, CoefficientEncoding& e,
                                       const std::string& what) {

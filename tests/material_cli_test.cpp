@@ -1,10 +1,12 @@
-// `tpmsfill material info` as a user runs it: a surface filled with tets and mapped onto the
-// cube, a tet mesh written and read back with its material, and refusals with their exit codes.
+// `tpmsfill material info|fit` as a user runs them: a surface filled with tets and mapped onto
+// the cube, a tet mesh written and read back with its material, a model fitted, written and
+// summarised, and refusals with their exit codes.
 #include <gtest/gtest.h>
 
 // GCC 12 reports a false -Wrestrict inside std::string concatenation here (GCC bug 105329).
 #pragma GCC diagnostic ignored "-Wrestrict"
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -75,6 +77,58 @@ TEST(MaterialCli, RefusalsAndTheirExitCodes) {
   EXPECT_NE(out.find("point X Y Z"), std::string::npos) << out;
   EXPECT_EQ(material_info("'" + (dir / "missing.mesh").string() + "'", &out), 2);
   EXPECT_EQ(material_info("'" + box.string() + "' --corners 1 2 3", &out), 2);
+}
+
+// 'path', built without the `const char* + std::string` that trips GCC 12's -Wrestrict.
+std::string quoted(const fs::path& path) {
+  std::string s = "'";
+  return s.append(path.string()).append("'");
+}
+
+// `tpmsfill material fit IN OUT ARGS`, its exit code and output.
+int material_fit(const fs::path& in, const fs::path& model, const std::string& args,
+                 std::string* output) {
+  std::string command = TPMSFILL_CLI;
+  command.append(" material fit '").append(in.string()).append("' '");
+  command.append(model.string()).append("' ").append(args);
+  return test::run_command(command, output);
+}
+
+TEST(MaterialCli, FitWritesAModelThatInfoReads) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path tets = dir / "blob.vtk", model = dir / "blob.tsm";
+  TetMesh blob = test::make_tet_grid({0, 0, 0}, {20, 10, 10}, {6, 3, 3}, 0.1);
+  for (Vec3& p : blob.points) p = Vec3{p.x + std::sin(0.3 * p.y), p.y, p.z * (1 + 0.02 * p.x)};
+  write_tet_mesh(tets, blob);
+  std::string out;
+  ASSERT_EQ(material_fit(tets, model, "--material x 0 1 --json", &out), 0) << out;
+  const nlohmann::json j = json_of(out);
+  ASSERT_FALSE(j["rounds"].empty());
+  const nlohmann::json& last = j["rounds"].back();
+  EXPECT_GT(last["geometry_rs_percent"].get<double>(), 0);
+  EXPECT_GT(last["material_rs_percent"].get<double>(), 0);
+  ASSERT_TRUE(fs::exists(model));
+  ASSERT_EQ(material_info(quoted(model).append(" --json"), &out), 0) << out;
+  const nlohmann::json info = json_of(out);
+  EXPECT_EQ(info["control_points"], last["control_points"]);
+  EXPECT_EQ(info["rounds"].size(), j["rounds"].size());
+  EXPECT_NE(info["provenance"].get<std::string>().find("x ramp 0 to 1"), std::string::npos);
+  // The uniform baseline: N^3 control points.
+  ASSERT_EQ(material_fit(tets, dir / "u.tsm", "--uniform 5 --json", &out), 0) << out;
+  EXPECT_EQ(json_of(out)["rounds"][0]["control_points"], 125);
+  // Refusals: a wrong extension before any work, a torus with exit 1 and nothing written.
+  EXPECT_EQ(material_fit(tets, dir / "m.stl", "", &out), 2);
+  EXPECT_NE(out.find("written as .tsm"), std::string::npos) << out;
+  const fs::path torus = dir / "torus.stl", torus_model = dir / "torus.tsm";
+  write_mesh(torus, test::make_torus(10, 4, 32, 16));
+  EXPECT_EQ(material_fit(torus, torus_model, "--cell 2", &out), 1);
+  EXPECT_FALSE(fs::exists(torus_model));
+  // A damaged model is refused with its byte offset.
+  const fs::path cut = dir / "cut.tsm";
+  fs::copy_file(model, cut);
+  fs::resize_file(cut, fs::file_size(model) / 2);
+  EXPECT_EQ(material_info(quoted(cut), &out), 2);
+  EXPECT_NE(out.find("byte"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -50,6 +50,14 @@ std::vector<std::array<double, 3>> tet_centroids(const TetMesh& mesh, const Cube
 CubeOctree build_cube_octree(const std::vector<std::array<double, 3>>& points,
                              const CubeOctreeOptions& options = {});
 
+/// `octree` with the leaves numbered in `chosen` split into their eight children (those already
+/// at options.max_level are kept), then balanced when options.balance says so; `points` (the
+/// points the octree was built over) are counted again. Progressive refinement (issue 18).
+/// @throws InputError  a leaf number past octree.leaves
+CubeOctree split_octree_leaves(const CubeOctree& octree, const std::vector<std::size_t>& chosen,
+                               const std::vector<std::array<double, 3>>& points,
+                               const CubeOctreeOptions& options = {});
+
 /// The leaf of `octree` that holds (u, v, w) (a point on a shared face goes to the cell above
 /// it along each axis; 1 goes to the last cell).
 std::size_t octree_leaf_at(const CubeOctree& octree, std::array<double, 3> uvw);

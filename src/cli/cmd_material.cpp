@@ -1,6 +1,7 @@
-// `tpmsfill material info IN`: the heterogeneous-material pipeline's input (seed 001): a tet
+// `tpmsfill material info|fit`: the heterogeneous-material pipeline (seed 001). info: a tet
 // mesh, or a closed surface filled with tets, given a material, checked and mapped onto the
-// unit cube. This file only parses, calls the stages, times and prints.
+// unit cube; or a fitted model's summary. fit: the same, then G and M fitted as splines and
+// written as a model. This file only parses, calls the stages, times and prints.
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -15,26 +16,32 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/material.hpp>
+#include <tpmsfill/solid_model.hpp>
+#include <tpmsfill/solid_spline.hpp>
 #include <tpmsfill/tet_mesh.hpp>
 #include <tpmsfill/tetrahedralize.hpp>
 #include <tpmsfill/units.hpp>
 #include <tpmsfill/volume.hpp>
 #include <vector>
 
+#include <unistd.h>
 #include "cli/commands.hpp"
+
 #include "cli/job_files.hpp"
+#include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
 namespace {
 
 struct MaterialArgs {
-  std::string input, tets_output, units = "mm";
+  std::string input, output, tets_output, units = "mm";
   double cell = 0, feature_angle = 180;
   std::vector<std::string> material;  // KIND ARGS...
   std::vector<double> up{0, 0, 1};
   std::vector<std::uint32_t> corners;
-  bool json = false;
+  SolidFitOptions fit;
+  bool json = false, quiet = false;
 };
 
 double number_argument(const std::string& text, const std::string& what) {
@@ -113,7 +120,125 @@ TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j) {
   return mesh;
 }
 
+void print_json_or_text(const nlohmann::ordered_json& j, bool json) {
+  if (json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    for (const auto& [key, value] : j.items())
+      std::printf("%-22s %s\n", key.c_str(), value.dump().c_str());
+  }
+  std::fflush(stdout);
+}
+
+// The input as a mapped ball with its material: read or tetrahedralized, checked (and turned
+// when all its tets are negative), given its material and mapped onto the cube. Figures go into
+// `j`; without a map, the sentence saying why the tets are not a ball.
+struct MappedSolid {
+  TetMesh mesh;
+  std::optional<CubeMap> map;
+  std::optional<std::string> problem;
+};
+
+MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
+                      std::vector<std::string>& warnings) {
+  MappedSolid out;
+  out.mesh = input_tets(a, j);
+  TetMesh& mesh = out.mesh;
+  TetMeshReport report = check_tet_mesh(mesh);
+  if (report.tets > 0 && report.negative_tets == report.tets) {  // the other convention: turned
+    mesh = with_positive_tets(std::move(mesh), report);
+    report = check_tet_mesh(mesh);
+  }
+  j["points"] = report.points;
+  j["tets"] = report.tets;
+  j["volume_mm3"] = report.volume;
+  j["boundary_faces"] = report.boundary_faces;
+  j["genus"] = report.genus ? nlohmann::ordered_json(*report.genus) : nullptr;
+  out.problem = ball_problem(report);
+  if (j.contains("surface_volume_mm3")) {
+    const double before = j["surface_volume_mm3"], change = report.volume / before - 1;
+    if (std::abs(change) > 0.01)
+      warnings.push_back("the tets' volume differs from the surface's by " +
+                         std::to_string(100 * change) +
+                         " % (sharp edges rounded? try --feature-angle 60 or a smaller --cell)");
+  }
+  if (out.problem) return out;
+  j["material"] = apply_material(a, mesh);
+  if (!mesh.material.empty()) {
+    const auto [lo, hi] = std::minmax_element(mesh.material.begin(), mesh.material.end());
+    j["material_range"] = {*lo, *hi};
+  }
+  CubeMapOptions options;
+  if (!a.corners.empty()) {
+    std::array<std::uint32_t, 8> c{};
+    std::copy(a.corners.begin(), a.corners.end(), c.begin());
+    options.corners = c;
+  }
+  const CubeMap& map = out.map.emplace(map_to_cube(mesh, options));
+  j["cube_map"] = {{"corners", map.corners},
+                   {"flipped_boundary_faces", map.flipped_boundary_faces},
+                   {"inverted_tets", map.inverted_tets},
+                   {"flat_tets", map.flat_tets},
+                   {"interior_points", map.interior_points}};
+  if (map.inverted_tets > 0)
+    warnings.push_back(std::to_string(map.inverted_tets) + " of " + std::to_string(map.tets) +
+                       " tets fold over in the cube map (a 3D harmonic map need not be a "
+                       "bijection; smaller tets or other corners usually help)");
+  return out;
+}
+
+int refuse_non_ball(const MaterialArgs& a, const std::optional<std::string>& problem) {
+  std::fprintf(stderr, "tpmsfill: %s cannot be mapped onto the cube: %s\n", a.input.c_str(),
+               problem->c_str());
+  return kNotValid;
+}
+
+nlohmann::ordered_json round_json(const FitRound& r, bool material) {
+  nlohmann::ordered_json j = {{"control_points", r.control_points},
+                              {"elements", r.elements},
+                              {"geometry_iterations", r.geometry_iterations},
+                              {"geometry_rs_percent", r.geometry_rs},
+                              {"geometry_rms_mm", r.geometry_rms},
+                              {"geometry_max_mm", r.geometry_max}};
+  if (material) {
+    j["material_iterations"] = r.material_iterations;
+    j["material_rs_percent"] = r.material_rs;
+    j["material_rms"] = r.material_rms;
+    j["material_max"] = r.material_max;
+  }
+  j["folded_samples"] = r.folded_samples;
+  j["samples"] = r.samples;
+  j["split_leaves"] = r.split;
+  j["seconds"] = r.seconds;
+  return j;
+}
+
+// `material info MODEL`: what a fitted model holds.
+int run_model_info(const MaterialArgs& a) {
+  const SolidModel model = read_solid_model(a.input);
+  const SolidSpline& s = model.fit.spline;
+  nlohmann::ordered_json j;
+  j["input"] = a.input;
+  j["provenance"] = model.provenance;
+  j["basis"] = s.basis.spans.size() == 1 && s.basis.spans[0] != 1 ? "uniform cubic B-spline"
+                                                                  : "cubic THB on an octree";
+  j["control_points"] = s.geometry.size();
+  j["elements"] = s.basis.elements.size();
+  j["levels"] = s.basis.spans.size();
+  if (!s.material.empty()) {
+    const auto [lo, hi] = std::minmax_element(s.material.begin(), s.material.end());
+    j["material_control_range"] = {*lo, *hi};
+  }
+  j["greville_rms_mm"] = model.fit.greville_geometry_rms;
+  nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
+  for (const FitRound& r : model.fit.rounds) rounds.push_back(round_json(r, !s.material.empty()));
+  j["rounds"] = rounds;
+  print_json_or_text(j, a.json);
+  return kOk;
+}
+
 int run_material_info(const MaterialArgs& a) {
+  if (std::filesystem::path(a.input).extension() == ".tsm") return run_model_info(a);
   if (!a.tets_output.empty()) {
     // What write_tet_mesh() takes, checked before the work rather than after it.
     std::string ext = std::filesystem::path(a.tets_output).extension().string();
@@ -125,75 +250,100 @@ int run_material_info(const MaterialArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::ordered_json j;
   j["input"] = a.input;
-  TetMesh mesh = input_tets(a, j);
-  TetMeshReport report = check_tet_mesh(mesh);
-  if (report.tets > 0 && report.negative_tets == report.tets) {  // the other convention: turned
-    mesh = with_positive_tets(std::move(mesh), report);
-    report = check_tet_mesh(mesh);
-  }
-  j["points"] = report.points;
-  j["tets"] = report.tets;
-  j["volume_mm3"] = report.volume;
-  j["boundary_faces"] = report.boundary_faces;
-  j["genus"] = report.genus ? nlohmann::ordered_json(*report.genus) : nullptr;
-  const std::optional<std::string> problem = ball_problem(report);
   std::vector<std::string> warnings;
-  if (j.contains("surface_volume_mm3")) {
-    const double before = j["surface_volume_mm3"], change = report.volume / before - 1;
-    if (std::abs(change) > 0.01)
-      warnings.push_back("the tets' volume differs from the surface's by " +
-                         std::to_string(100 * change) +
-                         " % (sharp edges rounded? try --feature-angle 60 or a smaller --cell)");
-  }
-  if (!problem) {
-    j["material"] = apply_material(a, mesh);
-    if (!mesh.material.empty()) {
-      const auto [lo, hi] = std::minmax_element(mesh.material.begin(), mesh.material.end());
-      j["material_range"] = {*lo, *hi};
-    }
-    CubeMapOptions options;
-    if (!a.corners.empty()) {
-      std::array<std::uint32_t, 8> c{};
-      std::copy(a.corners.begin(), a.corners.end(), c.begin());
-      options.corners = c;
-    }
-    const CubeMap map = map_to_cube(mesh, options);
-    j["cube_map"] = {{"corners", map.corners},
-                     {"flipped_boundary_faces", map.flipped_boundary_faces},
-                     {"inverted_tets", map.inverted_tets},
-                     {"flat_tets", map.flat_tets},
-                     {"interior_points", map.interior_points}};
+  const MappedSolid solid = map_input(a, j, warnings);
+  if (solid.map) {
     // The splines' octree: cells split while they hold more than 5 tets (the seed's rule).
-    const CubeOctree octree = build_cube_octree(tet_centroids(mesh, map));
+    const CubeOctree octree = build_cube_octree(tet_centroids(solid.mesh, *solid.map));
     j["octree"] = {{"leaves", octree.leaves.size()},
                    {"deepest_level", octree.deepest},
                    {"balance_splits", octree.balance_splits},
                    {"overfull_leaves", octree.overfull}};
-    if (map.inverted_tets > 0)
-      warnings.push_back(std::to_string(map.inverted_tets) + " of " + std::to_string(map.tets) +
-                         " tets fold over in the cube map (a 3D harmonic map need not be a "
-                         "bijection; smaller tets or other corners usually help)");
   }
   j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!a.tets_output.empty() && !problem) write_tet_mesh(a.tets_output, mesh);
-  if (a.json) {
-    if (problem) j["problem"] = *problem;
-    std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    for (const auto& [key, value] : j.items())
-      std::printf("%-22s %s\n", key.c_str(), value.dump().c_str());
-  }
-  std::fflush(stdout);
+  if (!a.tets_output.empty() && !solid.problem) write_tet_mesh(a.tets_output, solid.mesh);
+  if (solid.problem) j["problem"] = *solid.problem;
+  print_json_or_text(j, a.json);
   print_warnings(warnings);
-  if (problem) {
-    std::fprintf(stderr, "tpmsfill: %s cannot be mapped onto the cube: %s\n", a.input.c_str(),
-                 problem->c_str());
-    return kNotValid;
+  return solid.problem ? refuse_non_ball(a, solid.problem) : kOk;
+}
+
+int run_material_fit(const MaterialArgs& a) {
+  if (std::filesystem::path(a.output).extension() != ".tsm")
+    throw InputError(a.output + ": a solid spline model is written as .tsm");
+  require_writable_outputs({a.input}, {{"OUT", a.output}});
+  const auto t0 = std::chrono::steady_clock::now();
+  nlohmann::ordered_json j;
+  j["input"] = a.input;
+  std::vector<std::string> warnings;
+  const MappedSolid solid = map_input(a, j, warnings);
+  if (solid.problem) {
+    print_warnings(warnings);
+    return refuse_non_ball(a, solid.problem);
   }
+  std::unique_ptr<TerminalProgress> progress;
+  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  SolidFitOptions options = a.fit;
+  options.progress = progress.get();
+  SolidModel model{fit_solid_spline(solid.mesh, *solid.map, options), ""};
+  progress.reset();
+  const bool material = !solid.mesh.material.empty();
+  model.provenance =
+      "tpmsfill material fit " + a.input + " (material: " + j["material"].get<std::string>() + ")";
+  j["basis"] = options.uniform > 0 ? "uniform cubic B-spline" : "cubic THB on an octree";
+  j["greville_rms_mm"] = model.fit.greville_geometry_rms;
+  nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
+  for (const FitRound& r : model.fit.rounds) rounds.push_back(round_json(r, material));
+  j["rounds"] = rounds;
+  const FitRound& last = model.fit.rounds.back();
+  if (last.folded_samples > 0)
+    warnings.push_back("G folds (det J <= 0) at " + std::to_string(last.folded_samples) + " of " +
+                       std::to_string(last.samples) +
+                       " Gauss points (where the cube's edges and corners meet a smooth "
+                       "boundary, the map's Jacobian vanishes; elsewhere, other corners help)");
+  if (!material) warnings.push_back("the tets have no material: only G was fitted");
+  write_solid_model(a.output, model);
+  j["output"] = a.output;
+  j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!a.quiet || a.json) print_json_or_text(j, a.json);
+  print_warnings(warnings);
   return kOk;
 }
 
 }  // namespace
+
+// The options `info` and `fit` share: the input, its material and its corners.
+void add_input_options(CLI::App* sub, MaterialArgs& args) {
+  sub->add_option("--cell", args.cell,
+                  "Surfaces: largest tet size, mm (default: the bounding box's diagonal / 30)")
+      ->check(positive());
+  sub->add_option("--feature-angle", args.feature_angle,
+                  "Surfaces: keep edges sharper than this many degrees (default 180: none, for "
+                  "organic scans; 60 keeps a CAD part's edges)")
+      ->check(between(1, 180, "1 to 180"));
+  sub->add_option("--material", args.material, "KIND ARGS...: see below")->expected(1, 4);
+  sub->add_option("--up", args.up, "The up direction for --material geodesic (default 0 0 1)")
+      ->expected(3);
+  sub->add_option("--corners", args.corners,
+                  "Eight boundary point ids for the cube's corners, corner k at (k&1, k>>1&1, "
+                  "k>>2&1) (default: found from the bounding box)")
+      ->expected(8);
+  sub->add_option("--units", args.units, "Unit IN was modelled in: mm, cm, m, in or um");
+  sub->add_flag("--json", args.json, "Print JSON instead of text");
+}
+
+constexpr const char* kInputHelp =
+    "IN is a tet mesh (.mesh + .sol, .node + .ele, .vtk) or a closed surface (STL, OBJ, PLY, "
+    "OFF), which is filled with tets by CGAL's 3D mesh generation. The tets must form a ball: "
+    "positive tets, a closed 2-manifold boundary, one piece, genus 0. The material comes from "
+    "the file, or from --material:\n"
+    "  point X Y Z          distance to a point, mm (the seed's duck)\n"
+    "  geodesic DEPTH       geodesic distance to the bottom (boundary points within DEPTH mm of "
+    "the lowest along --up; heat method, harmonic inside: the seed's femur)\n"
+    "  x|y|z|radial A B     a ramp from A to B across the part\n"
+    "  ct FILE              a CT or other volume, trilinear\n"
+    "The tets are mapped onto [0,1]^3 (corners, curves, mean-value patches, harmonic "
+    "interior: docs/method.md), and the flipped and inverted counts are reported.\n\n";
 
 Command add_material_command(CLI::App& app) {
   auto args = std::make_shared<MaterialArgs>();
@@ -203,44 +353,61 @@ Command add_material_command(CLI::App& app) {
   CLI::App* info = material->add_subcommand(
       "info",
       "Check a tet mesh (or fill a closed surface with tets), give it a material, map it "
-      "onto the unit cube, and say what was found");
-  info->footer(
-      "IN is a tet mesh (.mesh + .sol, .node + .ele, .vtk) or a closed surface (STL, OBJ, PLY, "
-      "OFF), which is filled with tets by CGAL's 3D mesh generation. The tets must form a ball: "
-      "positive tets, a closed 2-manifold boundary, one piece, genus 0. The material comes from "
-      "the file, or from --material:\n"
-      "  point X Y Z          distance to a point, mm (the seed's duck)\n"
-      "  geodesic DEPTH       geodesic distance to the bottom (boundary points within DEPTH mm of "
-      "the lowest along --up; heat method, harmonic inside: the seed's femur)\n"
-      "  x|y|z|radial A B     a ramp from A to B across the part\n"
-      "  ct FILE              a CT or other volume, trilinear\n"
-      "The tets are mapped onto [0,1]^3 (corners, curves, mean-value patches, harmonic "
-      "interior: docs/method.md), and the flipped and inverted counts are reported.\n\n"
-      "Examples:\n"
-      "  tpmsfill material info femur-end.stl --cell 2 --material geodesic 1 --tets femur.vtk\n"
-      "  tpmsfill material info duck.mesh --material point 0 0 20 --json\n\n"
-      "Exit code 0: mapped; 1: the tets are not a ball (the sentence says why); 2: unreadable "
-      "input or bad arguments.");
-  info->add_option("IN", args->input, "Tet mesh or closed surface, mm")->required();
-  info->add_option("--cell", args->cell,
-                   "Surfaces: largest tet size, mm (default: the bounding box's diagonal / 30)")
-      ->check(positive());
-  info->add_option("--feature-angle", args->feature_angle,
-                   "Surfaces: keep edges sharper than this many degrees (default 180: none, for "
-                   "organic scans; 60 keeps a CAD part's edges)")
-      ->check(between(1, 180, "1 to 180"));
-  info->add_option("--material", args->material, "KIND ARGS...: see below")->expected(1, 4);
-  info->add_option("--up", args->up, "The up direction for --material geodesic (default 0 0 1)")
-      ->expected(3);
-  info->add_option("--corners", args->corners,
-                   "Eight boundary point ids for the cube's corners, corner k at (k&1, k>>1&1, "
-                   "k>>2&1) (default: found from the bounding box)")
-      ->expected(8);
+      "onto the unit cube, and say what was found; or say what a fitted model (.tsm) holds");
+  info->footer(std::string(kInputHelp) +
+               "Examples:\n"
+               "  tpmsfill material info femur-end.stl --cell 2 --material geodesic 1 --tets "
+               "femur.vtk\n"
+               "  tpmsfill material info duck.mesh --material point 0 0 20 --json\n"
+               "  tpmsfill material info duck.tsm\n\n"
+               "Exit code 0: mapped; 1: the tets are not a ball (the sentence says why); 2: "
+               "unreadable input or bad arguments.");
+  info->add_option("IN", args->input, "Tet mesh, closed surface (mm), or a model (.tsm)")
+      ->required();
+  add_input_options(info, *args);
   info->add_option("--tets", args->tets_output,
                    "Write the tets with their material here (.vtk or .mesh + .sol)");
-  info->add_option("--units", args->units, "Unit IN was modelled in: mm, cm, m, in or um");
-  info->add_flag("--json", args->json, "Print JSON instead of text");
-  return [args] { return run_material_info(*args); };
+
+  CLI::App* fit = material->add_subcommand(
+      "fit",
+      "Fit the solid and its material as trivariate cubic splines G and M on one adaptive "
+      "basis (THB on an octree), and write the model (.tsm)");
+  fit->footer(std::string(kInputHelp) +
+              "The basis is THB on an octree split while a cell holds more than "
+              "--max-tets-per-cell tets; each control value starts at the tets' value at its "
+              "Greville point, then explicit Euler steps on the seed's energy (data term, first- "
+              "and second-order regularisers, boundary normals) run until the similarity ratio "
+              "RS moves by less than 0.05 points; the worst leaves are split and the fit goes "
+              "on, --refinements times. --uniform N fits the seed's baseline instead, a uniform "
+              "tensor-product spline with N^3 control points.\n\n"
+              "Examples:\n"
+              "  tpmsfill material fit duck.stl duck.tsm --material point 0 0 20\n"
+              "  tpmsfill material fit duck.stl duck-uniform.tsm --material point 0 0 20 "
+              "--uniform 38\n\n"
+              "Exit code 0: fitted and written; 1: the tets are not a ball; 2: unreadable input "
+              "or bad arguments.");
+  fit->add_option("IN", args->input, "Tet mesh or closed surface, mm")->required();
+  fit->add_option("OUT", args->output, "The model to write (.tsm)")->required();
+  add_input_options(fit, *args);
+  fit->add_option("--max-tets-per-cell", args->fit.octree.max_per_cell,
+                  "Split octree cells holding more tets than this (default 5, the seed's)")
+      ->check(CLI::Range(1, 1000000));
+  fit->add_option("--max-level", args->fit.octree.max_level,
+                  "Deepest octree level (default 8: 256 cells per axis)")
+      ->check(CLI::Range(2, 12));
+  fit->add_option("--uniform", args->fit.uniform,
+                  "Fit a uniform tensor-product spline with N^3 control points instead")
+      ->check(CLI::Range(4, 1024));
+  fit->add_option("--step", args->fit.step, "The Euler step epsilon (default 0.5; seed 0.4-0.6)")
+      ->check(between(0.01, 1, "0.01 to 1"));
+  fit->add_option("--refinements", args->fit.refinements,
+                  "Progressive refinement rounds after the first (default 2)")
+      ->check(CLI::Range(0, 20));
+  fit->add_option("--max-iterations", args->fit.max_iterations,
+                  "Euler steps per field and round, at most (default 50)")
+      ->check(CLI::Range(1, 10000));
+  fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
+  return [args, fit] { return fit->parsed() ? run_material_fit(*args) : run_material_info(*args); };
 }
 
 }  // namespace tpmsfill::cli

@@ -1,0 +1,24 @@
+/// @file spline_terms.hpp
+/// @brief The one loop over a spline element's terms (thb_basis.hpp's extraction rows) that
+/// every evaluation and every fit sum goes through.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "tpmsfill/thb_basis.hpp"
+
+namespace tpmsfill::detail {
+
+/// visit(c, function, weight) for every local B-spline c (0..63) of `element` and every basis
+/// function in its row: on the element, function = Σ weight · local B-spline c.
+template <class Visit>
+void for_each_term(const SplineBasis& basis, std::size_t element, const Visit& visit) {
+  for (int c = 0; c < 64; ++c) {
+    const std::uint32_t row = basis.element_rows[64 * element + c];
+    for (std::uint32_t t = basis.row_start[row]; t < basis.row_start[row + 1]; ++t)
+      visit(c, basis.row_function[t], basis.row_weight[t]);
+  }
+}
+
+}  // namespace tpmsfill::detail

@@ -1,0 +1,150 @@
+// Stage "spline fit" (solid_spline.hpp): G and M on THB fitted to a tet mesh through its cube
+// map. A box keeps its affine map and a linear material exactly; a ball's fit beats its
+// Greville start, refines where it is worst, and agrees with the mesh at its points; the
+// uniform baseline has n³ control points; the result does not depend on the thread count.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <tpmsfill/cube_map.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/solid_spline.hpp>
+
+#include "test_util.hpp"
+
+namespace tpmsfill {
+namespace {
+
+using test::make_tet_grid;
+
+// The cube [-1, 1]³ onto the ball of radius 10 mm, smoothly (the elliptical grid map).
+TetMesh make_ball(int cells) {
+  TetMesh ball = make_tet_grid({-1, -1, -1}, {1, 1, 1}, {cells, cells, cells}, 0.1);
+  for (Vec3& p : ball.points) {
+    const double x2 = p.x * p.x, y2 = p.y * p.y, z2 = p.z * p.z;
+    p = 10.0 * Vec3{p.x * std::sqrt(1 - y2 / 2 - z2 / 2 + y2 * z2 / 3),
+                    p.y * std::sqrt(1 - z2 / 2 - x2 / 2 + z2 * x2 / 3),
+                    p.z * std::sqrt(1 - x2 / 2 - y2 / 2 + x2 * y2 / 3)};
+  }
+  ball.material.clear();
+  for (const Vec3& p : ball.points)
+    ball.material.push_back(norm(p - Vec3{3, 0, 0}));  // the duck's rule
+  return ball;
+}
+
+TEST(SolidSpline, BoxKeepsItsAffineMapAndLinearMaterial) {
+  TetMesh box = make_tet_grid({0, 0, 0}, {40, 20, 10}, {8, 4, 3}, 0.15);
+  for (const Vec3& p : box.points) box.material.push_back(0.5 * p.x - 0.25 * p.z + 7);
+  const CubeMap map = map_to_cube(box);
+  // Without regularisers the Greville start is already the fit: the box's affine image.
+  const SolidFit exact =
+      fit_solid_spline(box, map, {.lambda1 = 0, .lambda2 = 0, .lambda3 = 0, .refinements = 1});
+  EXPECT_LT(exact.greville_geometry_rms, 1e-10);
+  ASSERT_EQ(exact.rounds.size(), 1u);  // nothing worth refining
+  EXPECT_LT(exact.rounds[0].geometry_max, 1e-10);
+  EXPECT_LT(exact.rounds[0].material_max, 1e-10);
+  EXPECT_EQ(exact.rounds[0].folded_samples, 0u);
+  // The seed's regularisers pull on the boundary a little.
+  const SolidFit fit = fit_solid_spline(box, map, {.refinements = 0});
+  EXPECT_LT(fit.rounds[0].geometry_max, 1e-3 * 40);
+  EXPECT_LT(fit.rounds[0].material_max, 1e-3 * 20);
+  // Anywhere inside: G is the affine map, M the linear material.
+  const SolidPoint centre = evaluate_solid(exact.spline, {0.5, 0.5, 0.5});
+  EXPECT_NEAR(centre.position.x, 20, 1e-9);
+  EXPECT_NEAR(centre.position.y, 10, 1e-9);
+  EXPECT_NEAR(centre.position.z, 5, 1e-9);
+  EXPECT_NEAR(centre.jacobian[0].x, 40, 1e-7);
+  EXPECT_NEAR(centre.material, 0.5 * 20 - 0.25 * 5 + 7, 1e-9);
+  EXPECT_NEAR(centre.material_gradient.x, 0.5 * 40, 1e-7);
+}
+
+TEST(SolidSpline, BallFitBeatsItsGrevilleStartAndRefinesWhereItIsWorst) {
+  const TetMesh ball = make_ball(8);
+  const CubeMap map = map_to_cube(ball);
+  const SolidFit fit = fit_solid_spline(ball, map, {.octree = {.max_per_cell = 20}});
+  ASSERT_GE(fit.rounds.size(), 2u);
+  const FitRound& last = fit.rounds.back();
+  EXPECT_GT(last.control_points, fit.rounds[0].control_points);
+  EXPECT_GT(fit.rounds[0].geometry_rs, 0);
+  EXPECT_GE(last.geometry_rs, fit.rounds[0].geometry_rs);
+  EXPECT_LT(last.geometry_rms, fit.greville_geometry_rms);
+  EXPECT_LT(last.material_rms, fit.greville_material_rms);
+  // The cube's edges go onto a smooth sphere, where the map's Jacobian vanishes: the spline
+  // may fold at Gauss points right there (all of them within 0.1 of an edge, checked by hand).
+  EXPECT_LT(last.folded_samples, last.samples / 20);
+  // At the mesh's points, G is within the reported worst error of the points.
+  double worst = 0;
+  for (std::size_t p = 0; p < ball.points.size(); ++p)
+    worst = std::max(worst, norm(evaluate_solid(fit.spline, map.uvw[p]).position - ball.points[p]));
+  EXPECT_NEAR(worst, last.geometry_max, 1e-9);
+}
+
+TEST(SolidSpline, WarpedBoxFitsWithoutFoldsAndCloserThanItsStart) {
+  TetMesh blob = make_tet_grid({0, 0, 0}, {20, 10, 10}, {10, 5, 5}, 0.1);
+  for (Vec3& p : blob.points)
+    p = Vec3{p.x + 2 * std::sin(0.3 * p.y), p.y + 1.5 * std::sin(0.2 * p.z + 0.1 * p.x),
+             p.z * (1 + 0.03 * p.x)};
+  for (const Vec3& p : blob.points) blob.material.push_back(std::sin(0.2 * p.x) + 0.1 * p.z);
+  const CubeMap map = map_to_cube(blob);
+  const SolidFit fit = fit_solid_spline(blob, map, {.octree = {.max_per_cell = 20}});
+  ASSERT_FALSE(fit.rounds.empty());
+  for (const FitRound& r : fit.rounds) {
+    EXPECT_EQ(r.folded_samples, 0u);
+    EXPECT_GT(r.geometry_rs, 0);
+    EXPECT_GT(r.material_rs, 0);
+    EXPECT_LE(r.geometry_iterations, 50);
+  }
+  EXPECT_LT(fit.rounds.back().geometry_rms, fit.greville_geometry_rms);
+  EXPECT_LT(fit.rounds.back().material_rms, fit.greville_material_rms);
+  for (std::size_t r = 1; r < fit.rounds.size(); ++r)  // refinement never loses ground
+    EXPECT_GE(fit.rounds[r].geometry_rs, fit.rounds[r - 1].geometry_rs - 0.05);
+}
+
+TEST(SolidSpline, DeepOctreeStaysStable) {
+  // Deep cells: the regularisers' explicit step would be unstable there (their Hessian grows
+  // as 1/h, the thin plate's most), and is capped.
+  // A strong λ2 makes it unstable at level 6 already (the test fails without the cap).
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  const SolidFit fit = fit_solid_spline(
+      ball, map, {.octree = {.max_per_cell = 1, .max_level = 6}, .lambda2 = 1, .refinements = 0});
+  ASSERT_EQ(fit.rounds.size(), 1u);
+  EXPECT_GE(fit.spline.basis.spans.size(), 6u);  // levels 0 to 5 at least
+  EXPECT_GT(fit.rounds[0].material_rs, 0);
+  EXPECT_LE(fit.rounds[0].material_rs, 100);
+  EXPECT_LT(fit.rounds[0].material_rms, fit.greville_material_rms);
+  // The strong area term pulls G off the data, but boundedly.
+  EXPECT_LE(fit.rounds[0].geometry_rs, 100);
+  EXPECT_LT(fit.rounds[0].geometry_max, 10.0);
+}
+
+TEST(SolidSpline, UniformBaselineHasNCubedControlPoints) {
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  const SolidFit fit = fit_solid_spline(ball, map, {.uniform = 7});
+  ASSERT_EQ(fit.rounds.size(), 1u);
+  EXPECT_EQ(fit.rounds[0].control_points, 343u);
+  EXPECT_EQ(fit.spline.geometry.size(), 343u);
+  EXPECT_GT(fit.rounds[0].geometry_rs, 0);
+  EXPECT_THROW(fit_solid_spline(ball, map, {.uniform = 3}), InputError);
+  EXPECT_THROW(fit_solid_spline(ball, map, {.step = 0}), InputError);
+}
+
+TEST(SolidSpline, SameSplineOnOneThreadAndMany) {
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  SolidFit one, many;
+  {
+    tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    one = fit_solid_spline(ball, map, {.refinements = 1});
+  }
+  many = fit_solid_spline(ball, map, {.refinements = 1});
+  ASSERT_EQ(one.spline.geometry.size(), many.spline.geometry.size());
+  for (std::size_t f = 0; f < one.spline.geometry.size(); ++f) {
+    EXPECT_EQ(one.spline.geometry[f], many.spline.geometry[f]);
+    EXPECT_EQ(one.spline.material[f], many.spline.material[f]);
+  }
+}
+
+}  // namespace
+}  // namespace tpmsfill
