@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -30,6 +30,8 @@
 #  material:
 # 20. seed 001: `tpmsfill material info` (tetrahedralize, geodesic material, cube map) on
 #     libcgal-demo's genus-0 meshes at two tet sizes
+# 21. seed 001: `tpmsfill material fit`, THB against the uniform baseline (control points,
+#     iterations, RS of G and M, errors, time) on the same meshes at diagonal / 30
 #  any:
 # 16. any size: the femur at 35 mm and a = 0.0175 mm (1.1e9 samples) filled with the whole grid
 #     and in streamed slabs within --memory 4G and 1G (time, peak RSS, same bytes); sliced at 0.05 mm layers
@@ -59,7 +61,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -698,6 +700,60 @@ print(f"| {name} | {D} | {d.get('tets', '')} | {d.get('points', '')} | {vol:+.2f
       f"{cm.get('flipped_boundary_faces', '')} | {cm.get('inverted_tets', '')} | {cm.get('flat_tets', '')} | "
       f"{wall:.2f} | {kb / 1024:.0f} | {outcome} |")
 PY
+    done
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-fit ]]; then
+  echo
+  echo "## 21. seed 001: the spline fit, THB against the uniform baseline (tpmsfill material fit)"
+  echo
+  echo "Tets of size diagonal / 30 and the geodesic material of §20. THB: the octree of ≤ 5 tets per"
+  echo "cell, then 2 rounds of progressive refinement; uniform: n³ control points with n³ about 4 and"
+  echo "8 times THB's final count. RS over the tets' samples (docs/method.md step 8); errors at the"
+  echo "tets' points; folded: Gauss points with det J_G ≤ 0."
+  echo
+  echo "| mesh | tets | basis | control points | ratio | G steps | RS G % | M steps | RS M % | G rms / max mm | M rms | folded | wall s | peak MB |"
+  echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+  mkdir -p "$tmp/mat"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
+    data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
+    2>/dev/null || true
+  for name in bunny00 bear fandisk sphere; do
+    f="$tmp/mat/$name.off"
+    ./build/tpmsfill check --json "$f" >"$tmp/c.json" 2>/dev/null || continue
+    diag=$(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5)' "$tmp/c.json")
+    cell=$(python3 -c "print($diag / 30)"); depth=$(python3 -c "print($diag / 100)")
+    thb_nc=0
+    for basis in thb u4 u8; do
+      extra=()
+      if [[ "$basis" != thb ]]; then
+        factor=${basis#u}
+        extra=(--uniform "$(python3 -c "print(max(4, round(($factor * $thb_nc) ** (1 / 3))))")")
+      fi
+      timed timeout 1800 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" \
+        --material geodesic "$depth" --json "${extra[@]}" >"$tmp/fit.json" 2>"$tmp/err.txt"
+      line=$(python3 - "$tmp/fit.json" "$name" "$basis" "$wall" "$kb" "$code" "$thb_nc" <<'PY'
+import json, sys
+name, basis, wall, kb, code, thb_nc = sys.argv[2], sys.argv[3], float(sys.argv[4]), int(sys.argv[5]), sys.argv[6], int(sys.argv[7])
+text = open(sys.argv[1]).read()
+try:
+    d = json.loads(text[text.index("{"):text.rindex("}") + 1])
+    r = d["rounds"][-1]
+except Exception:
+    print(f"| {name} | | {basis} | | | | | | | | | | {wall:.1f} | {kb / 1024:.0f} |  (exit {code})\t0")
+    sys.exit(0)
+nc = r["control_points"]
+label = "THB, " + str(len(d["rounds"])) + " rounds" if basis == "thb" else f"uniform {round(nc ** (1 / 3))}³"
+ratio = f"{thb_nc / nc:.3f}" if basis != "thb" else "1"
+print(f"| {name} | {d['tets']} | {label} | {nc} | {ratio} | {r['geometry_iterations']} | "
+      f"{r['geometry_rs_percent']:.1f} | {r.get('material_iterations', '')} | {r.get('material_rs_percent', 0):.1f} | "
+      f"{r['geometry_rms_mm']:.4g} / {r['geometry_max_mm']:.4g} | {r.get('material_rms', 0):.4g} | "
+      f"{r['folded_samples']} of {r['samples']} | {wall:.1f} | {kb / 1024:.0f} |\t{nc}")
+PY
+)
+      echo "${line%%$'\t'*}"
+      [[ "$basis" == thb ]] && thb_nc=${line##*$'\t'}
     done
   done
 fi

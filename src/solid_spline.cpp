@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "detail/parallel.hpp"
 #include "detail/spline_terms.hpp"
@@ -608,6 +610,86 @@ std::vector<std::size_t> leaves_to_split(const std::vector<double>& g_error,
   return out;
 }
 
+// Every control value at I_G and I_M of its Greville point.
+void greville_start(const SplineBasis& basis, const CubeLookup& lookup, const Units& units,
+                    std::vector<double>& g, std::vector<double>& m) {
+  const std::vector<std::array<double, 3>> greville = greville_points(basis);
+  g.assign(greville.size() * 3, 0.0);
+  m.assign(greville.size(), 0.0);
+  detail::parallel_for(greville.size(), 256, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const std::array<double, 4> t = target_at(lookup, units, greville[f]);
+      g[3 * f] = t[0], g[3 * f + 1] = t[1], g[3 * f + 2] = t[2], m[f] = t[3];
+    }
+  });
+}
+
+// Σ_k w_k φ_i(x_k) over the data, per function: the data term's normalisation.
+std::vector<double> data_mass(const SplineBasis& basis, const Quadrature& quadrature,
+                              const TetSamples& samples, const Gather& gather_map) {
+  std::vector<double> slot_mass(basis.elements.size() * 64, 0.0);
+  detail::parallel_for(basis.elements.size(), 64, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+      for (std::uint32_t i = quadrature.data_start[e]; i < quadrature.data_start[e + 1]; ++i) {
+        const std::uint32_t k = quadrature.data[i];
+        const LocalBasis b = local_basis(basis, e, samples.uvw[k], 0);
+        for (int j = 0; j < 64; ++j) slot_mass[e * 64 + j] += samples.weight[k] * b.value[j];
+      }
+  });
+  return gather(basis, gather_map, slot_mass, 1);
+}
+
+// Euler steps on one field until RS settles: (steps, RS). `progress(step)` after each.
+template <int Dim, class Progressed>
+std::pair<int, double> iterate(FieldFit<Dim>& field, double start, const SolidFitOptions& options,
+                               const Progressed& progress) {
+  field.bound_stiffness(field.gather_map);
+  const double now = field.measure();
+  double rs = similarity(now, start);
+  // Already exact to round-off (a part whose map is affine, a linear material): the
+  // regularisers would only pull it off the data.
+  if (!(now > 1e-12)) return {0, rs};
+  for (int it = 1; it <= options.max_iterations; ++it) {
+    field.step();
+    const double next = similarity(field.measure(), start);
+    const bool settled = std::abs(next - rs) < options.rs_change;
+    rs = next;
+    progress(it);
+    if (settled) return {it, rs};
+  }
+  return {options.max_iterations, rs};
+}
+
+// The mesh's points in the fit's units (x, y, z per point; the material per point).
+struct PointTargets {
+  std::vector<double> g, m;
+};
+
+PointTargets point_targets(const TetMesh& mesh, const Units& units) {
+  PointTargets t{std::vector<double>(mesh.points.size() * 3),
+                 std::vector<double>(mesh.points.size())};
+  for (std::size_t p = 0; p < mesh.points.size(); ++p) {
+    const Vec3 x = mesh.points[p];
+    t.g[3 * p] = (x.x - units.centre.x) / units.size;
+    t.g[3 * p + 1] = (x.y - units.centre.y) / units.size;
+    t.g[3 * p + 2] = (x.z - units.centre.z) / units.size;
+    t.m[p] = mesh.material.empty() ? 0 : (mesh.material[p] - units.m0) / units.m_range;
+  }
+  return t;
+}
+
+SolidSpline to_millimetres(SplineBasis basis, const std::vector<double>& g,
+                           const std::vector<double>& m, bool has_material, const Units& units) {
+  SolidSpline spline;
+  spline.basis = std::move(basis);
+  spline.geometry.resize(spline.basis.functions.size());
+  for (std::size_t f = 0; f < spline.geometry.size(); ++f)
+    spline.geometry[f] = units.centre + units.size * Vec3{g[3 * f], g[3 * f + 1], g[3 * f + 2]};
+  if (has_material)
+    for (double x : m) spline.material.push_back(units.m0 + units.m_range * x);
+  return spline;
+}
+
 }  // namespace
 
 SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFitOptions& options) {
@@ -616,15 +698,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
   detail::begin_stage(options.progress, "spline fit");
   const Units units = units_of(mesh, map);
   const CubeLookup lookup = build_cube_lookup(mesh, map);
-  // Targets at the mesh's points, in the fit's units.
-  std::vector<double> point_g(mesh.points.size() * 3), point_m(mesh.points.size());
-  for (std::size_t p = 0; p < mesh.points.size(); ++p) {
-    const Vec3 x = mesh.points[p];
-    point_g[3 * p] = (x.x - units.centre.x) / units.size;
-    point_g[3 * p + 1] = (x.y - units.centre.y) / units.size;
-    point_g[3 * p + 2] = (x.z - units.centre.z) / units.size;
-    point_m[p] = has_material ? (mesh.material[p] - units.m0) / units.m_range : 0;
-  }
+  const PointTargets points = point_targets(mesh, units);
   const std::vector<std::array<double, 3>> centroids = tet_centroids(mesh, map);
   const TetSamples samples = tet_samples(mesh, map, units);
   CubeOctree octree;
@@ -635,17 +709,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     octree = build_cube_octree(centroids, options.octree);
     basis = thb_basis(octree);
   }
-  // The Greville start.
-  std::vector<double> g(basis.functions.size() * 3), m(basis.functions.size());
-  {
-    const std::vector<std::array<double, 3>> greville = greville_points(basis);
-    detail::parallel_for(greville.size(), 256, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t f = begin; f < end; ++f) {
-        const std::array<double, 4> t = target_at(lookup, units, greville[f]);
-        g[3 * f] = t[0], g[3 * f + 1] = t[1], g[3 * f + 2] = t[2], m[f] = t[3];
-      }
-    });
-  }
+  std::vector<double> g, m;
+  greville_start(basis, lookup, units, g, m);
   SolidFit fit;
   double start_g = 0, start_m = 0;
   const int rounds = options.uniform > 0 ? 1 : options.refinements + 1;
@@ -654,74 +719,52 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     const auto clock = std::chrono::steady_clock::now();
     const Quadrature quadrature = make_quadrature(basis, lookup, samples);
     const Gather gather_map = make_gather(basis);
-    std::vector<double> slot_mass(basis.elements.size() * 64, 0.0);
-    detail::parallel_for(basis.elements.size(), 64, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e)
-        for (std::uint32_t i = quadrature.data_start[e]; i < quadrature.data_start[e + 1]; ++i) {
-          const std::uint32_t k = quadrature.data[i];
-          const LocalBasis b = local_basis(basis, e, samples.uvw[k], 0);
-          for (int j = 0; j < 64; ++j) slot_mass[e * 64 + j] += samples.weight[k] * b.value[j];
-        }
-    });
-    const std::vector<double> mass = gather(basis, gather_map, slot_mass, 1);
+    const std::vector<double> mass = data_mass(basis, quadrature, samples, gather_map);
     const Probe probe = make_probe(basis, map);
     FieldFit<3> fit_g{basis, quadrature, samples, gather_map, mass, options, 0, g, {}, {}};
     FieldFit<1> fit_m{basis, quadrature, samples, gather_map, mass, options, 3, m, {}, {}};
     if (round == 0) {
       start_g = fit_g.measure();
       start_m = has_material ? fit_m.measure() : 0;
-      fit.greville_geometry_rms = probe_error<3>(basis, probe, g, point_g).rms * units.size;
-      fit.greville_material_rms = probe_error<1>(basis, probe, m, point_m).rms * units.m_range;
+      fit.greville_geometry_rms = probe_error<3>(basis, probe, g, points.g).rms * units.size;
+      fit.greville_material_rms = probe_error<1>(basis, probe, m, points.m).rms * units.m_range;
     }
     FitRound report;
     report.control_points = basis.functions.size();
     report.elements = basis.elements.size();
     report.samples = quadrature.uvw.size();  // where folds are counted
-    for (int field = 0; field < fields; ++field) {
-      const auto measure = [&] { return field == 0 ? fit_g.measure() : fit_m.measure(); };
-      if (field == 0)
-        fit_g.bound_stiffness(gather_map);
-      else
-        fit_m.bound_stiffness(gather_map);
-      double rs = similarity(measure(), field == 0 ? start_g : start_m);
-      int iterations = 0;
-      for (int it = 1; it <= options.max_iterations; ++it) {
-        if (field == 0)
-          fit_g.step();
-        else
-          fit_m.step();
-        const double next = similarity(measure(), field == 0 ? start_g : start_m);
-        iterations = it;
-        const bool settled = std::abs(next - rs) < options.rs_change;
-        rs = next;
+    const auto progress = [&](int field) {
+      return [&, field](int it) {
         detail::report_or_cancel(
             options.progress,
             (round + (field + double(it) / options.max_iterations) / fields) / rounds);
-        if (settled) break;
-      }
-      (field == 0 ? report.geometry_iterations : report.material_iterations) = iterations;
-      (field == 0 ? report.geometry_rs : report.material_rs) = rs;
-    }
-    const ProbeError eg = probe_error<3>(basis, probe, g, point_g);
+      };
+    };
+    std::tie(report.geometry_iterations, report.geometry_rs) =
+        iterate(fit_g, start_g, options, progress(0));
+    if (has_material)
+      std::tie(report.material_iterations, report.material_rs) =
+          iterate(fit_m, start_m, options, progress(1));
+    const ProbeError eg = probe_error<3>(basis, probe, g, points.g);
     report.geometry_rms = eg.rms * units.size;
     report.geometry_max = eg.max * units.size;
     report.folded_samples = fit_g.folds();
     if (has_material) {
-      const ProbeError em = probe_error<1>(basis, probe, m, point_m);
+      const ProbeError em = probe_error<1>(basis, probe, m, points.m);
       report.material_rms = em.rms * units.m_range;
       report.material_max = em.max * units.m_range;
     }
     if (round + 1 < rounds) {
       const std::vector<std::size_t> chosen =
           leaves_to_split(fit_g.element_error, fit_m.element_error, options.refine_sigmas);
-      const CubeOctree finer = split_octree_leaves(octree, chosen, centroids, options.octree);
+      CubeOctree finer = split_octree_leaves(octree, chosen, centroids, options.octree);
       report.split = finer.leaves.size() > octree.leaves.size() ? chosen.size() : 0;
       if (report.split > 0) {
         SplineBasis next = thb_basis(finer);
         g = refine_coefficients(basis, next, g, 3);
         m = refine_coefficients(basis, next, m, 1);
         basis = std::move(next);
-        octree = finer;
+        octree = std::move(finer);
       }
     }
     report.seconds =
@@ -729,15 +772,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     fit.rounds.push_back(report);
     if (round + 1 < rounds && report.split == 0) break;
   }
-  fit.spline.basis = std::move(basis);
-  fit.spline.geometry.resize(fit.spline.basis.functions.size());
-  for (std::size_t f = 0; f < fit.spline.geometry.size(); ++f)
-    fit.spline.geometry[f] = units.centre + units.size * Vec3{g[3 * f], g[3 * f + 1], g[3 * f + 2]};
-  if (has_material) {
-    fit.spline.material.resize(m.size());
-    for (std::size_t f = 0; f < m.size(); ++f)
-      fit.spline.material[f] = units.m0 + units.m_range * m[f];
-  }
+  fit.spline = to_millimetres(std::move(basis), g, m, has_material, units);
   detail::report_or_cancel(options.progress, 1.0);
   return fit;
 }
