@@ -160,17 +160,55 @@ std::string svg_header(const LayerFileOptions& o) {
 
 constexpr std::string_view kSvgTrailer = "</g>\n</svg>\n";
 
-// One path per layer: holes are clockwise, so the nonzero rule leaves them empty.
+// The material scale: blue (0) → green (½) → yellow (1), linear between, as "#rrggbb".
+std::string material_colour(double m, double lo, double hi) {
+  static constexpr double kStops[3][3] = {{0.15, 0.25, 0.75}, {0.2, 0.7, 0.35}, {0.95, 0.85, 0.2}};
+  const double t = hi > lo ? std::clamp((m - lo) / (hi - lo), 0.0, 1.0) : 0.5;
+  const int i = t < 0.5 ? 0 : 1;
+  const double s = 2 * t - i;
+  unsigned rgb[3];
+  for (int c = 0; c < 3; ++c)
+    rgb[c] =
+        static_cast<unsigned>(std::lround(255 * ((1 - s) * kStops[i][c] + s * kStops[i + 1][c])));
+  std::array<char, 8> hex;
+  std::snprintf(hex.data(), hex.size(), "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+  return hex.data();
+}
+
+// A material section: each triangle filled with its mean material's colour (a hairline of the
+// same colour closes the antialiasing seams between them).
+void append_svg_material(std::string& out, const MaterialSection& m) {
+  for (const auto& t : m.triangles) {
+    const std::string colour =
+        material_colour((m.material[t[0]] + m.material[t[1]] + m.material[t[2]]) / 3,
+                        m.material_min, m.material_max);
+    out += "<path fill=\"" + colour + "\" stroke=\"" + colour + "\" stroke-width=\"0.01\" d=\"M";
+    for (int k = 0; k < 3; ++k) {
+      out += ' ';
+      append_fixed(out, m.points[t[k]].x);
+      out += ' ';
+      append_fixed(out, m.points[t[k]].y);
+    }
+    out += "\"/>\n";
+  }
+}
+
+// One path per layer: holes are clockwise, so the nonzero rule leaves them empty. Over a
+// material section the contours are outlines.
 void append_svg_layer(std::string& out, const Layer& layer, bool visible) {
   out += "<g id=\"layer-" + std::to_string(layer.index) + "\" data-z=\"";
   append_fixed(out, layer.z);
   out += "\" data-top=\"";
   append_fixed(out, layer.top);
   out += visible ? "\">\n" : "\" display=\"none\">\n";
+  const bool material = !layer.material.triangles.empty();
+  if (material) append_svg_material(out, layer.material);
   bool any = false;
   for (const Contour& c : layer.contours) {
     if (c.points.empty()) continue;
-    out += any ? " M " : "<path fill-rule=\"nonzero\" d=\"M ";
+    out += any ? " M "
+               : (material ? "<path fill=\"none\" stroke=\"black\" stroke-width=\"0.05\" d=\"M "
+                           : "<path fill-rule=\"nonzero\" d=\"M ");
     any = true;
     for (std::size_t i = 0; i < c.points.size(); ++i) {
       if (i == 1) out += " L";
@@ -217,9 +255,46 @@ double plane_phi(const Field& f, double x, double y) {
   return (1 - t) * ((1 - s) * at(0, 0) + s * at(1, 0)) + t * ((1 - s) * at(0, 1) + s * at(1, 1));
 }
 
+// A material section: pixels whose centre lies in a triangle get 1 + 254 t, t the material
+// interpolated there on the scale (0: empty). Triangles are disjoint, so each pixel is written
+// by at most one, except on shared edges where both write the same value.
+std::vector<std::uint8_t> rasterise_material(const MaterialSection& m, const Raster& r) {
+  std::vector<std::uint8_t> image(static_cast<std::size_t>(r.width) * r.height, 0);
+  const double span = m.material_max > m.material_min ? m.material_max - m.material_min : 1;
+  for (const auto& t : m.triangles) {
+    const Vec2 a = m.points[t[0]], b = m.points[t[1]], c = m.points[t[2]];
+    const double det = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if (!(std::abs(det) > 0)) continue;
+    const double x_lo = std::min({a.x, b.x, c.x}), x_hi = std::max({a.x, b.x, c.x});
+    const double y_lo = std::min({a.y, b.y, c.y}), y_hi = std::max({a.y, b.y, c.y});
+    const long long c0 = std::max(0LL, std::llround(std::floor((x_lo - r.x0) / r.pixel - 0.5)));
+    const long long c1 =
+        std::min(r.width - 1LL, std::llround(std::ceil((x_hi - r.x0) / r.pixel - 0.5)));
+    const long long r0 = std::max(0LL, std::llround(std::floor((r.y0 - y_hi) / r.pixel - 0.5)));
+    const long long r1 =
+        std::min(r.height - 1LL, std::llround(std::ceil((r.y0 - y_lo) / r.pixel - 0.5)));
+    for (long long row = r0; row <= r1; ++row) {
+      const double y = r.y0 - (static_cast<double>(row) + 0.5) * r.pixel;
+      for (long long col = c0; col <= c1; ++col) {
+        const double x = r.x0 + (static_cast<double>(col) + 0.5) * r.pixel;
+        const double wb = ((x - a.x) * (c.y - a.y) - (c.x - a.x) * (y - a.y)) / det;
+        const double wc = ((b.x - a.x) * (y - a.y) - (x - a.x) * (b.y - a.y)) / det;
+        const double wa = 1 - wb - wc;
+        if (wa < 0 || wb < 0 || wc < 0) continue;
+        const double value = wa * m.material[t[0]] + wb * m.material[t[1]] + wc * m.material[t[2]];
+        const double level = std::clamp((value - m.material_min) / span, 0.0, 1.0);
+        image[static_cast<std::size_t>(row) * r.width + col] =
+            static_cast<std::uint8_t>(1 + std::lround(254 * level));
+      }
+    }
+  }
+  return image;
+}
+
 // Coverage = clamp(½ − φ/pixel, 0, 1): the fraction of the pixel on the solid side of a
 // straight boundary at distance φ from its centre (exact for a boundary along a pixel axis).
 std::vector<std::uint8_t> rasterise(const Layer& layer, const Raster& r) {
+  if (!layer.material.triangles.empty()) return rasterise_material(layer.material, r);
   std::vector<std::uint8_t> image(static_cast<std::size_t>(r.width) * r.height, 0);
   if (!has_plane(layer.field)) return image;
   detail::parallel_for(static_cast<std::size_t>(r.height), 16, [&](std::size_t b, std::size_t e) {
@@ -383,7 +458,7 @@ void LayerFileWriter::Impl::write_folder_layer(const Layer& layer) {
   const std::filesystem::path name = path / layer_file_name(layer.index, png ? "png" : "svg");
   std::string bytes;
   if (png) {
-    if (!has_plane(layer.field) && !layer.contours.empty())
+    if (!has_plane(layer.field) && !layer.contours.empty() && layer.material.triangles.empty())
       throw InputError("layer " + std::to_string(layer.index) +
                        " has contours but no plane field to draw the PNG from");
     const std::vector<std::uint8_t> image = rasterise(layer, raster);

@@ -100,27 +100,11 @@ struct Extractor {
     return base + (corner & 1) * sx + (corner >> 1 & 1) * sy + (corner >> 2) * sz;
   }
 
-  // Table key: configuration plus the asymptotic decider on each ambiguous face: inside
-  // corners (a, c) are connected when (a - iso)(c - iso) > (b - iso)(d - iso). Each difference
-  // is rounded to float once, the same way for every cube (its sign is kept: two distinct
-  // floats never differ by less than the smallest subnormal), and the product of two floats
-  // is exact in double, so the comparison is exact: both cubes sharing a face agree, and on
-  // the checkerboard configurations opposite faces cannot contradict each other (see the
-  // table test). A tie counts as separated: the saddle at the iso-value is outside, as nodes
-  // at the iso-value are.
+  // Table key: configuration plus the asymptotic decider (detail::mc_case_key).
   unsigned key(std::size_t base, unsigned config) const {
-    unsigned decisions = 0;
-    for (unsigned amb = tables.ambiguous_faces[config]; amb; amb &= amb - 1) {
-      const int f = __builtin_ctz(amb);
-      const auto& q = tables.face_corners[f];
-      double d[4];
-      for (int i = 0; i < 4; ++i) d[i] = static_cast<float>(v(corner_index(base, q[i])) - iso);
-      const bool first_diagonal_inside = (config >> q[0] & 1) != 0;
-      const double in = first_diagonal_inside ? d[0] * d[2] : d[1] * d[3];
-      const double out = first_diagonal_inside ? d[1] * d[3] : d[0] * d[2];
-      if (in > out) decisions |= 1u << f;
-    }
-    return config | decisions << 8;
+    return detail::mc_case_key(tables, config, [&](int corner) {
+      return v(corner_index(base, corner)) - iso;  // in float, as always
+    });
   }
 
   bool crossed(std::size_t n, std::size_t stride) const { return inside(n) != inside(n + stride); }

@@ -797,4 +797,27 @@ SolidPoint evaluate_solid(const SolidSpline& spline, std::array<double, 3> uvw) 
   return out;
 }
 
+Box3 solid_box(const SolidSpline& spline) {
+  Box3 box{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
+  const SplineBasis& b = spline.basis;
+  for (const OctreeCell& c : b.elements) {
+    const std::uint32_t last = b.spans[c.level] - 1;
+    const double h = 1.0 / b.spans[c.level];
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side) {
+        if (c.index[axis] != (side ? last : 0)) continue;
+        for (int k = 0; k < 9; ++k) {  // the face's corners, edge midpoints and centre
+          std::array<double, 3> uvw{};
+          uvw[axis] = side;
+          uvw[(axis + 1) % 3] = (c.index[(axis + 1) % 3] + 0.5 * (k % 3)) * h;
+          uvw[(axis + 2) % 3] = (c.index[(axis + 2) % 3] + 0.5 * (k / 3)) * h;
+          const Vec3 p = evaluate_solid(spline, uvw).position;
+          box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
+          box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+        }
+      }
+  }
+  return box;
+}
+
 }  // namespace tpmsfill

@@ -123,6 +123,37 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   write_mesh(torus, test::make_torus(10, 4, 32, 16));
   EXPECT_EQ(material_fit(torus, torus_model, "--cell 2", &out), 1);
   EXPECT_FALSE(fs::exists(torus_model));
+  // Sliced directly: a CLI file with a layer per 2 mm and a PNG folder with material grey.
+  const fs::path cli = dir / "blob.cli", pngs = dir / "blob-png";
+  std::string command = TPMSFILL_CLI;
+  command.append(" material slice ").append(quoted(model)).append(" ").append(quoted(cli));
+  ASSERT_EQ(test::run_command(command + " --layer 2 --json", &out), 0) << out;
+  const nlohmann::json sliced = json_of(out);
+  EXPECT_GE(sliced["layers"].get<int>(), 5);
+  for (const nlohmann::json& layer : sliced["per_layer"]) {
+    double binned = 0;
+    for (double a : layer["material_area_mm2"]) binned += a;
+    EXPECT_NEAR(binned, layer["area_mm2"].get<double>(), 1e-6 * 200);  // every triangle binned
+  }
+  EXPECT_TRUE(fs::exists(cli));
+  command = TPMSFILL_CLI;
+  command.append(" material slice ").append(quoted(model)).append(" ").append(quoted(pngs));
+  ASSERT_EQ(test::run_command(command + " --layer 5 --format png --pixel 0.5", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(pngs / "layer_00000.png"));
+  EXPECT_TRUE(fs::exists(pngs / "index.json"));
+  // Iso-material surfaces: one mesh, each surface reported.
+  const fs::path iso = dir / "iso.ply";
+  command = TPMSFILL_CLI;
+  command.append(" material iso ").append(quoted(model)).append(" ").append(quoted(iso));
+  ASSERT_EQ(test::run_command(command + " --values 0.3 0.6 --json", &out), 0) << out;
+  const nlohmann::json surfaces = json_of(out)["surfaces"];
+  ASSERT_EQ(surfaces.size(), 2u);
+  for (const nlohmann::json& s : surfaces) {
+    EXPECT_GT(s["triangles"].get<int>(), 0);
+    EXPECT_EQ(s["non_manifold_edges"], 0);
+    EXPECT_LT(s["max_material_error"].get<double>(), 1e-6);
+  }
+  EXPECT_TRUE(fs::exists(iso));
   // A damaged model is refused with its byte offset.
   const fs::path cut = dir / "cut.tsm";
   fs::copy_file(model, cut);

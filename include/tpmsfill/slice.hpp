@@ -19,6 +19,7 @@
 /// time, in order.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -45,6 +46,16 @@ struct Contour {
   bool outer() const { return area > 0; }
 };
 
+/// A layer's filled section as triangles with a material per point (seed 001's direct
+/// slices, issue 18: material_layers.hpp). Writers draw it when it has triangles: SVG fills
+/// each triangle with its mean material's colour, PNG writes the material as grey.
+struct MaterialSection {
+  std::vector<Vec2> points;
+  std::vector<double> material;  ///< per point
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  double material_min = 0, material_max = 1;  ///< the colour and grey scale's ends
+};
+
 /// One printer layer: the solid's cross-section at its centre height.
 struct Layer {
   std::uint64_t index = 0;     ///< 0 for the lowest
@@ -55,6 +66,7 @@ struct Layer {
   /// φ at the plane's nodes (grid.dims[2] == 1, grid.origin.z == z), negative in the solid:
   /// what writers rasterise with antialiasing (a pixel's coverage from φ at its centre).
   Field field;
+  MaterialSection material = {};  ///< seed 001's sections: drawn with their material
 };
 
 struct SliceOptions {

@@ -111,4 +111,8 @@ struct SolidPoint {
 /// G and M at (u, v, w) (clamped onto the cube).
 SolidPoint evaluate_solid(const SolidSpline& spline, std::array<double, 3> uvw);
 
+/// The solid's box, mm: G on the cube's faces (the solid's boundary), sampled at the corners
+/// and centres of the basis elements' faces there; within the elements' bulge of the true box.
+Box3 solid_box(const SolidSpline& spline);
+
 }  // namespace tpmsfill

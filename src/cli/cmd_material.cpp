@@ -407,7 +407,11 @@ Command add_material_command(CLI::App& app) {
                   "Euler steps per field and round, at most (default 50)")
       ->check(CLI::Range(1, 10000));
   fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
-  return [args, fit] { return fit->parsed() ? run_material_fit(*args) : run_material_info(*args); };
+  auto model_commands = add_material_model_commands(material);
+  return [args, fit, model_commands] {
+    if (const std::optional<int> code = model_commands()) return *code;
+    return fit->parsed() ? run_material_fit(*args) : run_material_info(*args);
+  };
 }
 
 }  // namespace tpmsfill::cli

@@ -70,54 +70,6 @@ LayerFormat output_format(const SliceArgs& a) {
   return f;
 }
 
-// A folder of layers, written under a temporary name beside its target and renamed onto it
-// once complete; a target that exists must be a folder this command wrote (it holds
-// index.json) or empty, so no other folder is ever replaced.
-class StagedFolder {
- public:
-  explicit StagedFolder(fs::path target) : target_(std::move(target)) {
-    if (target_.filename().empty()) target_ = target_.parent_path();
-    std::error_code ec;
-    if (fs::exists(target_, ec)) {
-      if (!fs::is_directory(target_, ec))
-        throw InputError(target_.string() + ": exists and is not a folder (the layers need one)");
-      if (!fs::is_empty(target_, ec) && !fs::exists(target_ / "index.json", ec))
-        throw InputError(target_.string() +
-                         ": a folder with other files in it; give a new or empty folder");
-    }
-    const fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
-    if (!fs::is_directory(parent, ec))
-      throw InputError(target_.string() + ": its folder " + parent.string() + " does not exist");
-    temp_ = parent / (target_.filename().string() + ".tmp-" + std::to_string(getpid()));
-    fs::remove_all(temp_, ec);
-    if (!fs::create_directory(temp_, ec))
-      throw IoError(temp_.string() + ": cannot create the folder (" + ec.message() + ")");
-  }
-  StagedFolder(const StagedFolder&) = delete;
-  StagedFolder& operator=(const StagedFolder&) = delete;
-  ~StagedFolder() {
-    std::error_code ec;
-    if (!temp_.empty()) fs::remove_all(temp_, ec);
-  }
-  const fs::path& path() const { return temp_; }
-  void commit() {
-    std::error_code ec;
-    const fs::path old = target_.string() + ".old-" + std::to_string(getpid());
-    const bool existed = fs::exists(target_, ec);
-    if (existed) fs::rename(target_, old, ec);
-    if (!ec) fs::rename(temp_, target_, ec);
-    if (ec) {
-      if (existed) fs::rename(old, target_, ec);
-      throw IoError(target_.string() + ": cannot put the layers in place");
-    }
-    temp_.clear();
-    if (existed) fs::remove_all(old, ec);
-  }
-
- private:
-  fs::path target_, temp_;
-};
-
 // Whether `file` lies in `folder` (or below it), as paths resolve.
 bool inside_folder(const fs::path& file, const fs::path& folder) {
   const fs::path f = fs::weakly_canonical(fs::absolute(file)),

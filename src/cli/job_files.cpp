@@ -170,4 +170,42 @@ void print_warnings(const std::vector<std::string>& warnings) {
   for (const std::string& w : warnings) std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
 }
 
+StagedFolder::StagedFolder(std::filesystem::path target) : target_(std::move(target)) {
+  if (target_.filename().empty()) target_ = target_.parent_path();
+  std::error_code ec;
+  if (fs::exists(target_, ec)) {
+    if (!fs::is_directory(target_, ec))
+      throw InputError(target_.string() + ": exists and is not a folder (the layers need one)");
+    if (!fs::is_empty(target_, ec) && !fs::exists(target_ / "index.json", ec))
+      throw InputError(target_.string() +
+                       ": a folder with other files in it; give a new or empty folder");
+  }
+  const fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec))
+    throw InputError(target_.string() + ": its folder " + parent.string() + " does not exist");
+  temp_ = parent / (target_.filename().string() + ".tmp-" + std::to_string(getpid()));
+  fs::remove_all(temp_, ec);
+  if (!fs::create_directory(temp_, ec))
+    throw IoError(temp_.string() + ": cannot create the folder (" + ec.message() + ")");
+}
+
+StagedFolder::~StagedFolder() {
+  std::error_code ec;
+  if (!temp_.empty()) fs::remove_all(temp_, ec);
+}
+
+void StagedFolder::commit() {
+  std::error_code ec;
+  const fs::path old = target_.string() + ".old-" + std::to_string(getpid());
+  const bool existed = fs::exists(target_, ec);
+  if (existed) fs::rename(target_, old, ec);
+  if (!ec) fs::rename(temp_, target_, ec);
+  if (ec) {
+    if (existed) fs::rename(old, target_, ec);
+    throw IoError(target_.string() + ": cannot put the layers in place");
+  }
+  temp_.clear();
+  if (existed) fs::remove_all(old, ec);
+}
+
 }  // namespace tpmsfill::cli

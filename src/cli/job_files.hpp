@@ -42,6 +42,26 @@ class StagedOutputs {
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;  // temp, target
 };
 
+/// A folder of layers, written under a temporary name beside its target and renamed onto it
+/// by commit(); a target that exists must be a folder tpmsfill wrote (it holds index.json) or
+/// empty, so no other folder is ever replaced. Not committed: removed.
+class StagedFolder {
+ public:
+  /// @throws InputError  the target is a file, or a folder with other files, or its folder
+  ///                     does not exist
+  /// @throws IoError     the temporary folder cannot be made
+  explicit StagedFolder(std::filesystem::path target);
+  StagedFolder(const StagedFolder&) = delete;
+  StagedFolder& operator=(const StagedFolder&) = delete;
+  ~StagedFolder();
+  const std::filesystem::path& path() const { return temp_; }
+  /// @throws IoError  the rename failed (the target is left as it was)
+  void commit();
+
+ private:
+  std::filesystem::path target_, temp_;
+};
+
 /// SHA-256 of a file's bytes as stored, lower-case hex.
 /// @throws IoError  the file cannot be read
 std::string sha256_of_file(const std::filesystem::path& path);

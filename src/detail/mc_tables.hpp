@@ -42,4 +42,28 @@ struct McTables {
 /// The tables, built once (thread-safe) on first use.
 const McTables& mc_tables();
 
+/// The key into McTables::cases of one cube: `config` (bit c: corner c inside) plus the
+/// asymptotic decider on each ambiguous face, inside corners (a, c) connected when
+/// (a − iso)(c − iso) > (b − iso)(d − iso). Each difference, offset(corner) = value − iso, is
+/// rounded to float once, the same way for every cube (its sign kept: two distinct floats never
+/// differ by less than the smallest subnormal), and the product of two floats is exact in
+/// double, so the comparison is exact: both cubes sharing a face agree, and on the checkerboard
+/// configurations opposite faces cannot contradict each other (see the table test). A tie
+/// counts as separated: the saddle at the iso-value is outside, as corners at it are.
+template <class Offset>
+unsigned mc_case_key(const McTables& tables, unsigned config, const Offset& offset) {
+  unsigned decisions = 0;
+  for (unsigned amb = tables.ambiguous_faces[config]; amb; amb &= amb - 1) {
+    const int f = __builtin_ctz(amb);
+    const auto& q = tables.face_corners[f];
+    double d[4];
+    for (int i = 0; i < 4; ++i) d[i] = static_cast<float>(offset(q[i]));
+    const bool first_diagonal_inside = (config >> q[0] & 1) != 0;
+    const double in = first_diagonal_inside ? d[0] * d[2] : d[1] * d[3];
+    const double out = first_diagonal_inside ? d[1] * d[3] : d[0] * d[2];
+    if (in > out) decisions |= 1u << f;
+  }
+  return config | decisions << 8;
+}
+
 }  // namespace tpmsfill::detail

@@ -1,0 +1,77 @@
+/// @file solid_slice.hpp
+/// @brief Direct slicing of a fitted solid, and its iso-material surfaces (seed 001 §3 and
+/// §4.3, issue 18): no tessellated solid, only G and M.
+///
+/// A level set of a scalar of the parameter cube, f = G_z − ẑ for a layer at height ẑ or
+/// f = M − m for an iso-material surface, is found by an octree in the parameter cube:
+///  1. Cells of the initial level (seed: 1) whose f may change sign are kept: the 8 corners'
+///     signs differ, or the cell is no deeper than the basis's leaf there and ẑ lies within the
+///     range of the B-spline coefficients of f over it (B-splines are non-negative and sum to
+///     one, so f over a leaf lies within its 64 local coefficients: no crossing is missed down
+///     to the basis's own leaves; below them only the corners decide, the seed's rule).
+///  2. A kept cell whose Euclidean volume (its 8 mapped corners as 6 tets) exceeds τ is split
+///     into its 8 children, which are kept by the same rule, until every kept cell is within τ
+///     or at the deepest level.
+///  3. No cracks: every kept cell is split down to the deepest level kept (the seed leaves
+///     neighbours of different levels; the notes' remedy), so that marching cubes (tpmsfill's
+///     tables and asymptotic decider) sees one level and neighbouring cells share each edge's
+///     vertex by the edge's id.
+///  4. On each crossed edge the point where f = 0 is found by iterated linear interpolation
+///     (regula falsi, Illinois variant) to 10⁻⁹ of the solid's size, mapped through G and M.
+/// A slice is the filled cross-section: triangles in the plane z = ẑ with the material at every
+/// vertex, counter-clockwise seen from +z, and its contours (the section's border edges, where
+/// the level set meets the cube's faces: the solid's boundary), outer counter-clockwise, holes
+/// clockwise.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "tpmsfill/slice.hpp"
+#include "tpmsfill/solid_spline.hpp"
+#include "tpmsfill/types.hpp"
+
+namespace tpmsfill {
+
+struct SolidSliceOptions {
+  /// Split cells while their Euclidean volume exceeds this, mm³ (seed: 10, 1, 0.1 on a femur's
+  /// end); 0: (the solid's box diagonal / 64)³.
+  double tau = 0;
+  int initial_level = 1;  ///< the uniform start (seed: 1)
+  int max_level = 10;     ///< never split below this level (1024 cells per axis)
+};
+
+/// A triangulated level set with the material at its vertices.
+struct SolidLevelSet {
+  std::vector<Vec3> points;                ///< mm (a slice's lie in its plane)
+  std::vector<double> material;            ///< per point (0 when the spline has no material)
+  std::vector<std::array<double, 3>> uvw;  ///< per point, its parameter point
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  int level = 0;                ///< the octree level marching cubes ran at
+  std::size_t cells = 0;        ///< cells of that level kept
+  std::size_t evaluations = 0;  ///< evaluations of G and M
+};
+
+struct SolidSection {
+  double z = 0;                   ///< the plane, mm
+  SolidLevelSet mesh;             ///< the filled cross-section
+  std::vector<Contour> contours;  ///< outer counter-clockwise, holes clockwise (seen from +z)
+  double area = 0;                ///< Σ of the triangles' areas, mm²
+  std::size_t flipped = 0;        ///< triangles clockwise from +z (where G folds)
+};
+
+/// The cross-section of the solid at height z (see the file comment). Empty when the plane
+/// misses the solid.
+/// @throws InputError  tau < 0, levels outside 0..16 or initial above max
+SolidSection slice_solid(const SolidSpline& spline, double z,
+                         const SolidSliceOptions& options = {});
+
+/// The surface M = m inside the solid, mapped through G: open where it meets the solid's
+/// boundary, a 2-manifold inside. Triangles face increasing material.
+/// @throws InputError  a spline without material; options as slice_solid
+SolidLevelSet iso_material_surface(const SolidSpline& spline, double m,
+                                   const SolidSliceOptions& options = {});
+
+}  // namespace tpmsfill

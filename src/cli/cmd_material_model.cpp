@@ -1,0 +1,297 @@
+// `tpmsfill material slice|iso MODEL OUT`: a fitted solid (.tsm) sliced directly into printer
+// layers with its material, or its iso-material surfaces (seed 001 §3, §4.3). This file only
+// parses, calls the stages, times and prints; `material info|fit` are in cmd_material.cpp.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/layer_files.hpp>
+#include <tpmsfill/material_layers.hpp>
+#include <tpmsfill/solid_model.hpp>
+#include <tpmsfill/solid_slice.hpp>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/job_files.hpp"
+#include "cli/terminal_progress.hpp"
+#include "cli/validators.hpp"
+
+namespace tpmsfill::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct ModelArgs {
+  std::string input, output;
+  double layer = 0, tau = 0, pixel = 0.05;
+  std::optional<double> start;
+  std::optional<std::string> format;
+  std::vector<double> values;
+  int bins = 10, initial_level = 1, max_level = 10;
+  bool json = false, quiet = false;
+};
+
+LayerFormat layer_format(const ModelArgs& a) {
+  if (a.format) return layer_format_from_name(*a.format);
+  const std::string ext = fs::path(a.output).extension().string();
+  if (ext == ".cli" || ext == ".CLI") return LayerFormat::Cli;
+  if (ext == ".svg" || ext == ".SVG") return LayerFormat::Svg;
+  throw InputError(a.output +
+                   ": unknown extension (use .cli or .svg, or --format svg-layers or png with a "
+                   "folder)");
+}
+
+std::pair<double, double> material_range(const SolidSpline& s) {
+  if (s.material.empty()) return {0, 1};
+  const auto [lo, hi] = std::minmax_element(s.material.begin(), s.material.end());
+  return {*lo, *hi};
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// A progress line for work counted in items (layers, surfaces).
+struct ItemProgress {
+  std::unique_ptr<TerminalProgress> terminal;
+  ItemProgress(bool quiet, const char* stage) {
+    if (!quiet && isatty(STDERR_FILENO)) {
+      terminal = std::make_unique<TerminalProgress>();
+      terminal->begin(stage);
+    }
+  }
+  void report(double fraction) {
+    if (terminal) terminal->report(fraction);
+  }
+};
+
+int run_material_slice(const ModelArgs& a) {
+  const LayerFormat format = layer_format(a);
+  const bool folder = writes_folder(format);
+  if (!folder) require_writable_outputs({a.input}, {{"OUT", a.output}});
+  const auto t0 = std::chrono::steady_clock::now();
+  const SolidModel model = read_solid_model(a.input);
+  const SolidSpline& spline = model.fit.spline;
+  const Box3 box = solid_box(spline);
+  const double start = a.start.value_or(box.min.z);
+  const std::uint64_t count = layer_count(box, {.layer = a.layer, .start = start});
+  const auto [lo, hi] = material_range(spline);
+  const double tau = a.tau > 0 ? a.tau : std::pow(norm(box.max - box.min) / 64, 3);
+  const LayerFileOptions files{.format = format,
+                               .bounds = box,
+                               .layer_count = count,
+                               .layer = a.layer,
+                               .pixel = a.pixel,
+                               .label = fs::path(a.input).stem().string()};
+  std::optional<StagedFolder> staged_folder;
+  StagedOutputs staged;
+  if (folder) staged_folder.emplace(a.output);
+  const fs::path target = folder ? staged_folder->path() : staged.stage(a.output);
+  LayerFileWriter writer(target, files);
+  nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+  std::size_t triangles = 0, flipped = 0;
+  ItemProgress progress(a.quiet, "material slice");
+  const SolidSliceOptions options{
+      .tau = tau, .initial_level = a.initial_level, .max_level = a.max_level};
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const double bottom = start + a.layer * static_cast<double>(i), top = bottom + a.layer;
+    const auto t = std::chrono::steady_clock::now();
+    const SolidSection s = slice_solid(spline, 0.5 * (bottom + top), options);
+    writer.add(material_layer(s, i, bottom, top, lo, hi));
+    triangles += s.mesh.triangles.size();
+    flipped += s.flipped;
+    layers.push_back({{"index", i},
+                      {"z", s.z},
+                      {"area_mm2", s.area},
+                      {"contours", s.contours.size()},
+                      {"triangles", s.mesh.triangles.size()},
+                      {"level", s.mesh.level},
+                      {"cells", s.mesh.cells},
+                      {"flipped", s.flipped},
+                      {"material_area_mm2", material_histogram(s, lo, hi, a.bins)},
+                      {"seconds", seconds_since(t)}});
+    progress.report(double(i + 1) / double(count));
+  }
+  writer.finish();
+  nlohmann::ordered_json j;
+  j["input"] = a.input;
+  j["output"] = a.output;
+  j["format"] = layer_format_name(format);
+  j["box_mm"] = {{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}};
+  j["layer_mm"] = a.layer;
+  j["layers"] = count;
+  j["tau_mm3"] = tau;
+  j["material_scale"] = {lo, hi};
+  j["material_bins"] = a.bins;
+  j["triangles"] = triangles;
+  j["flipped"] = flipped;
+  j["wall_seconds"] = seconds_since(t0);
+  j["per_layer"] = layers;
+  if (folder) write_file_atomically(target / "index.json", j.dump(2));
+  if (folder) staged_folder->commit();
+  staged.commit();
+  if (progress.terminal) progress.terminal->clear();
+  if (a.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (!a.quiet) {
+    double largest = 0;
+    for (const auto& l : layers) largest = std::max(largest, l["area_mm2"].get<double>());
+    std::printf(
+        "%s -> %s (%s): %llu layers of %g mm, tau %g mm3, %zu triangles, largest section "
+        "%g mm2, %.2f s\n",
+        a.input.c_str(), a.output.c_str(), std::string(layer_format_name(format)).c_str(),
+        static_cast<unsigned long long>(count), a.layer, tau, triangles, largest,
+        j["wall_seconds"].get<double>());
+  }
+  if (flipped > 0)
+    print_warnings({std::to_string(flipped) +
+                    " section triangles are turned over (where G folds): the layers' areas "
+                    "count them negative"});
+  return kOk;
+}
+
+// Edges used once (open, where the surface meets the solid's boundary) and more than twice.
+std::pair<std::size_t, std::size_t> edge_counts(const SolidLevelSet& s) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const auto& t : s.triangles)
+    for (int e = 0; e < 3; ++e) ++uses[std::minmax(t[e], t[(e + 1) % 3])];
+  std::size_t open = 0, over = 0;
+  for (const auto& [edge, n] : uses) open += n == 1, over += n > 2;
+  return {open, over};
+}
+
+int run_material_iso(const ModelArgs& a) {
+  if (a.values.empty()) throw InputError("--values needs at least one material value");
+  require_writable_outputs({a.input}, {{"OUT", a.output}});
+  const auto t0 = std::chrono::steady_clock::now();
+  const SolidModel model = read_solid_model(a.input);
+  const SolidSpline& spline = model.fit.spline;
+  if (spline.material.empty()) throw InputError(a.input + " has no material (fitted without one)");
+  const Box3 box = solid_box(spline);
+  const double tau = a.tau > 0 ? a.tau : std::pow(norm(box.max - box.min) / 64, 3);
+  TriangleSoup all;
+  nlohmann::ordered_json surfaces = nlohmann::ordered_json::array();
+  ItemProgress progress(a.quiet, "material iso");
+  std::vector<std::string> warnings;
+  const SolidSliceOptions options{
+      .tau = tau, .initial_level = a.initial_level, .max_level = a.max_level};
+  for (std::size_t v = 0; v < a.values.size(); ++v) {
+    const auto t = std::chrono::steady_clock::now();
+    const SolidLevelSet s = iso_material_surface(spline, a.values[v], options);
+    const auto first = static_cast<std::uint32_t>(all.points.size());
+    all.points.insert(all.points.end(), s.points.begin(), s.points.end());
+    for (const auto& tri : s.triangles)
+      all.triangles.push_back({first + tri[0], first + tri[1], first + tri[2]});
+    double area = 0, worst = 0;
+    for (const auto& tri : s.triangles)
+      area +=
+          norm(cross(s.points[tri[1]] - s.points[tri[0]], s.points[tri[2]] - s.points[tri[0]])) / 2;
+    for (double m : s.material) worst = std::max(worst, std::abs(m - a.values[v]));
+    const auto [open, over] = edge_counts(s);
+    if (s.triangles.empty())
+      warnings.push_back("no surface at material " + std::to_string(a.values[v]) +
+                         " (the solid's material spans " +
+                         std::to_string(material_range(spline).first) + " to " +
+                         std::to_string(material_range(spline).second) + ")");
+    surfaces.push_back({{"material", a.values[v]},
+                        {"triangles", s.triangles.size()},
+                        {"area_mm2", area},
+                        {"open_edges", open},
+                        {"non_manifold_edges", over},
+                        {"max_material_error", worst},
+                        {"level", s.level},
+                        {"seconds", seconds_since(t)}});
+    progress.report(double(v + 1) / double(a.values.size()));
+  }
+  write_mesh(a.output, all);
+  if (progress.terminal) progress.terminal->clear();
+  nlohmann::ordered_json j;
+  j["input"] = a.input;
+  j["output"] = a.output;
+  j["tau_mm3"] = tau;
+  j["surfaces"] = surfaces;
+  j["wall_seconds"] = seconds_since(t0);
+  if (a.json || !a.quiet) {
+    if (a.json) {
+      std::printf("%s\n", j.dump(2).c_str());
+    } else {
+      for (const auto& s : surfaces)
+        std::printf("material %-10g %8zu triangles  %10.4g mm2  %zu open edges\n",
+                    s["material"].get<double>(), s["triangles"].get<std::size_t>(),
+                    s["area_mm2"].get<double>(), s["open_edges"].get<std::size_t>());
+    }
+  }
+  print_warnings(warnings);
+  return kOk;
+}
+
+void add_octree_options(CLI::App* sub, ModelArgs& args) {
+  sub->add_option("--tau", args.tau,
+                  "Split cells while their volume exceeds this, mm3 (default: (box diagonal / "
+                  "64)^3; the seed used 10, 1 and 0.1 on a femur's end)")
+      ->check(positive());
+  sub->add_option("--initial-level", args.initial_level,
+                  "The uniform start (default 1, the seed's)")
+      ->check(CLI::Range(0, 8));
+  sub->add_option("--max-level", args.max_level, "Never split below this level (default 10)")
+      ->check(CLI::Range(1, 16));
+  sub->add_flag("--json", args.json, "Print JSON");
+  sub->add_flag("--quiet", args.quiet, "Print nothing but errors and warnings");
+}
+
+}  // namespace
+
+std::function<std::optional<int>()> add_material_model_commands(CLI::App* material) {
+  auto args = std::make_shared<ModelArgs>();
+  CLI::App* slice = material->add_subcommand(
+      "slice", "Slice a fitted model (.tsm) directly into printer layers with its material");
+  slice->footer(
+      "No mesh of the solid is made: per layer an octree in the parameter cube is refined where "
+      "the plane z = layer centre crosses it, until each crossed cell's volume is within --tau; "
+      "marching cubes at one level gives the filled section, its vertices mapped through G and "
+      "M (docs/method.md, seed 001 step 11). Formats: .cli (contours), .svg (triangles coloured "
+      "by material), or --format svg-layers|png with a folder (PNG: grey = material, 0 empty). "
+      "The report gives each layer's area, triangles and material histogram (--bins).\n\n"
+      "Examples:\n"
+      "  tpmsfill material slice femur.tsm femur.svg --layer 0.5\n"
+      "  tpmsfill material slice femur.tsm layers/ --layer 0.1 --format png --pixel 0.05\n");
+  slice->add_option("MODEL", args->input, "A fitted model (.tsm)")->required();
+  slice->add_option("OUT", args->output, "A .cli or .svg file, or a folder")->required();
+  slice->add_option("--layer", args->layer, "Layer thickness, mm")->required()->check(positive());
+  slice->add_option("--start", args->start, "The first layer's bottom, mm (default: the solid's)");
+  slice->add_option("--format", args->format, "cli, cli-binary, svg, svg-layers or png");
+  slice->add_option("--pixel", args->pixel, "PNG pixel size, mm (default 0.05)")->check(positive());
+  slice->add_option("--bins", args->bins, "Material histogram bins per layer (default 10)")
+      ->check(CLI::Range(1, 1000));
+  add_octree_options(slice, *args);
+  CLI::App* iso = material->add_subcommand(
+      "iso", "The surfaces of equal material of a fitted model (.tsm), as one mesh");
+  iso->footer(
+      "Each surface M = m is found like a slice (an octree in the parameter cube, marching "
+      "cubes, vertices mapped through G) and is open where it meets the solid's boundary. The "
+      "report gives each surface's triangles, area, open and non-manifold edges, and the "
+      "largest |M - m| at its vertices.\n\n"
+      "Example:\n"
+      "  tpmsfill material iso femur.tsm femur-iso.ply --values 10 20 30\n");
+  iso->add_option("MODEL", args->input, "A fitted model (.tsm)")->required();
+  iso->add_option("OUT", args->output, "The surfaces, one mesh (STL, OBJ, PLY, OFF, 3MF)")
+      ->required();
+  iso->add_option("--values", args->values, "Material values, one surface each")
+      ->required()
+      ->expected(1, -1);
+  add_octree_options(iso, *args);
+  return [args, slice, iso]() -> std::optional<int> {
+    if (slice->parsed()) return run_material_slice(*args);
+    if (iso->parsed()) return run_material_iso(*args);
+    return std::nullopt;
+  };
+}
+
+}  // namespace tpmsfill::cli

@@ -1,0 +1,107 @@
+// Seed 001's direct slicing against the input surface's own cross-sections (docs/benchmarks.md
+// §22): a fitted model (.tsm) sliced at heights across its box with several tau, each section's
+// area compared with the closed surface's section at the same height (each triangle's crossing
+// segment, oriented by its normal, summed by the shoelace rule: exact for a closed surface).
+//
+//   bench_solid_slice MODEL.tsm SURFACE TETS|- TAU...
+//
+// TETS (the tets the model was fitted to, as `material info --tets` writes them) adds their own
+// section's area (each tet's section polygon), which the fit saw.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <tpmsfill/io.hpp>
+#include <tpmsfill/solid_model.hpp>
+#include <tpmsfill/solid_slice.hpp>
+#include <tpmsfill/tet_mesh.hpp>
+#include <vector>
+
+using namespace tpmsfill;
+
+namespace {
+
+double surface_section_area(const TriangleSoup& s, double z) {
+  double area = 0;
+  for (const Triangle& t : s.triangles) {
+    const Vec3 p[3] = {s.points[t[0]], s.points[t[1]], s.points[t[2]]};
+    Vec3 hits[2];
+    int n = 0;
+    for (int e = 0; e < 3 && n < 2; ++e) {
+      const Vec3 a = p[e], b = p[(e + 1) % 3];
+      if ((a.z < z) == (b.z < z)) continue;
+      hits[n++] = a + ((z - a.z) / (b.z - a.z)) * (b - a);
+    }
+    if (n < 2) continue;
+    // Outer boundaries run counter-clockwise seen from +z: the outward normal is on the right.
+    const Vec3 normal = cross(p[1] - p[0], p[2] - p[0]), d = hits[1] - hits[0];
+    if (d.y * normal.x - d.x * normal.y < 0) std::swap(hits[0], hits[1]);
+    area += (hits[0].x * hits[1].y - hits[1].x * hits[0].y) / 2;
+  }
+  return area;
+}
+
+double tet_section_area(const TetMesh& mesh, double z) {
+  double total = 0;
+  for (const Tet& t : mesh.tets) {
+    std::vector<std::array<double, 2>> points;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const Vec3 p = mesh.points[t[a]], q = mesh.points[t[b]];
+        if ((p.z < z) == (q.z < z)) continue;
+        const double s = (z - p.z) / (q.z - p.z);
+        points.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y)});
+      }
+    if (points.size() < 3) continue;
+    double cx = 0, cy = 0;
+    for (const auto& p : points) cx += p[0] / points.size(), cy += p[1] / points.size();
+    std::sort(points.begin(), points.end(), [&](const auto& a, const auto& b) {
+      return std::atan2(a[1] - cy, a[0] - cx) < std::atan2(b[1] - cy, b[0] - cx);
+    });
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const auto& p = points[i];
+      const auto& q = points[(i + 1) % points.size()];
+      total += (p[0] * q[1] - q[0] * p[1]) / 2;
+    }
+  }
+  return total;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: bench_solid_slice MODEL.tsm SURFACE TETS|- TAU...\n");
+    return 2;
+  }
+  const SolidModel model = read_solid_model(argv[1]);
+  const TriangleSoup surface = read_mesh(argv[2]);
+  const bool with_tets = std::string(argv[3]) != "-";
+  const TetMesh tets = with_tets ? read_tet_mesh(argv[3]) : TetMesh{};
+  const Box3 box = solid_box(model.fit.spline);
+  std::printf(
+      "| height (share of the box) | tau | level | triangles | area | surface's area | "
+      "difference | tets' area | difference | flipped | seconds |\n"
+      "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (double share : {0.2, 0.4, 0.6, 0.8}) {
+    const double z = box.min.z + share * (box.max.z - box.min.z);
+    const double expected = surface_section_area(surface, z);
+    const double tet_area = with_tets ? tet_section_area(tets, z) : std::nan("");
+    for (int k = 4; k < argc; ++k) {
+      const double tau = std::atof(argv[k]);
+      const auto t0 = std::chrono::steady_clock::now();
+      const SolidSection s = slice_solid(model.fit.spline, z, {.tau = tau});
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf(
+          "| %.4g (%.1f) | %.3g | %d | %zu | %.5g | %.5g | %+.2f %% | %.5g | %+.2f %% | %zu | "
+          "%.3f |\n",
+          z, share, tau, s.mesh.level, s.mesh.triangles.size(), s.area, expected,
+          100 * (s.area / expected - 1), tet_area, 100 * (s.area / tet_area - 1), s.flipped,
+          seconds);
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,146 @@
+// Direct slicing and iso-material surfaces of a fitted solid (solid_slice.hpp): the section's
+// area matches the tets' own cross-section, it has no cracks (its only border edges lie on the
+// cube's faces), its contours are closed and oriented, and iso-material vertices carry their
+// material.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <tpmsfill/cube_map.hpp>
+#include <tpmsfill/error.hpp>
+#include <tpmsfill/solid_slice.hpp>
+
+#include "test_util.hpp"
+
+namespace tpmsfill {
+namespace {
+
+// The area of the tets' cross-section by the plane at height z: each tet's section polygon.
+double tet_section_area(const TetMesh& mesh, double z) {
+  double total = 0;
+  for (const Tet& t : mesh.tets) {
+    std::vector<Vec2> points;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const Vec3 p = mesh.points[t[a]], q = mesh.points[t[b]];
+        if ((p.z < z) == (q.z < z)) continue;
+        const double s = (z - p.z) / (q.z - p.z);
+        points.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y)});
+      }
+    if (points.size() < 3) continue;
+    // A triangle or a convex quad: sort around the centre, then the shoelace.
+    Vec2 c{};
+    for (const Vec2& p : points) c.x += p.x / points.size(), c.y += p.y / points.size();
+    std::sort(points.begin(), points.end(), [&](Vec2 a, Vec2 b) {
+      return std::atan2(a.y - c.y, a.x - c.x) < std::atan2(b.y - c.y, b.x - c.x);
+    });
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec2 p = points[i], q = points[(i + 1) % points.size()];
+      total += (p.x * q.y - q.x * p.y) / 2;
+    }
+  }
+  return total;
+}
+
+TetMesh warped_blob() {
+  TetMesh blob = test::make_tet_grid({0, 0, 0}, {20, 10, 10}, {10, 5, 5}, 0.1);
+  for (Vec3& p : blob.points)
+    p = Vec3{p.x + 2 * std::sin(0.3 * p.y), p.y + 1.5 * std::sin(0.2 * p.z + 0.1 * p.x),
+             p.z * (1 + 0.03 * p.x) + 0.5 * std::sin(0.4 * p.x)};
+  for (const Vec3& p : blob.points) blob.material.push_back(norm(p - Vec3{4, 5, 5}));
+  return blob;
+}
+
+// Every edge of the section is used by two triangles, but those on the cube's faces (the
+// solid's boundary), used by one: no cracks between cells.
+void expect_crack_free(const SolidLevelSet& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const auto& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  auto on_cube_face = [&](std::uint32_t v) {
+    for (double x : mesh.uvw[v])
+      if (x == 0 || x == 1) return true;
+    return false;
+  };
+  std::size_t border = 0;
+  for (const auto& [edge, count] : uses) {
+    EXPECT_LE(count, 2);
+    if (count == 1) {
+      ++border;
+      EXPECT_TRUE(on_cube_face(edge.first) && on_cube_face(edge.second))
+          << "a border edge inside the cube: a crack";
+    }
+  }
+  EXPECT_GT(border, 0u);
+}
+
+TEST(SolidSlice, SectionAreaMatchesTheTetsAndHasNoCracks) {
+  const TetMesh blob = warped_blob();
+  const SolidFit fit = fit_solid_spline(blob, map_to_cube(blob));
+  for (double z : {2.0, 5.0, 8.5}) {
+    const SolidSection s = slice_solid(fit.spline, z, {.tau = 0.05});
+    ASSERT_FALSE(s.mesh.triangles.empty()) << z;
+    const double expected = tet_section_area(blob, z);
+    EXPECT_NEAR(s.area, expected, 0.01 * expected) << "z = " << z;
+    EXPECT_EQ(s.flipped, 0u);
+    expect_crack_free(s.mesh);
+    // The contours: closed, the outer one counter-clockwise, enclosing the section's area.
+    double contour_area = 0;
+    for (const Contour& c : s.contours) contour_area += c.area;
+    EXPECT_NEAR(contour_area, s.area, 1e-9 * s.area);
+    ASSERT_EQ(s.contours.size(), 1u);
+    EXPECT_TRUE(s.contours[0].outer());
+    for (std::size_t v = 0; v < s.mesh.points.size(); ++v) {
+      EXPECT_EQ(s.mesh.points[v].z, z);
+      // Material per vertex: the spline's M there (the distance to (4, 5, 5), fitted).
+      EXPECT_NEAR(s.mesh.material[v], evaluate_solid(fit.spline, s.mesh.uvw[v]).material, 1e-9);
+    }
+  }
+  // Below and above the solid: nothing.
+  EXPECT_TRUE(slice_solid(fit.spline, -5).mesh.triangles.empty());
+  EXPECT_TRUE(slice_solid(fit.spline, 50).contours.empty());
+}
+
+TEST(SolidSlice, SmallerTauMeansFinerCellsAndTheBoxIsExact) {
+  TetMesh box = test::make_tet_grid({0, 0, 0}, {30, 20, 10}, {6, 4, 2}, 0.1);
+  const SolidFit fit = fit_solid_spline(box, map_to_cube(box), {.refinements = 0});
+  const SolidSection coarse = slice_solid(fit.spline, 4, {.tau = 10});
+  const SolidSection fine = slice_solid(fit.spline, 4, {.tau = 0.1});
+  EXPECT_GT(fine.mesh.level, coarse.mesh.level);
+  EXPECT_GT(fine.mesh.triangles.size(), coarse.mesh.triangles.size());
+  // G is the box's affine map: every section is the 30 x 20 rectangle.
+  EXPECT_NEAR(coarse.area, 600, 1e-6);
+  EXPECT_NEAR(fine.area, 600, 1e-6);
+  expect_crack_free(fine.mesh);
+  EXPECT_THROW(slice_solid(fit.spline, 4, {.tau = -1}), InputError);
+  EXPECT_THROW(iso_material_surface(fit.spline, 1), InputError);  // no material
+}
+
+TEST(SolidSlice, IsoMaterialSurfacesCarryTheirValueAndNest) {
+  const TetMesh blob = warped_blob();
+  const SolidFit fit = fit_solid_spline(blob, map_to_cube(blob));
+  double previous_mean = 0;
+  // (Radii of a tet or two would meet the cone's apex, which a cubic rounds off.)
+  for (double m : {5.0, 7.0, 9.0}) {
+    const SolidLevelSet s = iso_material_surface(fit.spline, m, {.tau = 0.05});
+    ASSERT_FALSE(s.triangles.empty()) << m;
+    double mean = 0;
+    for (const Vec3& p : s.points) mean += norm(p - Vec3{4, 5, 5}) / s.points.size();
+    // The material is the distance to (4, 5, 5): the surface lies near the sphere of radius m.
+    EXPECT_NEAR(mean, m, 0.05 * m);
+    EXPECT_GT(mean, previous_mean);  // nested: each further out than the last
+    previous_mean = mean;
+    // Every vertex satisfies M = m (edge points by regula falsi, loop centroids by Newton).
+    for (std::size_t v = 0; v < s.points.size(); ++v) {
+      EXPECT_NEAR(s.material[v], m, 1e-6);
+      EXPECT_NEAR(evaluate_solid(fit.spline, s.uvw[v]).material, m, 1e-6);
+    }
+    expect_crack_free(s);
+  }
+}
+
+}  // namespace
+}  // namespace tpmsfill
