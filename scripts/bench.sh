@@ -32,6 +32,8 @@
 #     libcgal-demo's genus-0 meshes at two tet sizes
 # 21. seed 001: `tpmsfill material fit`, THB against the uniform baseline (control points,
 #     iterations, RS of G and M, errors, time) on the same meshes at diagonal / 30
+# 22. seed 001: direct slicing of those THB models at three tau, the sections' areas against
+#     the surface's and the tets' own (bench_solid_slice), and `material slice` of whole stacks
 #  any:
 # 16. any size: the femur at 35 mm and a = 0.0175 mm (1.1e9 samples) filled with the whole grid
 #     and in streamed slabs within --memory 4G and 1G (time, peak RSS, same bytes); sliced at 0.05 mm layers
@@ -755,6 +757,40 @@ PY
       echo "${line%%$'\t'*}"
       [[ "$basis" == thb ]] && thb_nc=${line##*$'\t'}
     done
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-fit ]]; then
+  echo
+  echo "## 22. seed 001: direct slicing (bench_solid_slice, tpmsfill material slice)"
+  mkdir -p "$tmp/mat"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
+    data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
+    2>/dev/null || true
+  for name in bunny00 bear fandisk sphere; do
+    f="$tmp/mat/$name.off"
+    ./build/tpmsfill check --json "$f" >"$tmp/c.json" 2>/dev/null || continue
+    read -r diag zspan < <(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5, b["max"][2]-b["min"][2])' "$tmp/c.json")
+    cell=$(python3 -c "print($diag / 30)"); depth=$(python3 -c "print($diag / 100)")
+    ./build/tpmsfill material info "$f" --cell "$cell" --material geodesic "$depth" \
+      --tets "$tmp/tets.vtk" >/dev/null 2>&1
+    ./build/tpmsfill material fit "$f" "$tmp/$name.tsm" --cell "$cell" --material geodesic "$depth" \
+      --quiet 2>/dev/null
+    taus=$(python3 -c "print(' '.join('%.3g' % (($diag / d) ** 3) for d in (25, 50, 100)))")
+    echo
+    echo "### $name (diagonal $diag; tau = (diagonal / 25, 50, 100)³, the seed's 10 : 1 : 0.1 mm³)"
+    echo
+    ./build/tests/bench_solid_slice "$tmp/$name.tsm" "$f" "$tmp/tets.vtk" $taus
+    layer=$(python3 -c "print('%.3g' % ($zspan / 100))")
+    timed ./build/tpmsfill material slice "$tmp/$name.tsm" "$tmp/$name.cli" --layer "$layer" --json \
+      >"$tmp/s.json" 2>/dev/null
+    python3 - "$tmp/s.json" "$name" "$wall" "$kb" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+print(f"\n`material slice` of {sys.argv[2]}: {d['layers']} layers of {d['layer_mm']} mm at the default tau "
+      f"({d['tau_mm3']:.3g}): {d['triangles']} triangles, {d['flipped']} turned over, "
+      f"{float(sys.argv[3]):.1f} s, {int(sys.argv[4]) / 1024:.0f} MB peak")
+PY
   done
 fi
 

@@ -61,9 +61,13 @@ std::array<double, 4> target_at(const CubeLookup& lookup, const Units& u,
           (s.position.z - u.centre.z) / u.size, (s.material - u.m0) / u.m_range};
 }
 
-// The data: a 4-point rule (degree 2) in every tet's image in the cube, where I_G and I_M
-// are the tet's own linear interpolation, weighted by the image's volume. It does not depend
-// on the basis, so RS compares rounds and bases fairly.
+// The data: a 4-point rule (degree 2) in every tet, at its image in the cube, where I_G and
+// I_M are the tet's own linear interpolation, weighted by the tet's volume (in the fit's
+// units), so that the fit and RS measure the error over the solid as it is. (Weighted by the
+// images' volumes instead, tets squeezed by the map, near the cube's edges and corners,
+// counted for little: RS rose to 95 % while bunny00's sections lost 39 % of their area; and
+// the flat images of tets lying on one patch, which hold the boundary, counted for nothing.)
+// It does not depend on the basis, so RS compares rounds and bases fairly.
 struct TetSamples {
   std::vector<std::array<double, 3>> uvw;
   std::vector<double> weight;
@@ -74,15 +78,11 @@ TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) 
   constexpr double a = 0.58541019662496845, b = 0.13819660112501051;
   TetSamples out;
   for (const Tet& t : mesh.tets) {
-    const auto& p0 = map.uvw[t[0]];
-    std::array<double, 3> e[3];
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) e[k][c] = map.uvw[t[k + 1]][c] - p0[c];
-    const double volume = std::abs(e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
-                                   e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-                                   e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
-                          6;
-    if (!(volume > 0)) continue;  // a flat image holds no volume of the cube
+    const Vec3 p0 = mesh.points[t[0]];
+    const double volume = std::abs(dot(mesh.points[t[1]] - p0,
+                                       cross(mesh.points[t[2]] - p0, mesh.points[t[3]] - p0))) /
+                          (6 * u.size * u.size * u.size);
+    if (!(volume > 0)) continue;
     for (int s = 0; s < 4; ++s) {
       std::array<double, 3> uvw{};
       std::array<double, 4> target{};
