@@ -78,6 +78,22 @@ timed() {
   read -r wall kb < <(tail -n 1 "$tmp/time.txt")
 }
 
+# Sections 21 and 22: libcgal-demo's genus-0 meshes that map at diagonal / 30, into $tmp/mat.
+extract_material_meshes() {
+  mkdir -p "$tmp/mat"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
+    data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
+    2>/dev/null || true
+}
+# A mesh's box diagonal and height, its tet size (diagonal / 30) and geodesic source depth
+# (diagonal / 100), as diag, zspan, cell, depth; fails for a mesh `tpmsfill check` refuses.
+material_sizes() {
+  ./build/tpmsfill check --json "$1" >"$tmp/c.json" 2>/dev/null || return 1
+  read -r diag zspan < <(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5, b["max"][2]-b["min"][2])' "$tmp/c.json")
+  cell=$(python3 -c "print($diag / 30)")
+  depth=$(python3 -c "print($diag / 100)")
+}
+
 echo "## machine: $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB, $(uname -m)"
 if [[ "$section" == all || "$section" == io ]]; then
 echo
@@ -717,15 +733,10 @@ if [[ "$section" == all || "$section" == material || "$section" == material-fit 
   echo
   echo "| mesh | tets | basis | control points | ratio | G steps | RS G % | M steps | RS M % | G rms / max mm | M rms | folded | wall s | peak MB |"
   echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
-  mkdir -p "$tmp/mat"
-  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
-    data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
-    2>/dev/null || true
+  extract_material_meshes
   for name in bunny00 bear fandisk sphere; do
     f="$tmp/mat/$name.off"
-    ./build/tpmsfill check --json "$f" >"$tmp/c.json" 2>/dev/null || continue
-    diag=$(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5)' "$tmp/c.json")
-    cell=$(python3 -c "print($diag / 30)"); depth=$(python3 -c "print($diag / 100)")
+    material_sizes "$f" || continue
     thb_nc=0
     for basis in thb u4 u8; do
       extra=()
@@ -763,15 +774,10 @@ fi
 if [[ "$section" == all || "$section" == material || "$section" == material-fit ]]; then
   echo
   echo "## 22. seed 001: direct slicing (bench_solid_slice, tpmsfill material slice)"
-  mkdir -p "$tmp/mat"
-  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
-    data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
-    2>/dev/null || true
+  extract_material_meshes
   for name in bunny00 bear fandisk sphere; do
     f="$tmp/mat/$name.off"
-    ./build/tpmsfill check --json "$f" >"$tmp/c.json" 2>/dev/null || continue
-    read -r diag zspan < <(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(sum((b["max"][i]-b["min"][i])**2 for i in range(3))**0.5, b["max"][2]-b["min"][2])' "$tmp/c.json")
-    cell=$(python3 -c "print($diag / 30)"); depth=$(python3 -c "print($diag / 100)")
+    material_sizes "$f" || continue
     ./build/tpmsfill material info "$f" --cell "$cell" --material geodesic "$depth" \
       --tets "$tmp/tets.vtk" >/dev/null 2>&1
     ./build/tpmsfill material fit "$f" "$tmp/$name.tsm" --cell "$cell" --material geodesic "$depth" \

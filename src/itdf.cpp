@@ -225,10 +225,8 @@ std::string itdf_bytes(const ItdfFile& file) {
   write_fit(w, file.fit);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(file.provenance.size()));
   w.put_bytes(file.provenance);
-  std::string& bytes = w.bytes();
-  w.put<std::uint32_t>(static_cast<std::uint32_t>(
-      crc32(0, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size()))));
-  return bytes;
+  w.put_crc32();
+  return w.bytes();
 }
 
 void write_itdf(const std::filesystem::path& path, const ItdfFile& file) {
@@ -236,19 +234,8 @@ void write_itdf(const std::filesystem::path& path, const ItdfFile& file) {
 }
 
 ItdfFile parse_itdf(std::string_view bytes, const std::string& source) {
-  if (!looks_like_itdf(bytes))
-    detail::fail_at_byte(source, 0, "not an ITDF file (it does not start with \"ITDF\")");
-  if (bytes.size() < 10)
-    detail::fail_at_byte(source, bytes.size(), "the file ends inside the header");
-  // The body is everything before the closing CRC; it is parsed first, so that damage is
-  // named where it is, and the CRC then catches what parses but changed.
-  const std::size_t body = bytes.size() - 4;
-  Reader r(bytes.substr(0, body), source);
-  r.take(4, "the magic");
-  const auto version = r.get<std::uint16_t>("the version");
-  if (version != kVersion)
-    throw InputError(source + " is ITDF version " + std::to_string(version) +
-                     "; this tpmsfill reads version 1");
+  Reader r = detail::open_framed(bytes, source, std::string_view(kMagic, 4), "an ITDF file", "ITDF",
+                                 kVersion, 10);
   ItdfFile file;
   PorousStructure& s = file.structure;
   const auto type = r.get<std::uint8_t>("the structure type");
@@ -282,12 +269,7 @@ ItdfFile parse_itdf(std::string_view bytes, const std::string& source) {
   const auto length = r.get<std::uint32_t>("the provenance's length");
   if (length >= kMaxProvenance) r.fail("the provenance is over 64 KiB", r.at() - 4);
   file.provenance = std::string(r.take(length, "the provenance"));
-  if (r.left() != 0) r.fail(std::to_string(r.left()) + " unexpected bytes before the CRC");
-  std::uint32_t stored = 0;
-  std::memcpy(&stored, bytes.data() + body, 4);
-  if (stored != static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(bytes.data()),
-                                                 static_cast<uInt>(body))))
-    r.fail("the CRC-32 does not match the content (the file is damaged)", body);
+  detail::check_crc32(r, bytes);
   try {
     require_valid(s);
   } catch (const InputError& e) {

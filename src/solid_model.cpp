@@ -143,10 +143,8 @@ std::string solid_model_bytes(const SolidModel& model) {
   for (const FitRound& r : model.fit.rounds) write_round(w, r);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(model.provenance.size()));
   w.put_bytes(model.provenance);
-  std::string& bytes = w.bytes();
-  w.put<std::uint32_t>(static_cast<std::uint32_t>(
-      crc32(0, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size()))));
-  return bytes;
+  w.put_crc32();
+  return w.bytes();
 }
 
 void write_solid_model(const std::filesystem::path& path, const SolidModel& model) {
@@ -158,17 +156,8 @@ bool looks_like_solid_model(std::string_view bytes) {
 }
 
 SolidModel parse_solid_model(std::string_view bytes, const std::string& source) {
-  if (!looks_like_solid_model(bytes))
-    detail::fail_at_byte(source, 0, "not a solid spline model (it does not start with \"TSPL\")");
-  if (bytes.size() < 12)
-    detail::fail_at_byte(source, bytes.size(), "the file ends inside the header");
-  const std::size_t body = bytes.size() - 4;
-  Reader r(bytes.substr(0, body), source);
-  r.take(4, "the magic");
-  const auto version = r.get<std::uint16_t>("the version");
-  if (version != kVersion)
-    throw InputError(source + " is a solid spline model of version " + std::to_string(version) +
-                     "; this tpmsfill reads version 1");
+  Reader r = detail::open_framed(bytes, source, std::string_view(kMagic, 4), "a solid spline model",
+                                 "a solid spline model of", kVersion, 12);
   const auto kind = r.get<std::uint8_t>("the basis kind");
   const auto material = r.get<std::uint8_t>("the material flag");
   if (kind > 1) r.fail("unknown basis kind " + std::to_string(kind), 6);
@@ -216,12 +205,7 @@ SolidModel parse_solid_model(std::string_view bytes, const std::string& source) 
   const auto length = r.get<std::uint32_t>("the provenance's length");
   if (length >= kMaxProvenance) r.fail("the provenance is over 64 KiB", r.at() - 4);
   model.provenance = std::string(r.take(length, "the provenance"));
-  if (r.left() != 0) r.fail(std::to_string(r.left()) + " unexpected bytes before the CRC");
-  std::uint32_t stored = 0;
-  std::memcpy(&stored, bytes.data() + body, 4);
-  if (stored != static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(bytes.data()),
-                                                 static_cast<uInt>(body))))
-    r.fail("the CRC-32 does not match the content (the file is damaged)", body);
+  detail::check_crc32(r, bytes);
   return model;
 }
 

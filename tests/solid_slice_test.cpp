@@ -15,33 +15,6 @@
 namespace tpmsfill {
 namespace {
 
-// The area of the tets' cross-section by the plane at height z: each tet's section polygon.
-double tet_section_area(const TetMesh& mesh, double z) {
-  double total = 0;
-  for (const Tet& t : mesh.tets) {
-    std::vector<Vec2> points;
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) {
-        const Vec3 p = mesh.points[t[a]], q = mesh.points[t[b]];
-        if ((p.z < z) == (q.z < z)) continue;
-        const double s = (z - p.z) / (q.z - p.z);
-        points.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y)});
-      }
-    if (points.size() < 3) continue;
-    // A triangle or a convex quad: sort around the centre, then the shoelace.
-    Vec2 c{};
-    for (const Vec2& p : points) c.x += p.x / points.size(), c.y += p.y / points.size();
-    std::sort(points.begin(), points.end(), [&](Vec2 a, Vec2 b) {
-      return std::atan2(a.y - c.y, a.x - c.x) < std::atan2(b.y - c.y, b.x - c.x);
-    });
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const Vec2 p = points[i], q = points[(i + 1) % points.size()];
-      total += (p.x * q.y - q.x * p.y) / 2;
-    }
-  }
-  return total;
-}
-
 TetMesh warped_blob() {
   TetMesh blob = test::make_tet_grid({0, 0, 0}, {20, 10, 10}, {10, 5, 5}, 0.1);
   for (Vec3& p : blob.points)
@@ -83,7 +56,7 @@ TEST(SolidSlice, SectionAreaMatchesTheTetsAndHasNoCracks) {
   for (double z : {2.0, 5.0, 8.5}) {
     const SolidSection s = slice_solid(fit.spline, z, {.tau = 0.05});
     ASSERT_FALSE(s.mesh.triangles.empty()) << z;
-    const double expected = tet_section_area(blob, z);
+    const double expected = test::tet_section_area(blob, z);
     EXPECT_NEAR(s.area, expected, 0.01 * expected) << "z = " << z;
     EXPECT_EQ(s.flipped, 0u);
     expect_crack_free(s.mesh);

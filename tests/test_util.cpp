@@ -444,4 +444,31 @@ TetMesh make_tet_grid(Vec3 min, Vec3 max, std::array<int, 3> cells, double jitte
   return used;
 }
 
+double tet_section_area(const TetMesh& mesh, double z) {
+  double total = 0;
+  for (const Tet& t : mesh.tets) {
+    std::vector<std::array<double, 2>> points;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const Vec3 p = mesh.points[t[a]], q = mesh.points[t[b]];
+        if ((p.z < z) == (q.z < z)) continue;
+        const double s = (z - p.z) / (q.z - p.z);
+        points.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y)});
+      }
+    if (points.size() < 3) continue;
+    // Convex: sorted around the centre, then the shoelace.
+    double cx = 0, cy = 0;
+    for (const auto& p : points) cx += p[0] / points.size(), cy += p[1] / points.size();
+    std::sort(points.begin(), points.end(), [&](const auto& a, const auto& b) {
+      return std::atan2(a[1] - cy, a[0] - cx) < std::atan2(b[1] - cy, b[0] - cx);
+    });
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const auto& p = points[i];
+      const auto& q = points[(i + 1) % points.size()];
+      total += (p[0] * q[1] - q[0] * p[1]) / 2;
+    }
+  }
+  return total;
+}
+
 }  // namespace tpmsfill::test

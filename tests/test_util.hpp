@@ -42,6 +42,9 @@ TriangleSoup make_box_with_hole(Vec3 min, Vec3 max);
 /// edge, corners fixed, so the boundary is still the box. No material.
 TetMesh make_tet_grid(Vec3 min, Vec3 max, std::array<int, 3> cells, double jitter = 0,
                       const std::function<bool(int, int, int)>& keep = {});
+/// The area of a tet mesh's cross-section by the plane at height z, mm²: each tet's section
+/// (a triangle or a convex quad) by the shoelace rule.
+double tet_section_area(const TetMesh& mesh, double z);
 /// Two tetrahedra sharing one apex: closed, but the shared vertex is pinched (non-manifold).
 TriangleSoup make_bow_tie();
 /// Open surfaces (seed 004's layouts): an n × n grid of squares over [0, L]² lifted by z(x, y),

@@ -17,7 +17,9 @@
 #include <tpmsfill/solid_model.hpp>
 #include <tpmsfill/solid_slice.hpp>
 #include <tpmsfill/tet_mesh.hpp>
+
 #include <vector>
+#include "../test_util.hpp"
 
 using namespace tpmsfill;
 
@@ -43,32 +45,6 @@ double surface_section_area(const TriangleSoup& s, double z) {
   return area;
 }
 
-double tet_section_area(const TetMesh& mesh, double z) {
-  double total = 0;
-  for (const Tet& t : mesh.tets) {
-    std::vector<std::array<double, 2>> points;
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) {
-        const Vec3 p = mesh.points[t[a]], q = mesh.points[t[b]];
-        if ((p.z < z) == (q.z < z)) continue;
-        const double s = (z - p.z) / (q.z - p.z);
-        points.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y)});
-      }
-    if (points.size() < 3) continue;
-    double cx = 0, cy = 0;
-    for (const auto& p : points) cx += p[0] / points.size(), cy += p[1] / points.size();
-    std::sort(points.begin(), points.end(), [&](const auto& a, const auto& b) {
-      return std::atan2(a[1] - cy, a[0] - cx) < std::atan2(b[1] - cy, b[0] - cx);
-    });
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const auto& p = points[i];
-      const auto& q = points[(i + 1) % points.size()];
-      total += (p[0] * q[1] - q[0] * p[1]) / 2;
-    }
-  }
-  return total;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,7 +64,7 @@ int main(int argc, char** argv) {
   for (double share : {0.2, 0.4, 0.6, 0.8}) {
     const double z = box.min.z + share * (box.max.z - box.min.z);
     const double expected = surface_section_area(surface, z);
-    const double tet_area = with_tets ? tet_section_area(tets, z) : std::nan("");
+    const double tet_area = with_tets ? test::tet_section_area(tets, z) : std::nan("");
     for (int k = 4; k < argc; ++k) {
       const double tau = std::atof(argv[k]);
       const auto t0 = std::chrono::steady_clock::now();
