@@ -403,6 +403,10 @@ Command add_material_command(CLI::App& app) {
   fit->add_option("--refinements", args->fit.refinements,
                   "Progressive refinement rounds after the first (default 2)")
       ->check(CLI::Range(0, 20));
+  fit->add_option("--rs-change", args->fit.rs_change,
+                  "Stop a field when RS moves by less than this many points a step (default 0.05; "
+                  "0: run --max-iterations steps)")
+      ->check(CLI::Range(0.0, 100.0));
   fit->add_option("--max-iterations", args->fit.max_iterations,
                   "Euler steps per field and round, at most (default 50)")
       ->check(CLI::Range(1, 10000));
