@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fuzzes the mesh readers, the recipe reader, the field/ITDF readers and the tet-mesh readers with libFuzzer + ASan + UBSan, one run each.
+# Fuzzes the mesh readers, the recipe reader, the field/ITDF readers, the tet-mesh readers and the
+# solid spline model reader (.tsm) with libFuzzer + ASan + UBSan, one run each.
 #   scripts/fuzz.sh [seconds per reader]        (default 120)
 # Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
 set -euo pipefail
@@ -17,7 +18,8 @@ fi
 
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTPMSFILL_FUZZ=ON -DTPMSFILL_BUILD_TESTS=OFF -DTPMSFILL_BUILD_EXAMPLES=OFF
-cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz read_volume_fuzz read_tet_mesh_fuzz
+cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz read_volume_fuzz read_tet_mesh_fuzz \
+  read_solid_model_fuzz
 fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 
 # Seed corpus: one small valid file per format, written here, plus assimp's test models when
@@ -160,4 +162,20 @@ PY
 for reader in medit tetgen vtk; do
   TPMSFILL_FUZZ_FORMAT="$reader" fuzz "tet-$reader" "$build/tests/fuzz/read_tet_mesh_fuzz" 65536
 done
+# Solid spline models: small ones written by the CLI built in build/ (a uniform 4³ basis, THB
+# at level 2 and at level 3 on a coarse box's tets). The reader builds the THB basis from the
+# octree bits, so inputs are kept to 16 KiB (a few thousand leaves).
+mkdir -p "$seeds/model"
+if [ -x "$root/build/tpmsfill" ] && [ -f "$root/build/examples/example_box.stl" ]; then
+  tets=$(mktemp --suffix=.vtk)
+  "$root/build/tpmsfill" material info "$root/build/examples/example_box.stl" --cell 8 \
+    --material z 0 1 --tets "$tets" >/dev/null 2>&1 &&
+    "$root/build/tpmsfill" material fit "$tets" "$seeds/model/u4.tsm" --uniform 4 --quiet &&
+    "$root/build/tpmsfill" material fit "$tets" "$seeds/model/thb.tsm" --refinements 0 \
+      --max-tets-per-cell 1000000 --quiet &&
+    "$root/build/tpmsfill" material fit "$tets" "$seeds/model/thb3.tsm" --refinements 0 \
+      --max-tets-per-cell 20 --max-level 3 --quiet || true
+  rm -f "$tets"
+fi
+fuzz model "$build/tests/fuzz/read_solid_model_fuzz" 16384
 exit $status

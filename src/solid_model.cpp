@@ -170,6 +170,10 @@ SolidModel parse_solid_model(std::string_view bytes, const std::string& source) 
   if (kind == 1) {
     if (parameter < 4 || parameter > kMaxUniform)
       r.fail("a uniform basis of " + std::to_string(parameter) + " per axis (4 to 1024)", basis_at);
+    // Its control points must be in the file before the basis is built (512³ would take GBs).
+    const std::uint64_t n = std::uint64_t(parameter) * parameter * parameter;
+    r.need(4 + n * (material ? 32 : 24),
+           "the control points of a uniform basis of " + std::to_string(parameter) + " per axis");
     s.basis = tensor_basis(static_cast<int>(parameter));
   } else {
     const std::size_t stream_at = r.at();

@@ -65,6 +65,16 @@ TEST(SolidModel, DamageIsRefusedWithItsByteOffset) {
     EXPECT_NE(std::string(e.what()).find("version 2"), std::string::npos) << e.what();
   }
   EXPECT_THROW(parse_solid_model("ITDF-not-this", "other.itdf"), ParseError);
+  // A uniform basis of 512 per axis announced by a 40-byte file: refused before the basis is
+  // built (134 million functions; the fuzzer found it as a 2 GB allocation).
+  std::string huge("TSPL\x01\x00\x01\x00\x00\x02\x00\x00", 12);
+  huge.append(28, '\0');
+  try {
+    parse_solid_model(huge, "huge.tsm");
+    FAIL() << "a 512³ basis in 40 bytes was read";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("512 per axis"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
