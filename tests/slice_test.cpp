@@ -27,28 +27,6 @@ Field plane_field(int n, double a, const std::function<double(double, double)>& 
   return f;
 }
 
-// The area of a closed, outward mesh's cross-section at height z: the segments where its
-// triangles cross the plane, each oriented with the solid on its left (its triangle's outward
-// normal on its right), summed by the shoelace formula.
-double section_area(const TriangleSoup& mesh, double z) {
-  double twice = 0;
-  for (const Triangle& t : mesh.triangles) {
-    const Vec3 p[3] = {mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]};
-    Vec3 cut[2];
-    int n = 0;
-    for (int e = 0; e < 3; ++e) {
-      const Vec3 a = p[e], b = p[(e + 1) % 3];
-      if ((a.z < z) != (b.z < z)) cut[n++] = a + ((z - a.z) / (b.z - a.z)) * (b - a);
-    }
-    if (n != 2) continue;
-    const Vec3 normal = cross(p[1] - p[0], p[2] - p[0]);
-    Vec3 d = cut[1] - cut[0];
-    if (d.y * normal.x - d.x * normal.y < 0) std::swap(cut[0], cut[1]);
-    twice += cut[0].x * cut[1].y - cut[1].x * cut[0].y;
-  }
-  return 0.5 * twice;
-}
-
 struct Sliced {
   SliceReport report;
   std::vector<Layer> layers;
@@ -185,7 +163,7 @@ TEST(Slice, EachLayerIsTheSectionOfFillsMesh) {
     // of it (and where the surface is steep, they are all nearly equal).
     double lo = HUGE_VAL, hi = -HUGE_VAL;
     for (double dz : {-0.1, -0.05, 0.0, 0.05, 0.1}) {
-      const double a = section_area(filled.mesh, layer.z + dz);
+      const double a = test::section_area(filled.mesh, layer.z + dz);
       lo = std::min(lo, a), hi = std::max(hi, a);
     }
     EXPECT_GE(layer.area, lo - 0.01 * hi) << "layer " << layer.index << " z " << layer.z;

@@ -471,4 +471,23 @@ double tet_section_area(const TetMesh& mesh, double z) {
   return total;
 }
 
+double section_area(const TriangleSoup& mesh, double z) {
+  double twice = 0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 p[3] = {mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]};
+    Vec3 cut[2];
+    int n = 0;
+    for (int e = 0; e < 3; ++e) {
+      const Vec3 a = p[e], b = p[(e + 1) % 3];
+      if ((a.z < z) != (b.z < z)) cut[n++] = a + ((z - a.z) / (b.z - a.z)) * (b - a);
+    }
+    if (n != 2) continue;
+    const Vec3 normal = cross(p[1] - p[0], p[2] - p[0]);
+    Vec3 d = cut[1] - cut[0];
+    if (d.y * normal.x - d.x * normal.y < 0) std::swap(cut[0], cut[1]);
+    twice += cut[0].x * cut[1].y - cut[1].x * cut[0].y;
+  }
+  return 0.5 * twice;
+}
+
 }  // namespace tpmsfill::test

@@ -45,6 +45,10 @@ TetMesh make_tet_grid(Vec3 min, Vec3 max, std::array<int, 3> cells, double jitte
 /// The area of a tet mesh's cross-section by the plane at height z, mm²: each tet's section
 /// (a triangle or a convex quad) by the shoelace rule.
 double tet_section_area(const TetMesh& mesh, double z);
+/// The area of a closed, outward surface's cross-section at height z, mm²: the segments where
+/// its triangles cross the plane, each oriented with the solid on its left (its triangle's
+/// outward normal on its right), summed by the shoelace rule.
+double section_area(const TriangleSoup& mesh, double z);
 /// Two tetrahedra sharing one apex: closed, but the shared vertex is pinched (non-manifold).
 TriangleSoup make_bow_tie();
 /// Open surfaces (seed 004's layouts): an n × n grid of squares over [0, L]² lifted by z(x, y),

@@ -23,30 +23,6 @@
 
 using namespace tpmsfill;
 
-namespace {
-
-double surface_section_area(const TriangleSoup& s, double z) {
-  double area = 0;
-  for (const Triangle& t : s.triangles) {
-    const Vec3 p[3] = {s.points[t[0]], s.points[t[1]], s.points[t[2]]};
-    Vec3 hits[2];
-    int n = 0;
-    for (int e = 0; e < 3 && n < 2; ++e) {
-      const Vec3 a = p[e], b = p[(e + 1) % 3];
-      if ((a.z < z) == (b.z < z)) continue;
-      hits[n++] = a + ((z - a.z) / (b.z - a.z)) * (b - a);
-    }
-    if (n < 2) continue;
-    // Outer boundaries run counter-clockwise seen from +z: the outward normal is on the right.
-    const Vec3 normal = cross(p[1] - p[0], p[2] - p[0]), d = hits[1] - hits[0];
-    if (d.y * normal.x - d.x * normal.y < 0) std::swap(hits[0], hits[1]);
-    area += (hits[0].x * hits[1].y - hits[1].x * hits[0].y) / 2;
-  }
-  return area;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   if (argc < 5) {
     std::fprintf(stderr, "usage: bench_solid_slice MODEL.tsm SURFACE TETS|- TAU...\n");
@@ -63,7 +39,7 @@ int main(int argc, char** argv) {
       "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (double share : {0.2, 0.4, 0.6, 0.8}) {
     const double z = box.min.z + share * (box.max.z - box.min.z);
-    const double expected = surface_section_area(surface, z);
+    const double expected = test::section_area(surface, z);
     const double tet_area = with_tets ? test::tet_section_area(tets, z) : std::nan("");
     for (int k = 4; k < argc; ++k) {
       const double tau = std::atof(argv[k]);
