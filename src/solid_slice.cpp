@@ -156,7 +156,7 @@ class LevelSetFinder {
     return out;
   }
 
-  double size() const { return size_; }
+  const Box3& box() const { return box_; }  // of the control points, which hold the solid
 
  private:
   double scalar(const SolidPoint& p) const {
@@ -167,12 +167,11 @@ class LevelSetFinder {
   // octree node the union over its leaves.
   void element_ranges() {
     const SplineBasis& b = spline_.basis;
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3& p : spline_.geometry) {
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      box_.min = {std::min(box_.min.x, p.x), std::min(box_.min.y, p.y), std::min(box_.min.z, p.z)};
+      box_.max = {std::max(box_.max.x, p.x), std::max(box_.max.y, p.y), std::max(box_.max.z, p.z)};
     }
-    size_ = std::max(norm(hi - lo), 1e-300);
+    size_ = std::max(norm(box_.max - box_.min), 1e-300);
     ranges_.resize(b.elements.size());
     for (std::size_t e = 0; e < b.elements.size(); ++e) {
       std::array<double, 64> local{};
@@ -346,6 +345,7 @@ class LevelSetFinder {
   double value_;
   SolidSliceOptions options_;
   bool dyadic_ = true;
+  Box3 box_;
   double size_ = 1;
   int level_ = 0;
   std::size_t evaluations_ = 0;
@@ -393,16 +393,16 @@ std::vector<Contour> border_contours(const SolidLevelSet& mesh) {
   return contours;
 }
 
-double default_tau(double size) {
-  return std::pow(size / 64, 3);
-}
-
 }  // namespace
+
+double default_slice_tau(const Box3& box) {
+  return std::pow(norm(box.max - box.min) / 64, 3);
+}
 
 SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOptions& options) {
   check_options(spline, options);
   LevelSetFinder finder(spline, 2, z, options);
-  const double tau = options.tau > 0 ? options.tau : default_tau(finder.size());
+  const double tau = options.tau > 0 ? options.tau : default_slice_tau(finder.box());
   SolidSection section;
   section.z = z;
   section.mesh = finder.extract(finder.cells(tau));
@@ -423,7 +423,7 @@ SolidLevelSet iso_material_surface(const SolidSpline& spline, double m,
   check_options(spline, options);
   if (spline.material.empty()) throw InputError("the spline has no material");
   LevelSetFinder finder(spline, 3, m, options);
-  const double tau = options.tau > 0 ? options.tau : default_tau(finder.size());
+  const double tau = options.tau > 0 ? options.tau : default_slice_tau(finder.box());
   return finder.extract(finder.cells(tau));
 }
 

@@ -377,8 +377,8 @@ struct FieldFit {
     return std::sqrt(total);
   }
 
-  // Gauss points where det J_G ≤ 0 (G only).
-  std::size_t folds() const {
+  // Gauss points where det J_G ≤ 0.
+  std::size_t folds() const requires(Dim == 3) {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     std::vector<std::uint32_t> count(basis.elements.size(), 0);
     detail::parallel_for(count.size(), 64, [&](std::size_t begin, std::size_t end) {
@@ -387,9 +387,9 @@ struct FieldFit {
         for (int s = 0; s < kCellSamples; ++s) {
           const LocalValue<Dim> at(local_basis(basis, e, quadrature.uvw[e * kCellSamples + s], 1),
                                    local.data(), 1);
-          const Vec3 j[3] = {{at.first[0][0], at.first[0][Dim > 1], at.first[0][Dim > 2 ? 2 : 0]},
-                             {at.first[1][0], at.first[1][Dim > 1], at.first[1][Dim > 2 ? 2 : 0]},
-                             {at.first[2][0], at.first[2][Dim > 1], at.first[2][Dim > 2 ? 2 : 0]}};
+          const Vec3 j[3] = {{at.first[0][0], at.first[0][1], at.first[0][2]},
+                             {at.first[1][0], at.first[1][1], at.first[1][2]},
+                             {at.first[2][0], at.first[2][1], at.first[2][2]}};
           count[e] += dot(cross(j[0], j[1]), j[2]) <= 0;
         }
       }
@@ -587,6 +587,13 @@ void check_options(const TetMesh& mesh, const CubeMap& map, const SolidFitOption
     throw InputError("the fit's refinement rounds and sigmas must not be negative");
   if (o.uniform != 0 && o.uniform < 4)
     throw InputError("a uniform cubic spline needs at least 4 control points per axis");
+  // About 4 KB a control point while fitting (50³ = 125,000 peaked at 504 MB, benchmarks §21).
+  if (o.uniform > 100)
+    throw InputError("a uniform spline of " + std::to_string(o.uniform) +
+                     "³ control points would "
+                     "need about " +
+                     std::to_string(std::lround(4e-6 * std::pow(o.uniform, 3))) +
+                     " GB to fit; at most 100 per axis (1,000,000 control points)");
 }
 
 // Splits the leaves whose residual (G's or M's) exceeds mean + sigmas · σ.

@@ -129,6 +129,7 @@ TEST(SolidSpline, UniformBaselineHasNCubedControlPoints) {
   EXPECT_EQ(fit.spline.geometry.size(), 343u);
   EXPECT_GT(fit.rounds[0].geometry_rs, 0);
   EXPECT_THROW(fit_solid_spline(ball, map, {.uniform = 3}), InputError);
+  EXPECT_THROW(fit_solid_spline(ball, map, {.uniform = 101}), InputError);  // GBs: refused
   EXPECT_THROW(fit_solid_spline(ball, map, {.step = 0}), InputError);
 }
 

@@ -37,7 +37,7 @@ namespace tpmsfill {
 
 struct SolidSliceOptions {
   /// Split cells while their Euclidean volume exceeds this, mm³ (seed: 10, 1, 0.1 on a femur's
-  /// end); 0: (the solid's box diagonal / 64)³.
+  /// end); 0: default_slice_tau() of the control points' box (which holds the solid).
   double tau = 0;
   int initial_level = 1;  ///< the uniform start (seed: 1)
   /// Never split below this level (256 cells per axis). Every crossed cell of a layer is
@@ -46,6 +46,9 @@ struct SolidSliceOptions {
   /// layer of bear.off.
   int max_level = 8;
 };
+
+/// The τ used when none is given: (the box's diagonal / 64)³, cells about 1/64 of the part.
+double default_slice_tau(const Box3& box);
 
 /// A triangulated level set with the material at its vertices.
 struct SolidLevelSet {

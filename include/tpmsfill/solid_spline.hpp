@@ -95,7 +95,8 @@ struct SolidFit {
 /// @param[in] mesh  the tets the map was made from (material per point, or none)
 /// @param[in] map   map_to_cube(mesh)
 /// @throws InputError  a map of another mesh; options out of range (steps not in (0, 1],
-///                     negative λ or γ, fewer than 1 iteration, a uniform count below 4)
+///                     negative λ or γ, fewer than 1 iteration, a uniform count below 4 or
+///                     above 100)
 /// @throws Cancelled   options.progress asked to stop
 SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map,
                           const SolidFitOptions& options = {});

@@ -44,6 +44,13 @@ struct MaterialArgs {
   bool json = false, quiet = false;
 };
 
+// A path's extension in lower case (".TSM" is a model too).
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
 double number_argument(const std::string& text, const std::string& what) {
   const std::optional<double> value = detail::as_number(text);
   if (!value || !std::isfinite(*value))
@@ -238,11 +245,10 @@ int run_model_info(const MaterialArgs& a) {
 }
 
 int run_material_info(const MaterialArgs& a) {
-  if (std::filesystem::path(a.input).extension() == ".tsm") return run_model_info(a);
+  if (lower_extension(a.input) == ".tsm") return run_model_info(a);
   if (!a.tets_output.empty()) {
     // What write_tet_mesh() takes, checked before the work rather than after it.
-    std::string ext = std::filesystem::path(a.tets_output).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = lower_extension(a.tets_output);
     if (ext != ".vtk" && ext != ".mesh")
       throw InputError("--tets " + a.tets_output + ": a tet mesh is written as .vtk or .mesh");
     require_writable_outputs({a.input}, {{"--tets", a.tets_output}});
@@ -269,7 +275,7 @@ int run_material_info(const MaterialArgs& a) {
 }
 
 int run_material_fit(const MaterialArgs& a) {
-  if (std::filesystem::path(a.output).extension() != ".tsm")
+  if (lower_extension(a.output) != ".tsm")
     throw InputError(a.output + ": a solid spline model is written as .tsm");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
@@ -397,7 +403,7 @@ Command add_material_command(CLI::App& app) {
       ->check(CLI::Range(2, 12));
   fit->add_option("--uniform", args->fit.uniform,
                   "Fit a uniform tensor-product spline with N^3 control points instead")
-      ->check(CLI::Range(4, 1024));
+      ->check(CLI::Range(4, 100));
   fit->add_option("--step", args->fit.step, "The Euler step epsilon (default 0.5; seed 0.4-0.6)")
       ->check(between(0.01, 1, "0.01 to 1"));
   fit->add_option("--refinements", args->fit.refinements,

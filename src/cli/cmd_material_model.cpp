@@ -84,7 +84,7 @@ int run_material_slice(const ModelArgs& a) {
   const double start = a.start.value_or(box.min.z);
   const std::uint64_t count = layer_count(box, {.layer = a.layer, .start = start});
   const auto [lo, hi] = material_range(spline);
-  const double tau = a.tau > 0 ? a.tau : std::pow(norm(box.max - box.min) / 64, 3);
+  const double tau = a.tau > 0 ? a.tau : default_slice_tau(box);
   const LayerFileOptions files{.format = format,
                                .bounds = box,
                                .layer_count = count,
@@ -189,8 +189,9 @@ int run_material_iso(const ModelArgs& a) {
   const SolidModel model = read_solid_model(a.input);
   const SolidSpline& spline = model.fit.spline;
   if (spline.material.empty()) throw InputError(a.input + " has no material (fitted without one)");
+  const auto [lo, hi] = material_range(spline);
   const Box3 box = solid_box(spline);
-  const double tau = a.tau > 0 ? a.tau : std::pow(norm(box.max - box.min) / 64, 3);
+  const double tau = a.tau > 0 ? a.tau : default_slice_tau(box);
   TriangleSoup all;
   nlohmann::ordered_json surfaces = nlohmann::ordered_json::array();
   ItemProgress progress(a.quiet, "material iso");
@@ -212,9 +213,8 @@ int run_material_iso(const ModelArgs& a) {
     const auto [open, over] = edge_counts(s);
     if (s.triangles.empty())
       warnings.push_back("no surface at material " + std::to_string(a.values[v]) +
-                         " (the solid's material spans " +
-                         std::to_string(material_range(spline).first) + " to " +
-                         std::to_string(material_range(spline).second) + ")");
+                         " (the solid's material spans " + std::to_string(lo) + " to " +
+                         std::to_string(hi) + ")");
     surfaces.push_back({{"material", a.values[v]},
                         {"triangles", s.triangles.size()},
                         {"area_mm2", area},
