@@ -1,14 +1,18 @@
 // Seed 001's model of a solid with a material through it: a closed genus-0 surface filled with
 // tets, a material (the distance to the surface's lowest corner, the seed's duck rule), the
-// cube map, then G and M fitted as cubic THB splines, written as a model, and the material asked
-// at points in mm through G^-1.
+// cube map, then G and M fitted as cubic THB splines, written as a model, the material asked
+// at points in mm through G^-1, and a gyroid filling the surface graded by that material.
 //
 //   07_solid_spline SURFACE [OUT.tsm]
+#include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/material.hpp>
+#include <tpmsfill/material_volume.hpp>
 #include <tpmsfill/solid_inverse.hpp>
 #include <tpmsfill/solid_model.hpp>
 #include <tpmsfill/tetrahedralize.hpp>
@@ -47,6 +51,21 @@ int main(int argc, char** argv) {
       else
         std::printf("(%.3g, %.3g, %.3g) mm: outside the solid\n", p.x, p.y, p.z);
     }
+    // A gyroid whose porosity follows the material: 0.5 near the corner, 0.8 far from it. The
+    // material is sampled once onto a volume (M(G^-1) on a coarse grid), then read trilinearly.
+    const auto material = std::make_shared<const ScalarVolume>(material_volume(fit.spline).volume);
+    const Vec3 size = box.max - box.min;
+    const double cell = std::min({size.x, size.y, size.z}) / 3;
+    FillOptions job;
+    job.design.cell = {cell, cell, cell};
+    job.design.grading.push_back(
+        {Graded::Porosity,
+         {.shape = RampShape::Volume, .start = 0.5, .end = 0.8, .volume = material}});
+    job.grid.voxel_size = cell / 16;
+    const FillResult graded = fill(read_mesh(argv[1]), job);
+    std::printf("graded gyroid: %zu triangles, porosity %.1f %% (%s)\n",
+                graded.mesh.triangles.size(), 100 * graded.report.porosity(),
+                grading_label(graded.resolved.design.grading[0]).c_str());
     return 0;
   } catch (const Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -63,7 +63,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -797,6 +797,39 @@ print(f"\n`material slice` of {sys.argv[2]}: {d['layers']} layers of {d['layer_m
       f"({d['tau_mm3']:.3g}): {d['triangles']} triangles, {d['flipped']} turned over, "
       f"{float(sys.argv[3]):.1f} s, {int(sys.argv[4]) / 1024:.0f} MB peak")
 PY
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-grade ]]; then
+  echo
+  echo "## 23. seed 001: a lattice graded by the fitted material (bench_material_volume, fill --grade-by)"
+  extract_material_meshes
+  for name in bunny00 bear fandisk; do
+    f="$tmp/mat/$name.off"
+    material_sizes "$f" || continue
+    ./build/tpmsfill material fit "$f" "$tmp/$name.tsm" --cell "$cell" --material geodesic "$depth" \
+      --quiet 2>/dev/null
+    echo
+    echo "### $name (diagonal $diag; material: geodesic distance to the bottom)"
+    echo
+    ./build/tests/bench_material_volume "$tmp/$name.tsm" 32 64 128
+    lattice_cell=$(python3 -c "print('%.3g' % ($diag / 8))")
+    voxel=$(python3 -c "print('%.3g' % ($diag / 120))")
+    for run in plain graded; do
+      if [[ $run == plain ]]; then args=(--porosity 0.65); else
+        args=(--grade porosity 0.5 0.8 --grade-by "$tmp/$name.tsm"); fi
+      timed ./build/tpmsfill fill "$f" "$tmp/$run.stl" --cell "$lattice_cell" --voxel "$voxel" \
+        "${args[@]}" --quiet --report "$tmp/$run.json" 2>/dev/null
+      python3 - "$tmp/$run.json" "$run" "$wall" "$kb" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+g = d["recipe"]["grading"]
+what = f"porosity 0.5 to 0.8 by the material ({g[0]['from']:.4g} to {g[0]['to']:.4g})" if g else "porosity 0.65"
+print(f"\n`fill` {sys.argv[2]} ({what}): porosity {100 * d['porosity']:.1f} %, "
+      f"{d['output']['triangles']} triangles, valid {d['valid']}, "
+      f"{float(sys.argv[3]):.1f} s, {int(sys.argv[4]) / 1024:.0f} MB peak")
+PY
+    done
   done
 fi
 

@@ -120,6 +120,10 @@ if [[ -f "$femur_tarball" ]] && tar -xzf "$femur_tarball" -C "$work" --strip-com
   "$tpmsfill" field fit "$work/skull_2.9.inr" "$work/skull.itdf" --coefficients 32 \
     --solid 2.9 inf --quiet && have_skull=1
 fi
+# Seed 001's solid with a material (issue 18): Debian's bunny, fitted in image_material.
+if [[ -f "$femur_tarball" ]]; then
+  tar -xzf "$femur_tarball" -C "$work" --strip-components=2 data/meshes/bunny00.off || true
+fi
 python3 scripts/sponge_field.py "$work/sponge.tdf"
 "$tpmsfill" field fit "$work/sponge.tdf" "$work/sponge.itdf" --coefficients 24 --solid 0 inf --quiet
 "$tpmsfill" field fit "$work/sponge.tdf" "$work/sponge-sheet.itdf" --coefficients 24 \
@@ -251,6 +255,57 @@ check_shot() {
   printf '%-28s %s\n' "$name" "$status"
 }
 
+# steps_shot NAME INPUT "what to look for" COMMAND...: runs each COMMAND (tpmsfill's subcommand
+# and arguments, or `cp FROM TO`) in $work, the last one leaving NAME.png there, which goes to
+# OUT_DIR. The page shows the commands as given, each prefixed by tpmsfill. A step already run
+# for an earlier image (the same model fit) is not run again: its outputs are still there.
+declare -A steps_run=()
+steps_shot() {
+  local name=$1 input=$2 note=$3 shown="" step p code=0
+  shift 3
+  for step in "$@"; do
+    [[ "$step" == cp\ * ]] && shown+="$step"$'\n' || shown+="tpmsfill $step"$'\n'
+  done
+  names+=("$name") fill_commands+=("${shown%$'\n'}") render_commands+=("") notes+=("$note")
+  local status=""
+  if ((${#patterns[@]})); then
+    status="not selected"
+    for p in "${patterns[@]}"; do
+      # shellcheck disable=SC2053  # the pattern is meant to match as a glob
+      [[ "$name" == $p ]] && status=""
+    done
+  fi
+  [[ -n "$status" || -f "$work/$input" ]] || status="skipped: no $input (apt-get install libcgal-demo)"
+  if [[ -n "$status" ]]; then
+    statuses+=("$status")
+    [[ "$status" == "not selected" ]] || printf '%-28s %s\n' "$name" "$status"
+    return 0
+  fi
+  local t0 t1
+  t0=$(now)
+  for step in "$@"; do
+    [[ -z "${steps_run[$step]:-}" ]] || continue
+    steps_run[$step]=1
+    # shellcheck disable=SC2086  # the steps are words
+    if [[ "$step" == cp\ * ]]; then
+      (cd "$work" && $step) 2>"$work/$name.err" || code=$?
+    else
+      (cd "$work" && "$tpmsfill" $step --quiet) 2>"$work/$name.err" || code=$?
+    fi
+    ((code == 0)) || break
+  done
+  t1=$(now)
+  if ((code != 0)); then
+    status="FAILED (exit $code): $(grep -v warning "$work/$name.err" | head -n 1)"
+  else
+    mv "$work/$name.png" "$out_dir/$name.png"
+    status=$(awk -v f="$t1" -v s="$t0" -v kb="$(($(stat -c %s "$out_dir/$name.png") / 1024))" \
+      'BEGIN { printf "made: %.1f s, %d KB", f - s, kb }')
+  fi
+  statuses+=("$status")
+  printf '%-28s %s\n' "$name" "$status"
+}
+
 # --- the features, one function each ------------------------------------------------------------
 
 types=(primitive gyroid diamond iwp neovius frd lidinoid splitp)
@@ -354,6 +409,29 @@ image_check() {
     "Debian's elephant with holes, as a scan comes: each hole's rim drawn in the border colour, thick and over the surface, paler where the body hides it; the legend counts every defect class"
 }
 
+# Seed 001 (issue 18): Debian's bunny as a 10 mm solid (--units cm) whose material is the
+# distance to a point by its front paws, fitted once (`material fit`, about 20 s), then sliced
+# directly with the material in colour, cut into surfaces of equal material, and filled with a
+# gyroid whose porosity follows the material.
+image_material() {
+  local fit="material fit bunny00.off bunny.tsm --units cm --material point -3 -4.5 0"
+  steps_shot material-slice bunny00.off \
+    "a layer through the middle of the bunny (z = 0 to 0.5 mm), sliced from the splines without a mesh: each point coloured by its material, the distance to a point by the front paws (blue near, yellow far); the ear's tip is lost where the fit squeezes thin parts (docs/benchmarks.md §22)" \
+    "$fit" \
+    "material slice bunny.tsm layers --layer 0.5 --start 0 --format png --colour --pixel 0.03" \
+    "cp layers/layer_00000.png material-slice.png"
+  steps_shot material-iso bunny00.off \
+    "the surfaces where the material is 3, 5, 7 and 9 mm: nested shells around the point, open where they meet the bunny's surface (their back faces in the warm tint)" \
+    "$fit" \
+    "material iso bunny.tsm iso.ply --values 3 5 7 9" \
+    "render iso.ply material-iso.png --view z --size 480"
+  steps_shot material-graded bunny00.off \
+    "a gyroid whose porosity follows the material, 0.3 near the point to 0.9 far from it, cut open at z = 0: the walls thin from the paws to the back" \
+    "$fit" \
+    "fill bunny00.off graded.stl --units cm --cell 1.2 --voxel 0.04 --grade porosity 0.3 0.9 --grade-by bunny.tsm" \
+    "render graded.stl material-graded.png --view z --clip z 0 --size 480"
+}
+
 # >>> HYBRID RECIPES SLOT: every docs/recipes/*.json, filled into the 20 mm cube, image named
 # >>> after the recipe. The fill gets only --recipe and --voxel: lattice types, cells and the
 # >>> blend region come from the recipe.
@@ -373,7 +451,7 @@ image_recipes() {
 
 features=(image_types image_porosity image_rotation image_grade_linear image_grade_radial
   image_grade_depth image_grade_cell image_skin image_femur_gyroid image_field image_conformal
-  image_check image_recipes)
+  image_material image_check image_recipes)
 for feature in "${features[@]}"; do "$feature"; done
 
 # --- the page ----------------------------------------------------------------------------------
@@ -509,6 +587,23 @@ TEXT
   printf '| **face** | **blade** |\n| %s | %s |\n\n' "$(picture conformal-face)" \
     "$(picture conformal-blade)"
   for name in conformal-hemisphere conformal-wave conformal-face conformal-blade; do
+    commands "$name"
+    i=$(index_of "$name")
+    printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
+  done
+  cat <<'TEXT'
+## Materials through a solid (seed 001)
+
+A solid and a material through it as two trivariate splines (`tpmsfill material fit`), then
+used without a mesh of the solid: printer layers with their material (`material slice`, here
+`--colour` for people; printers get grey = material), surfaces of equal material (`material
+iso`), and a lattice graded by the material (`fill --grade-by`). Debian's bunny, 10 mm.
+
+TEXT
+  printf '| slice, coloured by material | equal-material surfaces | graded gyroid |\n|:---:|:---:|:---:|\n'
+  printf '| %s | %s | %s |\n\n' "$(picture material-slice)" "$(picture material-iso)" \
+    "$(picture material-graded)"
+  for name in material-slice material-iso material-graded; do
     commands "$name"
     i=$(index_of "$name")
     printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"

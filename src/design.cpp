@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
+#include "detail/box_samples.hpp"
 #include "detail/names.hpp"
 #include "detail/polygon_miter.hpp"
 #include "detail/region_distance.hpp"
@@ -22,8 +24,10 @@ constexpr detail::Named<Graded> kGraded[] = {{Graded::Porosity, "porosity"},
                                              {Graded::Level, "level"},
                                              {Graded::Thickness, "thickness"},
                                              {Graded::Cell, "cell"}};
-constexpr detail::Named<RampShape> kRamps[] = {
-    {RampShape::Linear, "linear"}, {RampShape::Radial, "radial"}, {RampShape::Depth, "depth"}};
+constexpr detail::Named<RampShape> kRamps[] = {{RampShape::Linear, "linear"},
+                                               {RampShape::Radial, "radial"},
+                                               {RampShape::Depth, "depth"},
+                                               {RampShape::Volume, "volume"}};
 constexpr detail::Named<RegionShape> kRegions[] = {{RegionShape::HalfSpace, "half-space"},
                                                    {RegionShape::Slab, "slab"},
                                                    {RegionShape::Sphere, "sphere"},
@@ -56,6 +60,7 @@ struct RampEval {
   RampShape shape = RampShape::Linear;
   Vec3 point, axis;  // axis unit (zero: spherical)
   double from = 0, to = 1, start = 0, end = 0;
+  std::shared_ptr<const ScalarVolume> volume;
 
   explicit RampEval(const Ramp& r)
       : shape(r.shape),
@@ -64,7 +69,8 @@ struct RampEval {
         from(r.from.value_or(0)),
         to(r.to.value_or(1)),
         start(r.start),
-        end(r.end) {}
+        end(r.end),
+        volume(r.volume) {}
 
   // Distance from the axis (or the point), and the unit direction away from it.
   double radius(Vec3 p, Vec3* direction) const {
@@ -75,6 +81,7 @@ struct RampEval {
     return r;
   }
   double coordinate(Vec3 p) const {
+    if (shape == RampShape::Volume) return sample_volume(*volume, p);
     return shape == RampShape::Linear ? dot(p - point, axis) : radius(p, nullptr);
   }
   double fraction(double t) const { return std::clamp((t - from) / (to - from), 0.0, 1.0); }
@@ -131,6 +138,10 @@ std::string grading_label(const Grading& g) {
   const Ramp& r = g.ramp;
   if (r.shape == RampShape::Depth) {
     s += " by depth";
+  } else if (r.shape == RampShape::Volume) {
+    s += " by the values of " + (r.volume_file.empty()
+                                     ? std::string("a volume")
+                                     : std::filesystem::path(r.volume_file).filename().string());
   } else {
     const char* axes[] = {"x", "y", "z"};
     std::string along;
@@ -143,7 +154,9 @@ std::string grading_label(const Grading& g) {
   }
   if (r.from && r.to) {
     char range[96];
-    std::snprintf(range, sizeof range, " (%.4g to %.4g mm)", *r.from, *r.to);
+    std::snprintf(range, sizeof range,
+                  r.shape == RampShape::Volume ? " (%.4g to %.4g)" : " (%.4g to %.4g mm)", *r.from,
+                  *r.to);
     s += range;
   }
   return s;
@@ -261,6 +274,14 @@ void require_valid(const LatticeDesign& d) {
       throw InputError("the " + what + " grading has a value or position that is not finite");
     if (r.shape == RampShape::Linear && norm(r.axis) == 0)
       throw InputError("the " + what + " grading's linear ramp needs a non-zero axis");
+    if (r.shape == RampShape::Volume) {
+      if (!r.volume) throw InputError("the " + what + " grading's volume ramp has no volume");
+      require_valid(*r.volume);
+      if (!r.volume->has_physical_size())
+        throw InputError("the " + what +
+                         " grading's volume has no physical size (spacing): it cannot be placed "
+                         "in mm");
+    }
     if (r.from && r.to && *r.from == *r.to)
       throw InputError("the " + what + " grading's ramp starts and ends at the same place");
     switch (g.what) {
@@ -282,10 +303,11 @@ void require_valid(const LatticeDesign& d) {
         break;
       case Graded::Cell:
         if (!(r.start > 0 && r.end > 0)) throw InputError("graded cell sizes must be positive");
-        if (r.shape == RampShape::Depth)
-          throw InputError(
-              "the cell size cannot be graded by depth: the phase could not stay continuous "
-              "(grade it along a direction or radially)");
+        if (r.shape == RampShape::Depth || r.shape == RampShape::Volume)
+          throw InputError("the cell size cannot be graded by " +
+                           std::string(r.shape == RampShape::Depth ? "depth" : "a volume") +
+                           ": the phase could not stay continuous (grade it along a direction "
+                           "or radially)");
         break;
     }
   }
@@ -295,16 +317,24 @@ void require_valid(const LatticeDesign& d) {
 // axis, radial ones from its centre to its farthest corner, depth 0 to a quarter of its
 // smallest side. `what` names the ramp in errors.
 Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what) {
-  if ((ramp.point || ramp.shape == RampShape::Depth) && ramp.from && ramp.to) return ramp;
+  const bool placed = ramp.shape == RampShape::Depth || ramp.shape == RampShape::Volume;
+  if ((ramp.point || placed) && ramp.from && ramp.to) return ramp;
   if (model.empty())
     throw InputError("the " + what + " needs explicit positions (no model to span)");
   const Vec3 centre = model.centre(), size = model.size();
-  if (ramp.shape != RampShape::Depth)
-    ramp.point = ramp.point.value_or(ramp.shape == RampShape::Radial ? centre : Vec3{});
+  if (!placed) ramp.point = ramp.point.value_or(ramp.shape == RampShape::Radial ? centre : Vec3{});
   ramp.axis = unit(ramp.axis);
   double lo = 0, hi = 0;
   if (ramp.shape == RampShape::Depth) {
     hi = 0.25 * std::fmin(size.x, std::fmin(size.y, size.z));
+  } else if (ramp.shape == RampShape::Volume) {
+    if (!ramp.volume) throw InputError("the " + what + " has no volume");
+    const RampEval e(ramp);
+    lo = HUGE_VAL, hi = -HUGE_VAL;
+    detail::for_each_box_sample(model, 16, [&](Vec3 p) {
+      const double t = e.coordinate(p);
+      lo = std::fmin(lo, t), hi = std::fmax(hi, t);
+    });
   } else {
     const RampEval e(ramp);
     lo = ramp.shape == RampShape::Radial ? 0 : HUGE_VAL, hi = -HUGE_VAL;
@@ -323,11 +353,18 @@ Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what) {
   return ramp;
 }
 
+double ramp_coordinate(const Ramp& ramp, Vec3 p) {
+  if (ramp.shape == RampShape::Depth)
+    throw InputError(
+        "a depth ramp needs the model's occupancy; ramp_coordinate takes linear, radial or "
+        "volume");
+  if (ramp.shape == RampShape::Volume && !ramp.volume)
+    throw InputError("a volume ramp without its volume");
+  return RampEval(ramp).coordinate(p);
+}
+
 double ramp_value(const Ramp& resolved, Vec3 p) {
-  if (resolved.shape == RampShape::Depth)
-    throw InputError("a depth ramp needs the model's occupancy; ramp_value takes linear or radial");
-  const RampEval e(resolved);
-  return e.value(e.coordinate(p));
+  return RampEval(resolved).value(ramp_coordinate(resolved, p));
 }
 
 Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int counts) {

@@ -160,16 +160,22 @@ std::string svg_header(const LayerFileOptions& o) {
 
 constexpr std::string_view kSvgTrailer = "</g>\n</svg>\n";
 
-// The material scale: blue (0) → green (½) → yellow (1), linear between, as "#rrggbb".
-std::string material_colour(double m, double lo, double hi) {
+// The material scale at t ∈ [0, 1]: blue (0) → green (½) → yellow (1), linear between.
+std::array<std::uint8_t, 3> material_rgb(double t) {
   static constexpr double kStops[3][3] = {{0.15, 0.25, 0.75}, {0.2, 0.7, 0.35}, {0.95, 0.85, 0.2}};
-  const double t = hi > lo ? std::clamp((m - lo) / (hi - lo), 0.0, 1.0) : 0.5;
   const int i = t < 0.5 ? 0 : 1;
   const double s = 2 * t - i;
-  unsigned rgb[3];
+  std::array<std::uint8_t, 3> rgb;
   for (int c = 0; c < 3; ++c)
-    rgb[c] =
-        static_cast<unsigned>(std::lround(255 * ((1 - s) * kStops[i][c] + s * kStops[i + 1][c])));
+    rgb[c] = static_cast<std::uint8_t>(
+        std::lround(255 * ((1 - s) * kStops[i][c] + s * kStops[i + 1][c])));
+  return rgb;
+}
+
+// The scale's colour of m between lo and hi, as "#rrggbb".
+std::string material_colour(double m, double lo, double hi) {
+  const std::array<std::uint8_t, 3> rgb =
+      material_rgb(hi > lo ? std::clamp((m - lo) / (hi - lo), 0.0, 1.0) : 0.5);
   std::array<char, 8> hex;
   std::snprintf(hex.data(), hex.size(), "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
   return hex.data();
@@ -461,11 +467,23 @@ void LayerFileWriter::Impl::write_folder_layer(const Layer& layer) {
     if (!has_plane(layer.field) && !layer.contours.empty() && layer.material.triangles.empty())
       throw InputError("layer " + std::to_string(layer.index) +
                        " has contours but no plane field to draw the PNG from");
-    const std::vector<std::uint8_t> image = rasterise(layer, raster);
+    std::vector<std::uint8_t> image = rasterise(layer, raster);
+    int channels = 1;
+    if (options.material_colour && !layer.material.triangles.empty()) {
+      // Grey 1 + 254 t back to t, on the material scale; 0 (empty) is the white page.
+      std::vector<std::uint8_t> rgb(image.size() * 3, 255);
+      for (std::size_t n = 0; n < image.size(); ++n)
+        if (image[n]) {
+          const std::array<std::uint8_t, 3> c = material_rgb((image[n] - 1) / 254.0);
+          std::copy(c.begin(), c.end(), rgb.begin() + 3 * n);
+        }
+      image = std::move(rgb);
+      channels = 3;
+    }
     const double per_metre = std::round(1000 / options.pixel);
     const auto phys = static_cast<std::uint32_t>(
         std::clamp(per_metre, 1.0, double{std::numeric_limits<std::uint32_t>::max()}));
-    bytes = detail::encode_png(raster.width, raster.height, 1, image.data(), phys);
+    bytes = detail::encode_png(raster.width, raster.height, channels, image.data(), phys);
   } else {
     bytes = svg_header(options);
     append_svg_layer(bytes, layer, true);

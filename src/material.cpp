@@ -91,31 +91,9 @@ std::vector<double> volume_material(const TetMesh& mesh, const ScalarVolume& vol
   std::vector<double> values(mesh.points.size());
   std::uint64_t beyond = 0;
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
-    int base[3];
-    double weight[3];
     bool out = false;
-    for (int a = 0; a < 3; ++a) {
-      // Continuous cell index: cell centres at integers.
-      const double x = (mesh.points[v][a] - volume.origin[a]) / volume.spacing[a];
-      const double last = volume.dims[a] - 1;
-      out |= x < -0.5 || x > last + 0.5;
-      const double clamped = std::clamp(x, 0.0, last);
-      base[a] = std::min(static_cast<int>(clamped), std::max(volume.dims[a] - 2, 0));
-      weight[a] = volume.dims[a] > 1 ? clamped - base[a] : 0.0;
-    }
+    values[v] = sample_volume(volume, mesh.points[v], &out);
     beyond += out;
-    double sum = 0;
-    for (int c = 0; c < 8; ++c) {
-      double w = 1;
-      int at[3];
-      for (int a = 0; a < 3; ++a) {
-        const int bit = (c >> a) & 1;
-        w *= bit ? weight[a] : 1 - weight[a];
-        at[a] = std::min(base[a] + bit, volume.dims[a] - 1);
-      }
-      if (w != 0) sum += w * volume.at(at[0], at[1], at[2]);
-    }
-    values[v] = sum;
   }
   if (outside) *outside = beyond;
   return values;

@@ -11,6 +11,7 @@
 #include "detail/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/itdf.hpp"
+#include "tpmsfill/material_volume.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -250,13 +251,19 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   r.boolean("self_intersections", o.check_self_intersections);
   if (const json* v = r.get("custom"); v && !(v->is_boolean() && !v->get<bool>()))
     r.fail("custom", "a custom field is code: it cannot come from a recipe");
-  // A porous structure (ITDF), relative to the recipe's folder.
+  // Files named in the recipe are relative to its folder; the job's echo holds them as found,
+  // so that it finds them from anywhere.
+  auto beside_recipe = [&](const std::string& name) {
+    std::filesystem::path file = name;
+    if (file.is_relative()) file = std::filesystem::path(source).parent_path() / file;
+    return file;
+  };
+  // A porous structure (ITDF).
   if (r.get("field")) {
     r.text("field", o.design.structure_file);
-    std::filesystem::path file = o.design.structure_file;
-    if (file.is_relative()) file = std::filesystem::path(source).parent_path() / file;
+    const std::filesystem::path file = beside_recipe(o.design.structure_file);
     o.design.structure = read_itdf(file).structure;
-    o.design.structure_file = file.string();  // so the job's echo finds it from anywhere
+    o.design.structure_file = file.string();
   }
   if (const json* v = r.get("lattice")) {
     Reader l = r.object("lattice", *v);
@@ -269,6 +276,17 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
     item.name("what", g.what, graded_from_name);
     if (!item.get("what")) item.fail("what", "missing (porosity, level, thickness or cell)");
     g.ramp = read_ramp(item);
+    // A volume ramp's values: a fitted model's material (.tsm) or a volume file.
+    if (g.ramp.shape == RampShape::Volume) {
+      item.text("volume", g.ramp.volume_file);
+      if (g.ramp.volume_file.empty())
+        item.fail("volume", "missing: a volume ramp names its file (.tsm, .nrrd, .mha, ...)");
+      const std::filesystem::path file = beside_recipe(g.ramp.volume_file);
+      g.ramp.volume = std::make_shared<const ScalarVolume>(read_grading_volume(file));
+      g.ramp.volume_file = file.string();
+    } else if (item.get("volume")) {
+      item.fail("volume", "only a volume ramp reads a volume");
+    }
     o.design.grading.push_back(g);
   });
   if (r.get("blends")) o.design.blends.clear();
@@ -351,7 +369,9 @@ std::string recipe_json(const FillOptions& o) {
     e["what"] = graded_name(g.what);
     e["ramp"] = ramp_name(g.ramp.shape);
     if (g.ramp.point) e["point"] = vec(*g.ramp.point);
-    if (g.ramp.shape != RampShape::Depth) e["axis"] = vec(g.ramp.axis);
+    if (g.ramp.shape == RampShape::Linear || g.ramp.shape == RampShape::Radial)
+      e["axis"] = vec(g.ramp.axis);
+    if (g.ramp.shape == RampShape::Volume) e["volume"] = g.ramp.volume_file;
     if (g.ramp.from) e["from"] = *g.ramp.from;
     if (g.ramp.to) e["to"] = *g.ramp.to;
     e["start"] = g.ramp.start;

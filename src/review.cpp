@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "detail/box_samples.hpp"
 #include "detail/region_distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/field.hpp"
@@ -168,14 +169,7 @@ void review_layers(const std::vector<Layer>& layers, const ReviewOptions& o,
   }
 }
 
-// (n + 1)³ points spread through the box, its corners included.
-template <class F>
-void for_each_box_sample(const Box3& box, int n, F&& f) {
-  const Vec3 s = box.size();
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) f(box.min + Vec3{s.x * i / n, s.y * j / n, s.z * k / n});
-}
+using detail::for_each_box_sample;
 
 // Refuses a blend whose region misses the model's box; warns when what it covers of the box
 // holds fewer than 8 of the blended lattice's cells (2 per side: the lattice barely shows).
@@ -204,18 +198,12 @@ void review_blends(const LatticeDesign& design, const Box3& model,
 
 // The ramp coordinate's range over the model's box.
 std::pair<double, double> ramp_coordinates(const Ramp& ramp, const Box3& model) {
+  if (ramp.shape == RampShape::Depth) return {0, smallest(model.size()) / 2};
   double lo = INFINITY, hi = -INFINITY;
-  const Vec3 point = ramp.point.value_or(Vec3{});
-  const double length = norm(ramp.axis);
-  const Vec3 n = length > 0 ? (1 / length) * ramp.axis : Vec3{};
   for_each_box_sample(model, 16, [&](Vec3 p) {
-    const Vec3 d = p - point;
-    const double t = ramp.shape == RampShape::Linear ? dot(d, n)
-                     : length > 0                    ? norm(d - dot(d, n) * n)
-                                                     : norm(d);
+    const double t = ramp_coordinate(ramp, p);
     lo = std::min(lo, t), hi = std::max(hi, t);
   });
-  if (ramp.shape == RampShape::Depth) lo = 0, hi = smallest(model.size()) / 2;
   return {lo, hi};
 }
 
@@ -229,16 +217,33 @@ void review_ramps(const LatticeDesign& design, const Box3& model,
     const auto [lo, hi] = ramp_coordinates(r, model);
     const double a = std::min(*r.from, *r.to), b = std::max(*r.from, *r.to);
     const double seen = std::max(0.0, std::min(b, hi) - std::max(a, lo)) / std::max(b - a, 1e-300);
+    // A volume ramp's coordinate is the volume's own value, not a length.
+    const bool volume = r.shape == RampShape::Volume;
+    auto at = [&](double t) { return volume ? num(t) : mm(t); };
     const std::string what = "the " + std::string(graded_name(g.what)) + " ramp (" +
-                             std::string(ramp_name(r.shape)) + ", " + mm(*r.from) + " to " +
-                             mm(*r.to) + ")";
-    const std::string span = "the model spans " + mm(lo) + " to " + mm(hi) + " along it";
+                             std::string(ramp_name(r.shape)) + ", " + at(*r.from) + " to " +
+                             at(*r.to) + ")";
+    const std::string span =
+        volume ? "the volume's values over the model are " + at(lo) + " to " + at(hi)
+               : "the model spans " + at(lo) + " to " + at(hi) + " along it";
     if (seen <= 0)
       throw InputError(what + " misses the model: " + span +
                        ", so the whole part would get one value; set --grade-range within it");
     if (seen < 0.1)
       warnings.push_back(what + ": " + span + ", so only " + percent(seen) +
                          " of the change happens in the part");
+    if (volume) {
+      std::size_t beyond = 0, samples = 0;
+      for_each_box_sample(model, 16, [&](Vec3 p) {
+        bool out = false;
+        sample_volume(*r.volume, p, &out);
+        beyond += out, ++samples;
+      });
+      if (beyond * 10 > samples)
+        warnings.push_back(what + ": " + percent(double(beyond) / samples) +
+                           " of the model's box lies beyond the volume, where its border values "
+                           "are repeated");
+    }
     if (r.shape == RampShape::Radial && r.point) {
       const Vec3 c = *r.point;
       if (c.x < model.min.x || c.y < model.min.y || c.z < model.min.z || c.x > model.max.x ||

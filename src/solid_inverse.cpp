@@ -108,13 +108,22 @@ SolidLocator build_solid_locator(const SolidSpline& spline) {
 }
 
 Preimage invert_solid(const SolidSpline& spline, const SolidLocator& locator, Vec3 p,
-                      const InverseOptions& options) {
+                      const InverseOptions& options,
+                      const std::optional<std::array<double, 3>>& start) {
   const double tolerance = options.tolerance * locator.size;
   Preimage best;
   best.distance = std::numeric_limits<double>::infinity();
   int steps = 0;
-  for (std::uint32_t s : nearest_starts(locator, p, options.max_starts)) {
-    std::array<double, 3> x = locator.uvw[s];
+  std::vector<std::array<double, 3>> starts;
+  if (start) starts.push_back(*start);
+  // The caller's start usually converges (a neighbour's preimage): look no further then.
+  auto nearest = [&] {
+    for (std::uint32_t s : nearest_starts(locator, p, options.max_starts))
+      starts.push_back(locator.uvw[s]);
+  };
+  if (!start) nearest();
+  for (std::size_t next = 0; next < starts.size(); ++next) {
+    std::array<double, 3> x = starts[next];
     for (int it = 0; it <= options.max_iterations; ++it) {
       const SolidPoint g = evaluate_solid(spline, x);
       const double distance = norm(g.position - p);
@@ -123,9 +132,12 @@ Preimage invert_solid(const SolidSpline& spline, const SolidLocator& locator, Ve
       std::array<double, 3> d{};
       if (!solve(g.jacobian, g.position - p, d)) break;
       ++steps;
+      const std::array<double, 3> before = x;
       for (int a = 0; a < 3; ++a) x[a] = std::clamp(x[a] - d[a], 0.0, 1.0);
+      if (x == before) break;  // pressed against the cube's faces: p lies beyond them
     }
     if (best.distance <= tolerance) break;
+    if (next == 0 && start) nearest();
   }
   best.inside = best.distance <= tolerance;
   best.iterations = steps;

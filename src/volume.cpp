@@ -941,4 +941,32 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& v, Volu
   write_file_atomically(path, out);
 }
 
+double sample_volume(const ScalarVolume& volume, Vec3 p, bool* outside) {
+  int base[3];
+  double weight[3];
+  bool out = false;
+  for (int a = 0; a < 3; ++a) {
+    // Continuous cell index: cell centres at integers.
+    const double x = (p[a] - volume.origin[a]) / volume.spacing[a];
+    const double last = volume.dims[a] - 1;
+    out |= x < -0.5 || x > last + 0.5;
+    const double clamped = std::clamp(x, 0.0, last);
+    base[a] = std::min(static_cast<int>(clamped), std::max(volume.dims[a] - 2, 0));
+    weight[a] = volume.dims[a] > 1 ? clamped - base[a] : 0.0;
+  }
+  if (outside) *outside = out;
+  double sum = 0;
+  for (int c = 0; c < 8; ++c) {
+    double w = 1;
+    int at[3];
+    for (int a = 0; a < 3; ++a) {
+      const int bit = (c >> a) & 1;
+      w *= bit ? weight[a] : 1 - weight[a];
+      at[a] = std::min(base[a] + bit, volume.dims[a] - 1);
+    }
+    if (w != 0) sum += w * volume.at(at[0], at[1], at[2]);
+  }
+  return sum;
+}
+
 }  // namespace tpmsfill

@@ -6,8 +6,10 @@
 // GCC 12 reports a false -Wrestrict inside std::string concatenation here (GCC bug 105329).
 #pragma GCC diagnostic ignored "-Wrestrict"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tpmsfill/io.hpp>
@@ -141,6 +143,38 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   ASSERT_EQ(test::run_command(command + " --layer 5 --format png --pixel 0.5", &out), 0) << out;
   EXPECT_TRUE(fs::exists(pngs / "layer_00000.png"));
   EXPECT_TRUE(fs::exists(pngs / "index.json"));
+  // --colour: the same pixels in RGB on the documented scale (blue 0, green ½, yellow 1), the
+  // empty ones white; grey = 1 + 254 t in the printer's PNG.
+  const fs::path colour = dir / "blob-colour";
+  command = TPMSFILL_CLI;
+  command.append(" material slice ").append(quoted(model)).append(" ").append(quoted(colour));
+  ASSERT_EQ(test::run_command(command + " --layer 5 --format png --pixel 0.5 --colour", &out), 0)
+      << out;
+  const test::Png grey = test::decode_png(test::read_file(pngs / "layer_00000.png"), 1);
+  const test::Png rgb = test::decode_png(test::read_file(colour / "layer_00000.png"), 3);
+  ASSERT_EQ(rgb.width, grey.width);
+  ASSERT_EQ(rgb.height, grey.height);
+  constexpr double kStops[3][3] = {{0.15, 0.25, 0.75}, {0.2, 0.7, 0.35}, {0.95, 0.85, 0.2}};
+  int filled = 0, low = 255, high = 0;
+  for (int y = 0; y < grey.height; ++y)
+    for (int x = 0; x < grey.width; ++x) {
+      const int g = grey.value(x, y);
+      const std::uint8_t* c = rgb.at(x, y);
+      if (g == 0) {
+        ASSERT_TRUE(c[0] == 255 && c[1] == 255 && c[2] == 255) << x << " " << y;
+        continue;
+      }
+      ++filled, low = std::min(low, g), high = std::max(high, g);
+      const double t = (g - 1) / 254.0, s = t < 0.5 ? 2 * t : 2 * t - 1;
+      const int i = t < 0.5 ? 0 : 1;
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(c[k], std::lround(255 * ((1 - s) * kStops[i][k] + s * kStops[i + 1][k])));
+    }
+  EXPECT_GT(filled, 100);
+  EXPECT_LT(low, 40);  // the x ramp spans the layer: blue at one end, yellow at the other
+  EXPECT_GT(high, 215);
+  EXPECT_EQ(test::run_command(command + "-2 --layer 5 --format svg-layers --colour", &out), 2);
+  EXPECT_NE(out.find("--colour draws PNG layers"), std::string::npos) << out;
   // Iso-material surfaces: one mesh, each surface reported.
   const fs::path iso = dir / "iso.ply";
   command = TPMSFILL_CLI;
@@ -160,6 +194,55 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   fs::resize_file(cut, fs::file_size(model) / 2);
   EXPECT_EQ(material_info(quoted(cut), &out), 2);
   EXPECT_NE(out.find("byte"), std::string::npos) << out;
+}
+
+TEST(MaterialCli, FillGradedByTheModelsMaterial) {
+  // A box whose material rises with z: grading the porosity by the fitted material is grading
+  // it along z (the material's range over the box is the box's height), and the report's recipe
+  // reproduces the job from another folder.
+  const fs::path dir = test::scratch_dir();
+  const fs::path tets = dir / "box.vtk", model = dir / "box.tsm", surface = dir / "box.stl";
+  write_tet_mesh(tets, test::make_tet_grid({0, 0, 0}, {20, 10, 10}, {4, 2, 2}));
+  write_mesh(surface, test::make_box({0, 0, 0}, {20, 10, 10}));
+  std::string out;
+  ASSERT_EQ(material_fit(tets, model, "--material z 0 1 --quiet", &out), 0) << out;
+  auto fill = [&](const std::string& name, const std::string& args) {
+    std::string command = TPMSFILL_CLI;
+    command.append(" fill ").append(quoted(surface)).append(" ").append(quoted(dir / name));
+    command.append(" --cell 2.5 --voxel 0.125 --quiet --report ")
+        .append(quoted(dir / (name + ".json")))
+        .append(" ")
+        .append(args);
+    EXPECT_EQ(test::run_command(command, &out), 0) << out;
+    return nlohmann::json::parse(test::read_file(dir / (name + ".json")));
+  };
+  const nlohmann::json by_material =
+      fill("material.stl", "--grade porosity 0.4 0.8 --grade-by " + quoted(model));
+  const nlohmann::json along_z = fill("z.stl", "--grade porosity 0.4 0.8 --grade-along z");
+  const nlohmann::json& ramp = by_material["recipe"]["grading"][0];
+  EXPECT_EQ(ramp["ramp"], "volume");
+  EXPECT_NEAR(ramp["from"].get<double>(), 0, 0.02);  // the material's range over the box
+  EXPECT_NEAR(ramp["to"].get<double>(), 1, 0.02);
+  const double porosity = by_material["porosity"].get<double>();
+  EXPECT_NEAR(porosity, along_z["porosity"].get<double>(), 0.005);
+  EXPECT_NEAR(porosity, 0.6, 0.03);  // the ramp's mean
+  // The echoed recipe names the model by its absolute path: it runs from anywhere.
+  const fs::path elsewhere = dir / "elsewhere";
+  fs::create_directories(elsewhere);
+  std::ofstream(elsewhere / "recipe.json") << by_material["recipe"].dump();
+  const nlohmann::json again = fill("again.stl", "--recipe " + quoted(elsewhere / "recipe.json"));
+  EXPECT_DOUBLE_EQ(again["porosity"].get<double>(), porosity);
+  // Refusals: two places for one grade; a cell size cannot follow a volume.
+  std::string command = TPMSFILL_CLI;
+  command.append(" fill ").append(quoted(surface)).append(" ").append(quoted(dir / "no.stl"));
+  EXPECT_EQ(
+      test::run_command(
+          command + " --grade porosity 0.4 0.8 --grade-along x --grade-by " + quoted(model), &out),
+      2);
+  EXPECT_NE(out.find("give one"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(command + " --grade cell 2 3 --grade-by " + quoted(model), &out), 2);
+  EXPECT_NE(out.find("cannot be graded by a volume"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "no.stl"));
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,6 +26,7 @@
 #include "tpmsfill/porous.hpp"
 #include "tpmsfill/tpms.hpp"
 #include "tpmsfill/types.hpp"
+#include "tpmsfill/volume.hpp"
 
 namespace tpmsfill {
 
@@ -33,19 +35,26 @@ enum class RampShape {
   Linear,  ///< along `axis` from `point`: t = (p − point)·axis/|axis|
   Radial,  ///< distance from the line through `point` along `axis` (zero axis: from `point`)
   Depth,   ///< depth below the model's surface (0 on it), from the occupancy's voxel distance
+  /// the value of a scalar volume at the point (`volume`, trilinear, the nearest border value
+  /// beyond it): a CT's intensity, or a fitted solid's material M(G⁻¹(p)) sampled by
+  /// material_volume.hpp, so that a lattice follows a density or stiffness map
+  Volume,
 };
 
-/// A value that goes linearly from `start` at ramp coordinate `from` to `end` at `to` (mm),
-/// constant beyond. Unset positions are resolved from the model's bounding box by
-/// resolve_design(): the ramp then spans the model (linear: the box's extent along the axis;
-/// radial: 0 at the box centre to the farthest corner; depth: 0 to a quarter of the box's
-/// smallest side).
+/// A value that goes linearly from `start` at ramp coordinate `from` to `end` at `to` (mm;
+/// the volume's own values for a Volume ramp), constant beyond. Unset positions are resolved
+/// from the model's bounding box by resolve_design(): the ramp then spans the model (linear:
+/// the box's extent along the axis; radial: 0 at the box centre to the farthest corner; depth:
+/// 0 to a quarter of the box's smallest side; volume: the volume's range over the box).
 struct Ramp {
   RampShape shape = RampShape::Linear;
   std::optional<Vec3> point = {};  ///< unset: the box centre (radial) or the origin (linear)
   Vec3 axis = {0, 0, 1};           ///< direction (linear) or axis (radial; zero = spherical)
   std::optional<double> from = {}, to = {};
   double start = 0, end = 0;  ///< the values at `from` and `to`
+  /// Volume ramps: the values, in mm (a physical size), shared by copies of the design.
+  std::shared_ptr<const ScalarVolume> volume = {};
+  std::string volume_file = {};  ///< the file it was read from ("" none): for recipes, labels
 };
 
 /// What a Grading varies.
@@ -122,12 +131,12 @@ struct LatticeDesign : TpmsOptions {
 };
 
 /// @throws InputError  a layer fails require_valid(TpmsOptions), a quantity is graded twice,
-/// porosity
-///                     and level/thickness are both graded, a level grading on a sheet or a
-///                     thickness grading on a network, a cell grading by depth (the phase
-///                     could not stay continuous), a non-positive cell value, a zero ramp
-///                     axis for linear ramps, a blend width ≤ 0, peak ∉ (0, 1), or a region
-///                     of non-positive size
+///                     porosity and level/thickness are both graded, a level grading on a
+///                     sheet or a thickness grading on a network, a cell grading by depth or
+///                     by a volume (the phase could not stay continuous), a non-positive cell
+///                     value, a zero ramp axis for linear ramps, a volume ramp without a valid
+///                     volume in mm, a blend width ≤ 0, peak ∉ (0, 1), or a region of
+///                     non-positive size
 void require_valid(const LatticeDesign& design);
 
 /// The design with everything fill() needs fixed: porosities solved into levels or
@@ -159,8 +168,14 @@ Threshold ramp_threshold(const Ramp& ramp, std::array<double, 3> size, int count
 /// @throws InputError  positions unset and an empty model, from == to
 Ramp resolve_ramp(Ramp ramp, const Box3& model, const std::string& what = "ramp");
 
+/// A ramp's coordinate at p: mm along its axis or from its centre, or the volume's value
+/// there (a point unset counts as the origin).
+/// @throws InputError  a depth ramp (depth needs the model's occupancy), a volume ramp without
+///                     its volume
+double ramp_coordinate(const Ramp& ramp, Vec3 p);
+
 /// A resolved ramp's value at p: start at ramp coordinate from, end at to, constant beyond.
-/// @throws InputError  a depth ramp (depth needs the model's occupancy)
+/// @throws InputError  as ramp_coordinate
 double ramp_value(const Ramp& resolved, Vec3 p);
 
 /// Names used by the CLI and recipes: "porosity", "level", "thickness", "cell"; "linear",

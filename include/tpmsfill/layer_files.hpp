@@ -44,7 +44,10 @@ struct LayerFileOptions {
   std::uint64_t layer_count = 0;  ///< CLI $$LAYERS
   double layer = 0;               ///< thickness, mm
   double pixel = 0.05;            ///< PNG pixel size, mm (> 0)
-  std::string label = "part";     ///< CLI $$LABEL, SVG title
+  /// PNG layers with a material (material_layers.hpp): RGB on the SVG's material scale (blue,
+  /// green, yellow) on white, for people, instead of grey = material, for printers.
+  bool material_colour = false;
+  std::string label = "part";  ///< CLI $$LABEL, SVG title
 };
 
 /// Writes layers to `path` (a file, or for the folder formats an existing empty folder) as

@@ -48,8 +48,11 @@ struct Preimage {
 };
 
 /// G⁻¹(p): see the file comment. Deterministic; safe to call from many threads.
+/// @param start  where Newton starts first (a neighbouring point's preimage, when walking a
+///               grid), before the locator's starts
 Preimage invert_solid(const SolidSpline& spline, const SolidLocator& locator, Vec3 p,
-                      const InverseOptions& options = {});
+                      const InverseOptions& options = {},
+                      const std::optional<std::array<double, 3>>& start = {});
 
 /// M(G⁻¹(p)) when p is inside the solid (and the spline has a material), else nothing.
 std::optional<double> material_at(const SolidSpline& spline, const SolidLocator& locator, Vec3 p,

@@ -105,4 +105,10 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& volume,
 ///                     negative or non-finite spacing, spacing partly zero
 void require_valid(const ScalarVolume& volume);
 
+/// The value at p (mm), interpolated trilinearly between the cell centres; a point beyond the
+/// outermost centres takes the nearest border value (constant extrapolation), and `outside`,
+/// when given, says whether p lies beyond the volume's box (more than half a cell out).
+/// Preconditions: the volume has a physical size and count() values (require_valid).
+double sample_volume(const ScalarVolume& volume, Vec3 p, bool* outside = nullptr);
+
 }  // namespace tpmsfill

@@ -209,6 +209,8 @@ Command add_fill_command(CLI::App& app) {
       "  tpmsfill fill femur.stl implant.stl --porosity 0.7 --grade porosity 0.5 0.8 "
       "--grade-along depth --skin 0.4\n"
       "  tpmsfill fill part.stl graded.stl --lattice iwp --grade cell 2 4 --grade-along x\n"
+      "  tpmsfill fill femur.stl bone.stl --grade porosity 0.5 0.8 --grade-by femur.tsm   "
+      "(material fit)\n"
       "  tpmsfill fill part.stl hybrid.stl --recipe hybrid.json   (docs/recipes.md)\n"
       "  tpmsfill fill bracket-in-metres.stl lattice.stl --units m --cell 4\n"
       "  tpmsfill fill femur.stl scaffold.stl --cell 2 --preview scaffold.png\n"

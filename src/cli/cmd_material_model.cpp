@@ -36,7 +36,7 @@ struct ModelArgs {
   std::optional<std::string> format;
   std::vector<double> values;
   int bins = 10, initial_level = 1, max_level = 8;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, colour = false;
 };
 
 LayerFormat layer_format(const ModelArgs& a) {
@@ -75,6 +75,8 @@ struct ItemProgress {
 
 int run_material_slice(const ModelArgs& a) {
   const LayerFormat format = layer_format(a);
+  if (a.colour && format != LayerFormat::PngLayers)
+    throw InputError("--colour draws PNG layers (--format png); SVG layers are coloured already");
   const bool folder = writes_folder(format);
   if (!folder) require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
@@ -90,6 +92,7 @@ int run_material_slice(const ModelArgs& a) {
                                .layer_count = count,
                                .layer = a.layer,
                                .pixel = a.pixel,
+                               .material_colour = a.colour,
                                .label = fs::path(a.input).stem().string()};
   std::optional<StagedFolder> staged_folder;
   StagedOutputs staged;
@@ -277,13 +280,17 @@ std::function<std::optional<int>()> add_material_model_commands(CLI::App* materi
       "The report gives each layer's area, triangles and material histogram (--bins).\n\n"
       "Examples:\n"
       "  tpmsfill material slice femur.tsm femur.svg --layer 0.5\n"
-      "  tpmsfill material slice femur.tsm layers/ --layer 0.1 --format png --pixel 0.05\n");
+      "  tpmsfill material slice femur.tsm layers/ --layer 0.1 --format png --pixel 0.05\n"
+      "  tpmsfill material slice femur.tsm preview/ --layer 1 --format png --colour\n");
   slice->add_option("MODEL", args->input, "A fitted model (.tsm)")->required();
   slice->add_option("OUT", args->output, "A .cli or .svg file, or a folder")->required();
   slice->add_option("--layer", args->layer, "Layer thickness, mm")->required()->check(positive());
   slice->add_option("--start", args->start, "The first layer's bottom, mm (default: the solid's)");
   slice->add_option("--format", args->format, "cli, cli-binary, svg, svg-layers or png");
   slice->add_option("--pixel", args->pixel, "PNG pixel size, mm (default 0.05)")->check(positive());
+  slice->add_flag("--colour,--color", args->colour,
+                  "PNG: colour by material (the SVG's blue-green-yellow scale on white), to look "
+                  "at, instead of grey = material for a printer");
   slice->add_option("--bins", args->bins, "Material histogram bins per layer (default 10)")
       ->check(CLI::Range(1, 1000));
   add_octree_options(slice, *args);

@@ -1,8 +1,11 @@
 #include "cli/job_flags.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <memory>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/itdf.hpp>
+#include <tpmsfill/material_volume.hpp>
 #include <tpmsfill/recipe.hpp>
 #include <utility>
 
@@ -73,7 +76,18 @@ FillOptions job_options(JobArgs& args) {
   if (args.grade.size() % 3 != 0)
     throw InputError("--grade takes three values each time: WHAT FROM TO");
   if (!args.grade.empty()) {
-    Ramp ramp = ramp_along(args.grade_along);
+    Ramp ramp;
+    if (!args.grade_by.empty()) {
+      if (args.grade_along != "z")
+        throw InputError("--grade-by " + args.grade_by + " and --grade-along " + args.grade_along +
+                         " both say where the grade goes: give one");
+      ramp = {.shape = RampShape::Volume,
+              .volume = std::make_shared<const ScalarVolume>(read_grading_volume(args.grade_by)),
+              // Absolute, so that the report's recipe finds it from any folder.
+              .volume_file = std::filesystem::absolute(args.grade_by).string()};
+    } else {
+      ramp = ramp_along(args.grade_along);
+    }
     if (!args.grade_range.empty()) ramp.from = args.grade_range[0], ramp.to = args.grade_range[1];
     for (std::size_t g = 0; g + 2 < args.grade.size(); g += 3) {
       const Graded what = graded_from_name(args.grade[g]);
@@ -88,8 +102,8 @@ FillOptions job_options(JobArgs& args) {
       std::erase_if(options.design.grading, [&](const Grading& e) { return e.what == what; });
       options.design.grading.push_back({what, r});
     }
-  } else if (!args.grade_range.empty() || args.grade_along != "z") {
-    throw InputError("--grade-along and --grade-range describe a --grade: give one");
+  } else if (!args.grade_range.empty() || args.grade_along != "z" || !args.grade_by.empty()) {
+    throw InputError("--grade-along, --grade-by and --grade-range describe a --grade: give one");
   }
   if (args.skin) options.skin = *args.skin;
   if (args.skin_windows) options.skin_windows = true;
@@ -122,6 +136,12 @@ void add_job_options(CLI::App* sub, JobArgs& args) {
                   "x, y, z (across the model), radial (from its centre), radial-x/-y/-z (from an "
                   "axis through its centre) or depth (below its surface, denser near the skin "
                   "with --grade porosity 0.5 0.8); default z");
+  sub->add_option("--grade-by", args.grade_by,
+                  "Grade by the values of FILE at each point instead: a fitted model's material "
+                  "(.tsm, from `tpmsfill material fit`) or a volume in mm (NRRD, MetaImage, INR: "
+                  "a CT); --grade-range A B are then values (default: their range over the "
+                  "model)")
+      ->check(existing_file());
   sub->add_option("--grade-range", args.grade_range,
                   "Ramp positions A B in mm where the first and second values apply (default: "
                   "the model's extent; depth: 0 to a quarter of its smallest side)")

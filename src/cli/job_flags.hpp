@@ -22,12 +22,14 @@ struct JobArgs {
   std::optional<double> voxel, skin, scale;
   std::vector<std::string> grade;
   std::string grade_along = "z";
+  std::string grade_by;  // a .tsm model's material or a volume file: the ramp's coordinate
   std::optional<int> band;
   bool skin_windows = false;
   std::string memory;
 };
 
-/// Registers --recipe, --field, the TPMS flags, --grade, --grade-along, --grade-range, --skin,
+/// Registers --recipe, --field, the TPMS flags, --grade, --grade-along, --grade-by, --grade-range,
+/// --skin,
 /// --skin-windows, --voxel, --inside, --units, --scale, --band and --memory on `sub`.
 void add_job_options(CLI::App* sub, JobArgs& args);
 
