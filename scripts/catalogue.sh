@@ -218,14 +218,10 @@ shot() {
   [[ -n "${KEEP_DIR:-}" ]] || rm -f "$work/$name.stl"
 }
 
-# check_shot NAME INPUT "CHECK OPTIONS" "what to look for"
-# Runs `tpmsfill check INPUT --picture OUT_DIR/NAME.png --size 480 CHECK OPTIONS` in $work: the
-# input's defects drawn over it. Exit 1 (not valid) is what a messy input gives, not a failure.
-check_shot() {
-  local name=$1 input=$2 check_options=$3 note=$4
-  local check_cmd="tpmsfill check $input --picture $name.png --size 480${check_options:+ $check_options}"
-  names+=("$name") fill_commands+=("$check_cmd") render_commands+=("") notes+=("$note")
-  local status="" p code=0
+# held_back NAME INPUT: true (and NAME's status recorded) when NAME is not to be made now: not
+# among the IMAGE patterns, or INPUT missing from $work.
+held_back() {
+  local name=$1 input=$2 status="" p
   if ((${#patterns[@]})); then
     status="not selected"
     for p in "${patterns[@]}"; do
@@ -234,11 +230,20 @@ check_shot() {
     done
   fi
   [[ -n "$status" || -f "$work/$input" ]] || status="skipped: no $input (apt-get install libcgal-demo)"
-  if [[ -n "$status" ]]; then
-    statuses+=("$status")
-    [[ "$status" == "not selected" ]] || printf '%-28s %s\n' "$name" "$status"
-    return 0
-  fi
+  [[ -n "$status" ]] || return 1
+  statuses+=("$status")
+  [[ "$status" == "not selected" ]] || printf '%-28s %s\n' "$name" "$status"
+}
+
+# check_shot NAME INPUT "CHECK OPTIONS" "what to look for"
+# Runs `tpmsfill check INPUT --picture OUT_DIR/NAME.png --size 480 CHECK OPTIONS` in $work: the
+# input's defects drawn over it. Exit 1 (not valid) is what a messy input gives, not a failure.
+check_shot() {
+  local name=$1 input=$2 check_options=$3 note=$4
+  local check_cmd="tpmsfill check $input --picture $name.png --size 480${check_options:+ $check_options}"
+  names+=("$name") fill_commands+=("$check_cmd") render_commands+=("") notes+=("$note")
+  local status="" code=0
+  held_back "$name" "$input" && return 0
   local t0 t1
   t0=$(now)
   # shellcheck disable=SC2086  # the options are words
@@ -261,26 +266,14 @@ check_shot() {
 # for an earlier image (the same model fit) is not run again: its outputs are still there.
 declare -A steps_run=()
 steps_shot() {
-  local name=$1 input=$2 note=$3 shown="" step p code=0
+  local name=$1 input=$2 note=$3 shown="" step code=0
   shift 3
   for step in "$@"; do
     [[ "$step" == cp\ * ]] && shown+="$step"$'\n' || shown+="tpmsfill $step"$'\n'
   done
   names+=("$name") fill_commands+=("${shown%$'\n'}") render_commands+=("") notes+=("$note")
   local status=""
-  if ((${#patterns[@]})); then
-    status="not selected"
-    for p in "${patterns[@]}"; do
-      # shellcheck disable=SC2053  # the pattern is meant to match as a glob
-      [[ "$name" == $p ]] && status=""
-    done
-  fi
-  [[ -n "$status" || -f "$work/$input" ]] || status="skipped: no $input (apt-get install libcgal-demo)"
-  if [[ -n "$status" ]]; then
-    statuses+=("$status")
-    [[ "$status" == "not selected" ]] || printf '%-28s %s\n' "$name" "$status"
-    return 0
-  fi
+  held_back "$name" "$input" && return 0
   local t0 t1
   t0=$(now)
   for step in "$@"; do
