@@ -681,8 +681,13 @@ LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& o, Fill
     const std::array<double, 3> cube = unit_cube_map(*d.structure, r.input_bbox).extent;
     r.unclipped_porosity = 1.0 - porous_solid_share(*d.structure, cube);
     r.cell = {cube[0], cube[1], cube[2]};
-  } else if (!d.custom)
+  } else if (!d.custom) {
     r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
+    // A graded porosity, level or thickness has no one unclipped porosity: say so, rather than
+    // the base lattice's.
+    for (const Grading& g : d.grading)
+      if (g.what != Graded::Cell) r.unclipped_porosity = std::nan("");
+  }
   return d;
 }
 

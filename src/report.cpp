@@ -3,7 +3,7 @@
 
 #include <sys/resource.h>
 #include <algorithm>
-
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -280,8 +280,10 @@ std::string to_text(const FillReport& r) {
               r.surface_area());
   s +=
       format("volume       lattice %.1f mm3, model %.1f mm3\n", r.lattice_volume(), r.model_volume);
-  s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
-              100 * r.unclipped_porosity);
+  s += std::isfinite(r.unclipped_porosity)
+           ? format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
+                    100 * r.unclipped_porosity)
+           : format("porosity     %.2f %% (graded)\n", 100 * r.porosity());
   s += format("surface      %.3g mm^-1 per solid volume, %.3g mm^-1 per model volume\n",
               r.specific_surface(), r.surface_density());
   if (r.measures) {

@@ -1,5 +1,6 @@
 // Stage "slice": its report as JSON (fill's report for the settings, less the mesh's figures,
 // plus the layers) and as a human summary.
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -66,8 +67,10 @@ std::string to_text(const SliceReport& r) {
        format(", %.0f points\n", static_cast<double>(r.points));
   s += format("volume       lattice %.1f mm3 (sum of area x layer), model %.1f mm3\n", r.volume,
               j.model_volume);
-  s += format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
-              100 * j.unclipped_porosity);
+  s += std::isfinite(j.unclipped_porosity)
+           ? format("porosity     %.2f %% (unclipped lattice %.2f %%)\n", 100 * r.porosity(),
+                    100 * j.unclipped_porosity)
+           : format("porosity     %.2f %% (graded)\n", 100 * r.porosity());
   s += format(
       "contours     closed, outer counter-clockwise, holes clockwise; %.3g segment "
       "pairs checked exactly, none cross or touch\n",

@@ -226,6 +226,8 @@ TEST(MaterialCli, FillGradedByTheModelsMaterial) {
   const double porosity = by_material["porosity"].get<double>();
   EXPECT_NEAR(porosity, along_z["porosity"].get<double>(), 0.005);
   EXPECT_NEAR(porosity, 0.6, 0.03);  // the ramp's mean
+  // A graded porosity has no one unclipped value: null, not the base lattice's 50 %.
+  EXPECT_TRUE(by_material["unclipped_porosity"].is_null());
   // The echoed recipe names the model by its absolute path: it runs from anywhere.
   const fs::path elsewhere = dir / "elsewhere";
   fs::create_directories(elsewhere);

@@ -77,8 +77,10 @@ struct FillReport {
   /// Processes the field and marching cubes were split among (fill_parts; MPI ranks)
   int ranks = 1;
   // --- output (the written mesh's figures are its validation's) -------------------------
-  double model_volume = 0;            ///< mm^3, enclosed by the input (measured along the rays)
-  double unclipped_porosity = 0;      ///< of the infinite lattice (one cell, sampled)
+  double model_volume = 0;  ///< mm^3, enclosed by the input (measured along the rays)
+  /// Of the infinite lattice (one cell, sampled); NaN (JSON null) when a grading varies the
+  /// porosity, level or thickness through the part.
+  double unclipped_porosity = 0;
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3
   /// The largest removed islands, largest first (at most 10).
