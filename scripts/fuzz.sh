@@ -88,6 +88,9 @@ done
 # Recipes, seeded with the documented ones.
 mkdir -p "$seeds/recipe"
 cp "$root"/docs/recipes/*.json "$root"/docs/recipes/conformal/*.json "$seeds/recipe/"
+# A grading by a volume (fill --grade-by): the fuzz build refuses the file it names.
+printf '{"grading": [{"what": "porosity", "ramp": "volume", "volume": "m.tsm", "start": 0.5, "end": 0.8}]}\n' \
+  >"$seeds/recipe/volume-ramp.json"
 fuzz recipe "$build/tests/fuzz/read_recipe_fuzz" 8192
 # Field files and ITDF, seeded with small files of every form (first byte: even = a field
 # file, odd = ITDF), written by the CLI built in build/ when it is there.
