@@ -160,8 +160,13 @@ ScalarVolume read_grading_volume(const std::filesystem::path& path,
                                  const MaterialVolumeOptions& options) {
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".tsm")
-    return material_volume(read_solid_model(path).fit.spline, options).volume;
+  if (extension == ".tsm") {
+    const SolidModel model = read_solid_model(path);
+    if (model.fit.spline.material.empty())
+      throw InputError(path.string() +
+                       ": the model has no material to grade by (it was fitted without one)");
+    return material_volume(model.fit.spline, options).volume;
+  }
   ScalarVolume volume = read_volume_file(path).volume;
   if (!volume.has_physical_size())
     throw InputError(path.string() +

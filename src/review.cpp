@@ -239,6 +239,18 @@ void review_ramps(const LatticeDesign& design, const Box3& model,
         sample_volume(*r.volume, p, &out);
         beyond += out, ++samples;
       });
+      const ScalarVolume& v = *r.volume;
+      if ((samples - beyond) * 100 < samples) {  // under 1 % of the box: not this part's volume
+        Vec3 lo = v.origin, hi = v.origin;
+        for (int a = 0; a < 3; ++a)
+          (&lo.x)[a] -= v.spacing[a] / 2, (&hi.x)[a] += (v.dims[a] - 0.5) * v.spacing[a];
+        throw InputError(what + " barely meets the model: the volume spans (" + mm(lo.x) + ", " +
+                         mm(lo.y) + ", " + mm(lo.z) + ") to (" + mm(hi.x) + ", " + mm(hi.y) + ", " +
+                         mm(hi.z) + "), the model (" + mm(model.min.x) + ", " + mm(model.min.y) +
+                         ", " + mm(model.min.z) + ") to (" + mm(model.max.x) + ", " +
+                         mm(model.max.y) + ", " + mm(model.max.z) +
+                         "); were they made in other units? (fit and fill with the same --units)");
+      }
       if (beyond * 10 > samples)
         warnings.push_back(what + ": " + percent(double(beyond) / samples) +
                            " of the model's box lies beyond the volume, where its border values "

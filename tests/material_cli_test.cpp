@@ -244,6 +244,11 @@ TEST(MaterialCli, FillGradedByTheModelsMaterial) {
   EXPECT_NE(out.find("give one"), std::string::npos) << out;
   EXPECT_EQ(test::run_command(command + " --grade cell 2 3 --grade-by " + quoted(model), &out), 2);
   EXPECT_NE(out.find("cannot be graded by a volume"), std::string::npos) << out;
+  // The part in cm, the model in mm: the volume meets under 1 % of the part's box.
+  EXPECT_EQ(test::run_command(
+                command + " --units cm --grade porosity 0.4 0.8 --grade-by " + quoted(model), &out),
+            2);
+  EXPECT_NE(out.find("other units"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir / "no.stl"));
 }
 
