@@ -2,12 +2,12 @@
 #include "tpmsfill/material_volume.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <map>
 #include <optional>
 #include <string>
 
+#include "detail/file_bytes.hpp"
 #include "detail/parallel.hpp"
 #include "detail/stage_progress.hpp"
 #include "tpmsfill/classify.hpp"
@@ -158,9 +158,7 @@ MaterialVolume material_volume(const SolidSpline& spline, const MaterialVolumeOp
 
 ScalarVolume read_grading_volume(const std::filesystem::path& path,
                                  const MaterialVolumeOptions& options) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".tsm") {
+  if (detail::lower_extension(path) == ".tsm") {
     const SolidModel model = read_solid_model(path);
     if (model.fit.spline.material.empty())
       throw InputError(path.string() +

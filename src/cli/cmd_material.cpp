@@ -30,6 +30,7 @@
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
+#include "detail/file_bytes.hpp"
 
 namespace tpmsfill::cli {
 namespace {
@@ -43,13 +44,6 @@ struct MaterialArgs {
   SolidFitOptions fit;
   bool json = false, quiet = false;
 };
-
-// A path's extension in lower case (".TSM" is a model too).
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 double number_argument(const std::string& text, const std::string& what) {
   const std::optional<double> value = detail::as_number(text);
@@ -245,10 +239,10 @@ int run_model_info(const MaterialArgs& a) {
 }
 
 int run_material_info(const MaterialArgs& a) {
-  if (lower_extension(a.input) == ".tsm") return run_model_info(a);
+  if (tpmsfill::detail::lower_extension(a.input) == ".tsm") return run_model_info(a);
   if (!a.tets_output.empty()) {
     // What write_tet_mesh() takes, checked before the work rather than after it.
-    const std::string ext = lower_extension(a.tets_output);
+    const std::string ext = tpmsfill::detail::lower_extension(a.tets_output);
     if (ext != ".vtk" && ext != ".mesh")
       throw InputError("--tets " + a.tets_output + ": a tet mesh is written as .vtk or .mesh");
     require_writable_outputs({a.input}, {{"--tets", a.tets_output}});
@@ -275,7 +269,7 @@ int run_material_info(const MaterialArgs& a) {
 }
 
 int run_material_fit(const MaterialArgs& a) {
-  if (lower_extension(a.output) != ".tsm")
+  if (tpmsfill::detail::lower_extension(a.output) != ".tsm")
     throw InputError(a.output + ": a solid spline model is written as .tsm");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();

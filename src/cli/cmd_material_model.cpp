@@ -39,16 +39,6 @@ struct ModelArgs {
   bool json = false, quiet = false, colour = false;
 };
 
-LayerFormat layer_format(const ModelArgs& a) {
-  if (a.format) return layer_format_from_name(*a.format);
-  const std::string ext = fs::path(a.output).extension().string();
-  if (ext == ".cli" || ext == ".CLI") return LayerFormat::Cli;
-  if (ext == ".svg" || ext == ".SVG") return LayerFormat::Svg;
-  throw InputError(a.output +
-                   ": unknown extension (use .cli or .svg, or --format svg-layers or png with a "
-                   "folder)");
-}
-
 std::pair<double, double> material_range(const SolidSpline& s) {
   if (s.material.empty()) return {0, 1};
   const auto [lo, hi] = std::minmax_element(s.material.begin(), s.material.end());
@@ -74,7 +64,7 @@ struct ItemProgress {
 };
 
 int run_material_slice(const ModelArgs& a) {
-  const LayerFormat format = layer_format(a);
+  const LayerFormat format = layer_format_for(a.output, a.format);
   if (a.colour && format != LayerFormat::PngLayers)
     throw InputError("--colour draws PNG layers (--format png); SVG layers are coloured already");
   const bool folder = writes_folder(format);

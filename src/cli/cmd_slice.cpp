@@ -46,20 +46,7 @@ struct SliceArgs {
 
 // The format from --format, else from OUT's extension (.cli, .svg) or --pixel (PNGs).
 LayerFormat output_format(const SliceArgs& a) {
-  const std::string ext = fs::path(a.output).extension().string();
-  LayerFormat f;
-  if (a.format)
-    f = layer_format_from_name(*a.format);
-  else if (ext == ".cli" || ext == ".CLI")
-    f = LayerFormat::Cli;
-  else if (ext == ".svg" || ext == ".SVG")
-    f = LayerFormat::Svg;
-  else if (a.pixel)
-    f = LayerFormat::PngLayers;
-  else
-    throw InputError(a.output +
-                     ": unknown extension (use .cli or .svg, or --format svg-layers or png "
-                     "with a folder)");
+  LayerFormat f = layer_format_for(a.output, a.format, a.pixel.has_value());
   if (a.binary) {
     if (f != LayerFormat::Cli && f != LayerFormat::CliBinary)
       throw InputError("--binary is for Common Layer Interface files (.cli)");

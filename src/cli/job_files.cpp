@@ -11,7 +11,21 @@
 #include <system_error>
 #include <tpmsfill/error.hpp>
 
+#include "detail/file_bytes.hpp"
+
 namespace tpmsfill::cli {
+
+LayerFormat layer_format_for(const std::string& output, const std::optional<std::string>& format,
+                             bool png_otherwise) {
+  if (format) return layer_format_from_name(*format);
+  const std::string ext = tpmsfill::detail::lower_extension(output);
+  if (ext == ".cli") return LayerFormat::Cli;
+  if (ext == ".svg") return LayerFormat::Svg;
+  if (png_otherwise) return LayerFormat::PngLayers;
+  throw InputError(output +
+                   ": unknown extension (use .cli or .svg, or --format svg-layers or png with a "
+                   "folder)");
+}
 namespace fs = std::filesystem;
 
 namespace {

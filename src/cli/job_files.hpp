@@ -4,12 +4,20 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <tpmsfill/layer_files.hpp>
 #include <tpmsfill/report.hpp>
 #include <utility>
 #include <vector>
 
 namespace tpmsfill::cli {
+
+/// The layer format `format` (--format) names, else OUT's extension's (.cli, .svg, in any case),
+/// else PNG layers when `png_otherwise` (slice's --pixel asks for them).
+/// @throws InputError  an unknown format name, or no format to tell
+LayerFormat layer_format_for(const std::string& output, const std::optional<std::string>& format,
+                             bool png_otherwise = false);
 
 /// An output file and the option that named it ("OUT", "--report").
 struct OutputFile {

@@ -14,6 +14,9 @@ namespace tpmsfill::detail {
 /// @throws InputError  the file is larger than max_bytes
 std::string read_file_bytes(const std::filesystem::path& path, std::uint64_t max_bytes);
 
+/// A path's extension in lower case (".STL" and ".Tsm" name what ".stl" and ".tsm" do).
+std::string lower_extension(const std::filesystem::path& path);
+
 /// A new empty file in `output`'s folder (on the disk that must hold the output anyway),
 /// removed from the folder at once: it lives while the returned descriptor is open and is gone
 /// however the process ends. Named "." + output's name + "." + tag + "-XXXXXX" while it exists.

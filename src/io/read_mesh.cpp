@@ -154,16 +154,7 @@ std::string_view format_name(MeshFormat format) {
   return "auto";
 }
 
-namespace {
-
-std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
-
-}  // namespace
+using detail::lower_extension;
 
 bool is_gzip_name(const std::filesystem::path& path) {
   return lower_extension(path) == ".gz";
