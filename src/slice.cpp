@@ -176,7 +176,16 @@ std::uint64_t layer_count(const Box3& model, const SliceOptions& options) {
   const double L = options.layer;
   const double span = model.max.z - options.start.value_or(model.min.z);
   const double n = std::ceil(span / L);
-  if (n > 1e9) throw InputError("more than a billion layers: is the layer thickness in mm?");
+  // A million layers is a metre at a micron: more is a thickness in the wrong unit, and would
+  // run for days (a material layer takes 0.03-1 s, docs/benchmarks.md §22).
+  if (n > 1e6) {
+    char what[160];
+    std::snprintf(what, sizeof what,
+                  "%.3g layers of %g mm for a %g mm tall part (more than a million): is the layer "
+                  "thickness in mm?",
+                  n, L, span);
+    throw InputError(what);
+  }
   return n >= 1 ? static_cast<std::uint64_t>(n) : std::uint64_t{1};
 }
 

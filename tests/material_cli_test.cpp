@@ -173,6 +173,11 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   EXPECT_GT(filled, 100);
   EXPECT_LT(low, 40);  // the x ramp spans the layer: blue at one end, yellow at the other
   EXPECT_GT(high, 215);
+  // A thickness in the wrong unit and a level that would not end: refused before any work.
+  EXPECT_EQ(test::run_command(command + "-3 --layer 1e-7 --format png", &out), 2);
+  EXPECT_NE(out.find("is the layer thickness in mm?"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(command + "-3 --layer 5 --format png --max-level 16", &out), 2);
+  EXPECT_FALSE(fs::exists(dir / "blob-colour-3"));
   EXPECT_EQ(test::run_command(command + "-2 --layer 5 --format svg-layers --colour", &out), 2);
   EXPECT_NE(out.find("--colour draws PNG layers"), std::string::npos) << out;
   // Iso-material surfaces: one mesh, each surface reported.

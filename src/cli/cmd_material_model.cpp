@@ -248,9 +248,11 @@ void add_octree_options(CLI::App* sub, ModelArgs& args) {
   sub->add_option("--initial-level", args.initial_level,
                   "The uniform start (default 1, the seed's)")
       ->check(CLI::Range(0, 8));
-  sub->add_option("--max-level", args.max_level,
-                  "Never split below this level (default 8: 256 cells per axis)")
-      ->check(CLI::Range(1, 16));
+  sub->add_option(
+         "--max-level", args.max_level,
+         "Never split below this level (default 8: 256 cells per axis; at most 10: a layer "
+         "at level L may cost 4^L cells, and one bear layer at 10 took 49 s)")
+      ->check(CLI::Range(1, 10));
   sub->add_flag("--json", args.json, "Print JSON");
   sub->add_flag("--quiet", args.quiet, "Print nothing but errors and warnings");
 }
