@@ -441,8 +441,8 @@ struct FieldFit {
     // Σ_k w_k g_k φ_i(x_k), so that it moves each control value by a weighted mean of its
     // residuals; the regularisers' exact gradients as they are, their step capped where it
     // would not be stable. (Normalised by Σ_k w_k φ_i(x_k) alone, the step shrank by g where
-    // the map squeezes the solid, |∇G| large and g ≈ 1/|∇G|: those parts converged 10-100
-    // times slower, and bear's material RS stopped at 40 % where it now reaches 58 %.)
+    // the map squeezes the solid, |∇G| large and g ≈ 1/|∇G|: there the step was 2εg of a full
+    // one, and bear's material RS stopped at 40 %; 58 % with this alone, docs/method.md step 8.)
     const std::vector<double> data = gather(basis, gather_map, slot_data, Dim);
     const std::vector<double> smooth = gather(basis, gather_map, slot_smooth, Dim);
     const std::vector<double> mass = gather(basis, gather_map, slot_mass, 1);
