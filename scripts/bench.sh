@@ -278,6 +278,9 @@ PY
   design "gyroid, --rotate 30 20 10" --rotate 30 20 10
   design "gyroid, porosity 0.5 -> 0.85 by depth 0-3 mm" --grade porosity 0.5 0.85 --grade-along depth --grade-range 0 3
   design "gyroid, cell 1.5 -> 3 along z" --grade cell 1.5 3 --grade-along z
+  design "gyroid, --porosity 0.7" --porosity 0.7
+  design "gyroid, --porosity 0.7, cell 1.5 -> 3 by depth 0-3 mm" --porosity 0.7 --grade cell 1.5 3 \
+    --grade-along depth --grade-range 0 3
   design "gyroid/primitive hybrid (recipe, Beta, 3 mm)" --recipe "$tmp/hybrid.json"
   design "gyroid, --skin 0.5" --skin 0.5
   design "gyroid, --skin 0.5 --skin-windows" --skin 0.5 --skin-windows
@@ -815,16 +818,20 @@ if [[ "$section" == all || "$section" == material || "$section" == material-grad
     ./build/tests/bench_material_volume "$tmp/$name.tsm" 32 64 128
     lattice_cell=$(python3 -c "print('%.3g' % ($diag / 8))")
     voxel=$(python3 -c "print('%.3g' % ($diag / 120))")
-    for run in plain graded; do
-      if [[ $run == plain ]]; then args=(--porosity 0.65); else
-        args=(--grade porosity 0.5 0.8 --grade-by "$tmp/$name.tsm"); fi
+    for run in plain graded cells; do
+      case $run in
+        plain) args=(--porosity 0.65) ;;
+        graded) args=(--grade porosity 0.5 0.8 --grade-by "$tmp/$name.tsm") ;;
+        cells) args=(--porosity 0.65 --grade cell "$lattice_cell" "$(python3 -c "print('%.3g' % (2 * $lattice_cell))")" --grade-by "$tmp/$name.tsm") ;;
+      esac
       timed ./build/tpmsfill fill "$f" "$tmp/$run.stl" --cell "$lattice_cell" --voxel "$voxel" \
         "${args[@]}" --quiet --report "$tmp/$run.json" 2>/dev/null
       python3 - "$tmp/$run.json" "$run" "$wall" "$kb" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 g = d["recipe"]["grading"]
-what = f"porosity 0.5 to 0.8 by the material ({g[0]['from']:.4g} to {g[0]['to']:.4g})" if g else "porosity 0.65"
+what = (f"{g[0]['what']} {g[0]['start']:.4g} to {g[0]['end']:.4g} by the material ({g[0]['from']:.4g} to {g[0]['to']:.4g})"
+        if g else "porosity 0.65")
 print(f"\n`fill` {sys.argv[2]} ({what}): porosity {100 * d['porosity']:.1f} %, "
       f"{d['output']['triangles']} triangles, valid {d['valid']}, "
       f"{float(sys.argv[3]):.1f} s, {int(sys.argv[4]) / 1024:.0f} MB peak")

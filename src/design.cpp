@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "detail/box_samples.hpp"
@@ -303,11 +305,6 @@ void require_valid(const LatticeDesign& d) {
         break;
       case Graded::Cell:
         if (!(r.start > 0 && r.end > 0)) throw InputError("graded cell sizes must be positive");
-        if (r.shape == RampShape::Depth || r.shape == RampShape::Volume)
-          throw InputError("the cell size cannot be graded by " +
-                           std::string(r.shape == RampShape::Depth ? "depth" : "a volume") +
-                           ": the phase could not stay continuous (grade it along a direction "
-                           "or radially)");
         break;
     }
   }
@@ -654,11 +651,172 @@ void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* value
   });
 }
 
+// Cell sizes that follow depth or a volume. A warp cannot: its phase is the integral of 1/T
+// along one direction, and a field's level sets give it no direction to integrate along (the
+// phase would tear). Instead the design is made at a ladder of fixed cell sizes, neighbours
+// at most kScaleStep apart, and at each node the two whose sizes bracket the node's cell size
+// are mixed linearly in log size: φ = (1 − s) φ_k + s φ_{k+1}. Where the node's size is one of
+// the ladder's, φ is that lattice's own field.
+constexpr double kScaleStep = 1.2;
+constexpr int kMaxScales = 16;
+
+// The resolved design at one cell size: the cell grading dropped, its cells (blends' too)
+// scaled. Levels and thicknesses solved from a porosity scale with the cell (f/|∇f| is a
+// length), as the warp scales them, so they are scaled rather than solved again.
+LatticeDesign at_cell_size(const LatticeDesign& design, double cell) {
+  const double factor = cell / design.cell.x;
+  auto scale = [factor](TpmsOptions& t) {
+    t.cell = factor * t.cell;
+    if (t.porosity) t.level *= factor, t.thickness *= factor, t.porosity.reset();
+  };
+  LatticeDesign d = design;
+  std::erase_if(d.grading, [](const Grading& g) { return g.what == Graded::Cell; });
+  scale(d);
+  for (Blend& b : d.blends) scale(b.tpms);
+  return d;
+}
+
+// Mixing two lattices thins their walls: (1 − s)φ_k + sφ_{k+1} is negative over less of space
+// than either (the femur at 35 mm, 0.7 asked: 72.8 % void against 69.9 % for one cell size).
+// Every pair of neighbouring rungs is the first pair scaled, so the offset that gives the mix
+// the first rung's solid fraction is found once, at shares s = i/8, on the first pair's base
+// lattices (unrotated, unshifted: a statistic of the type, style, cell and level alone) sampled
+// over a box six of the larger cells wide; pair k's is that times its size. Kept for the last
+// few lattices asked, since point evaluations make a source per point.
+using MixOffsets = std::array<double, 9>;
+
+MixOffsets sample_mix_offsets(const TpmsOptions& small, const TpmsOptions& large) {
+  constexpr int kNodes = 48;
+  const double side = 6 * std::fmax(large.cell.x, std::fmax(large.cell.y, large.cell.z));
+  const Grid grid{.origin = {0, 0, 0}, .spacing = side / kNodes, .dims = {kNodes, kNodes, kNodes}};
+  const Field a = sample_field(design_source(LatticeDesign{small}), grid);
+  const Field b = sample_field(design_source(LatticeDesign{large}), grid);
+  const std::size_t n = a.values.size();
+  const auto solid = static_cast<std::size_t>(
+      std::count_if(a.values.begin(), a.values.end(), [](float v) { return v < 0; }));
+  MixOffsets offset{};
+  if (solid == 0 || solid == n) return offset;
+  std::vector<double> mix(n);
+  for (int i = 1; i < 8; ++i) {
+    const double t = i / 8.0;
+    for (std::size_t k = 0; k < n; ++k) mix[k] = (1 - t) * a.values[k] + t * b.values[k];
+    // The solid-th smallest and the one before: the offset puts the zero between them.
+    std::nth_element(mix.begin(), mix.begin() + solid, mix.end());
+    const double above = mix[solid];
+    const double below = *std::max_element(mix.begin(), mix.begin() + solid);
+    offset[i] = -0.5 * (above + below);
+  }
+  return offset;  // 0 at s = 0 and 1: there each rung is its own lattice
+}
+
+MixOffsets mix_offsets(const LatticeDesign& design, double small_cell, double large_cell) {
+  auto base = [&](double cell) {
+    TpmsOptions t = at_cell_size(design, cell);
+    t.origin = {0, 0, 0};
+    t.rotation = Mat3{};
+    return t;
+  };
+  const TpmsOptions small = base(small_cell), large = base(large_cell);
+  auto same = [](const TpmsOptions& x, const TpmsOptions& y) {
+    return x.type == y.type && x.style == y.style && x.cell == y.cell && x.level == y.level &&
+           x.thickness == y.thickness;
+  };
+  struct Entry {
+    TpmsOptions small, large;
+    MixOffsets offset;
+  };
+  static std::mutex mutex;
+  static std::deque<Entry> cache;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const Entry& e : cache)
+      if (same(e.small, small) && same(e.large, large)) return e.offset;
+  }
+  const MixOffsets offset = sample_mix_offsets(small, large);
+  const std::lock_guard<std::mutex> lock(mutex);
+  cache.push_front({small, large, offset});
+  if (cache.size() > 8) cache.pop_back();
+  return offset;
+}
+
+FieldSource cell_ladder_source(const LatticeDesign& design, const Grading& cell,
+                               const Field* depth) {
+  const double lo = std::fmin(cell.ramp.start, cell.ramp.end);
+  const double hi = std::fmax(cell.ramp.start, cell.ramp.end);
+  const int sizes =
+      std::clamp(static_cast<int>(std::ceil(std::log(hi / lo) / std::log(kScaleStep) - 1e-9)) + 1,
+                 1, kMaxScales);
+  const double step = sizes > 1 ? std::log(hi / lo) / (sizes - 1) : 1;
+  std::vector<FieldSource> ladder;
+  double bound = 0;
+  for (int k = 0; k < sizes; ++k) {
+    ladder.push_back(design_source(at_cell_size(design, lo * std::exp(k * step)), depth));
+    bound = std::fmax(bound, ladder.back().bound);
+  }
+  const RampEval ramp(cell.ramp);
+  const MixOffsets offset = sizes > 1 ? mix_offsets(design, lo, lo * std::exp(step)) : MixOffsets{};
+  return {
+      .on_grid = [ladder, ramp, depth, lo, step, offset](const Grid& grid) -> RowFunction {
+        if (ramp.shape == RampShape::Depth && !depth)
+          throw InputError(
+              "a depth ramp needs the depth below the model's surface (design_source's depth)");
+        std::vector<RowFunction> rows;
+        for (const FieldSource& s : ladder) rows.push_back(bind_source(s, grid));
+        return [rows, ramp, depth, lo, step, offset, grid](
+                   std::size_t first, std::size_t count, float* values, const std::uint8_t* need) {
+          const std::size_t nodes = count * static_cast<std::size_t>(grid.dims[0]);
+          // Per node: the ladder's rung below its cell size and the share of the one above.
+          std::vector<std::uint8_t> rung(nodes, 0), wanted(nodes, 0);
+          std::vector<double> share(nodes, 0.0), sum(nodes, 0.0);
+          const int top = static_cast<int>(rows.size()) - 1;
+          for_each_needed_node(grid, first, count, need, [&](int i, int j, int k, std::size_t n) {
+            const double t = ramp.shape == RampShape::Depth ? depth->values[grid.index(i, j, k)]
+                                                            : ramp.coordinate(grid.node(i, j, k));
+            const double at =
+                top > 0 ? std::clamp(std::log(ramp.value(t) / lo) / step, 0.0, double(top)) : 0;
+            const int below = std::min(static_cast<int>(at), std::max(top - 1, 0));
+            rung[n] = static_cast<std::uint8_t>(below);
+            share[n] = at - below;
+            wanted[n] = 1;
+          });
+          std::vector<float> phi(nodes);
+          std::vector<std::uint8_t> mask(nodes);
+          for (int r = 0; r <= top; ++r) {
+            bool any = false;
+            for (std::size_t n = 0; n < nodes; ++n) {
+              const double w = !wanted[n]         ? 0
+                               : rung[n] == r     ? 1 - share[n]
+                               : rung[n] + 1 == r ? share[n]
+                                                  : 0;
+              mask[n] = w > 0;
+              any = any || mask[n];
+            }
+            if (!any) continue;
+            rows[r](first, count, phi.data(), mask.data());
+            for (std::size_t n = 0; n < nodes; ++n)
+              if (mask[n]) sum[n] += (rung[n] == r ? 1 - share[n] : share[n]) * phi[n];
+          }
+          for (std::size_t n = 0; n < nodes; ++n) {
+            if (!wanted[n]) continue;
+            const double at = 8 * share[n];
+            const int i = std::min(static_cast<int>(at), 7);
+            const double shift = (1 - (at - i)) * offset[i] + (at - i) * offset[i + 1];
+            values[n] = static_cast<float>(sum[n] + std::exp(rung[n] * step) * shift);
+          }
+        };
+      },
+      .bound = bound};
+}
+
 }  // namespace
 }  // namespace detail
 
 FieldSource design_source(const LatticeDesign& design, const Field* depth) {
   const LatticeDesign resolved = resolve_design(design, Box3{});
+  if (const Grading* cell = find_grading(resolved, Graded::Cell);
+      cell && !resolved.custom &&
+      (cell->ramp.shape == RampShape::Depth || cell->ramp.shape == RampShape::Volume))
+    return detail::cell_ladder_source(resolved, *cell, depth);
   double bound = resolved.custom ? resolved.custom.bound : 2 * detail::TpmsLayer(resolved).clamp;
   for (const Blend& b : resolved.blends)
     bound = std::fmax(bound, 2 * detail::TpmsLayer(b.tpms).clamp);

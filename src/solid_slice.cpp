@@ -10,6 +10,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "detail/covered_region.hpp"
 #include "detail/mc_tables.hpp"
 #include "detail/spline_terms.hpp"
 #include "tpmsfill/error.hpp"
@@ -415,6 +416,24 @@ SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOp
     section.flipped += area < 0;
   }
   section.contours = border_contours(section.mesh);
+  if (section.flipped > 0) {
+    // Where G folds, turned-over triangles lie over others and the border chains cross
+    // themselves: their winding at a point is P − N (triangles covering it either way up),
+    // so a printer filling them by any rule leaves notches where a fold doubles back (0 = 1 −
+    // 1). Each turned-over triangle added twice, reversed, makes it P + N: the region the
+    // solid covers at z, as simple contours.
+    std::vector<std::vector<Vec2>> paths;
+    for (const Contour& c : section.contours) paths.push_back(c.points);
+    for (const auto& t : section.mesh.triangles) {
+      const Vec3 a = section.mesh.points[t[0]], b = section.mesh.points[t[1]],
+                 c = section.mesh.points[t[2]];
+      if ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) >= 0) continue;
+      for (int twice = 0; twice < 2; ++twice) paths.push_back({{a.x, a.y}, {c.x, c.y}, {b.x, b.y}});
+    }
+    section.contours = detail::nonzero_region(paths);
+    section.area = 0;
+    for (const Contour& c : section.contours) section.area += c.area;
+  }
   return section;
 }
 

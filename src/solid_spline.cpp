@@ -76,6 +76,73 @@ struct TetSamples {
   std::vector<std::array<double, 4>> target;  // x, y, z, m in the fit's units
 };
 
+// Per boundary triangle, its corners' normals: the angle-weighted mean of the normals of the
+// faces about the corner that lie within kCreaseDegrees of the triangle's own (so that a
+// crease keeps one normal a side, as Mesh_3's protected features do).
+constexpr double kCreaseDegrees = 60;
+
+std::vector<std::array<Vec3, 3>> corner_normals(const std::vector<Vec3>& points,
+                                                const std::vector<Triangle>& triangles) {
+  std::vector<Vec3> normal(triangles.size());
+  std::vector<std::array<double, 3>> angle(triangles.size());
+  std::vector<std::uint32_t> start(points.size() + 1, 0);
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    const Triangle& t = triangles[f];
+    const Vec3 n = cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
+    const double length = norm(n);
+    normal[f] = length > 0 ? (1 / length) * n : Vec3{};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = points[t[(k + 1) % 3]] - points[t[k]],
+                 b = points[t[(k + 2) % 3]] - points[t[k]];
+      angle[f][k] = std::atan2(norm(cross(a, b)), dot(a, b));
+      ++start[t[k] + 1];
+    }
+  }
+  for (std::size_t v = 0; v < points.size(); ++v) start[v + 1] += start[v];
+  std::vector<std::pair<std::uint32_t, int>> around(start.back());  // (face, corner) per point
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::uint32_t f = 0; f < triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) around[fill[triangles[f][k]]++] = {f, k};
+  const double same_side = std::cos(kCreaseDegrees * std::acos(-1.0) / 180);
+  std::vector<std::array<Vec3, 3>> out(triangles.size());
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = triangles[f][k];
+      Vec3 sum;
+      for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+        const auto [g, corner] = around[i];
+        if (dot(normal[g], normal[f]) >= same_side) sum = sum + angle[g][corner] * normal[g];
+      }
+      const double length = norm(sum);
+      out[f][k] = length > 0 ? (1 / length) * sum : normal[f];
+    }
+  return out;
+}
+
+// The point at barycentric l of the cubic point-normal triangle (Vlachos et al. 2001) through
+// corners p with normals n: a smooth surface through the corners, tangent to their normals,
+// which bulges where the polyhedron cuts a chord.
+Vec3 point_normal_triangle(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& n,
+                           std::array<double, 3> l) {
+  // b[i][j]: the edge control point next to corner i towards corner j.
+  Vec3 b[3][3], edges;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (i == j) continue;
+      b[i][j] = (1.0 / 3) * (2.0 * p[i] + p[j] - dot(p[j] - p[i], n[i]) * n[i]);
+      edges = edges + b[i][j];
+    }
+  const Vec3 mean = (1.0 / 3) * (p[0] + p[1] + p[2]);
+  const Vec3 centre = (1.0 / 6) * edges + 0.5 * ((1.0 / 6) * edges - mean);
+  Vec3 x = 6 * l[0] * l[1] * l[2] * centre;
+  for (int i = 0; i < 3; ++i) {
+    x = x + l[i] * l[i] * l[i] * p[i];
+    for (int j = 0; j < 3; ++j)
+      if (j != i) x = x + 3 * l[i] * l[i] * l[j] * b[i][j];
+  }
+  return x;
+}
+
 TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) {
   TetSamples out;
   // The sample at Σ_k w_k corner_k of a tet or a triangle (its first n corners), in the cube
@@ -107,23 +174,55 @@ TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) 
       add(
           t.data(), 4, [&](int k) { return k == s ? a : b; }, volume / 4);
   }
-  // The boundary, where sections and surfaces are cut: a 3-point rule (degree 2) on every
-  // boundary triangle, which lies on a cube face, weighted as a layer of kBoundaryLayer
-  // regular tets standing on it. The volume samples alone let the spline cut in where the map
-  // squeezes the boundary (bear's sections 0.7-5 % short of the tets, fandisk's edge 11 %);
-  // with these, 0.2-2.2 % and 0.3-0.7 % (docs/benchmarks.md §21). Four: one lost the area,
-  // sixteen the largest interior error (bear: max 0.088 / 0.114 / 0.142 mm for 1 / 4 / 16).
+  // The boundary, where sections and surfaces are cut: every boundary triangle (on a cube
+  // face) is cut into kBoundarySplit² and each piece gets a 3-point rule (degree 2), the
+  // whole weighted as a layer of kBoundaryLayer regular tets standing on it. The volume
+  // samples alone let the spline cut in where the map squeezes the boundary (bear's sections
+  // 0.7-5 % short of the tets, fandisk's edge 11 %; with these 0.2-2.2 % and 0.3-0.7 %,
+  // docs/benchmarks.md §21). Four tets: one lost the area, sixteen the largest interior error
+  // (bear: max 0.088 / 0.114 / 0.142 mm for 1 / 4 / 16). Split in 4: with 3 points alone the
+  // spline dipped between them where the map squeezes the boundary (bear's ears: teeth in its
+  // sections, vertex max 0.116 mm, 0.066 split in 4, no better in 9). Each point aims at the
+  // smooth point-normal triangle over the triangle, not at the triangle, which cuts a chord
+  // of the surface the tets were made from (a coarse ball's sections 2.0-2.9 % short, now
+  // within 0.2 %: SolidSpline.BallSectionsFollowTheSphereNotItsChords).
   constexpr double kBoundaryLayer = 4;
+  constexpr int kBoundarySplit = 2;
   constexpr double kRegularTet = 0.4387;  // a regular tet's volume / its face's area^1.5
-  for (const Triangle& t : tet_boundary(mesh).triangles) {
-    const Vec3 p0 = mesh.points[t[0]];
-    const double area =
-        0.5 * norm(cross(mesh.points[t[1]] - p0, mesh.points[t[2]] - p0)) / (u.size * u.size);
+  const std::vector<Triangle> boundary = tet_boundary(mesh).triangles;
+  const std::vector<std::array<Vec3, 3>> normals = corner_normals(mesh.points, boundary);
+  for (std::size_t f = 0; f < boundary.size(); ++f) {
+    const Triangle& t = boundary[f];
+    const std::array<Vec3, 3> p = {mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]};
+    const double area = 0.5 * norm(cross(p[1] - p[0], p[2] - p[0])) / (u.size * u.size);
     if (!(area > 0)) continue;
-    for (int s = 0; s < 3; ++s)
-      add(
-          t.data(), 3, [&](int k) { return k == s ? 2.0 / 3 : 1.0 / 6; },
-          kBoundaryLayer * kRegularTet * std::pow(area, 1.5) / 3);
+    constexpr int n = kBoundarySplit;  // pieces along a side
+    const double weight = kBoundaryLayer * kRegularTet * std::pow(area, 1.5) / (3 * n * n);
+    // The pieces of the barycentric grid (λ1, λ2 in steps of 1/n): upright (i, j), (i + 1, j),
+    // (i, j + 1), and below the diagonal also the inverted (i + 1, j + 1), (i, j + 1), (i + 1, j).
+    auto sample_piece = [&](const std::array<std::array<double, 2>, 3>& grid) {
+      for (int s = 0; s < 3; ++s) {
+        std::array<double, 3> bary{};  // at corners 0, 1, 2 of the triangle
+        for (int k = 0; k < 3; ++k) {
+          const double w = k == s ? 2.0 / 3 : 1.0 / 6;
+          bary[1] += w * grid[k][0] / n;
+          bary[2] += w * grid[k][1] / n;
+        }
+        bary[0] = 1 - bary[1] - bary[2];
+        add(
+            t.data(), 3, [&](int k) { return bary[k]; }, weight);
+        const Vec3 x = point_normal_triangle(p, normals[f], bary);
+        out.target.back()[0] = (x.x - u.centre.x) / u.size;
+        out.target.back()[1] = (x.y - u.centre.y) / u.size;
+        out.target.back()[2] = (x.z - u.centre.z) / u.size;
+      }
+    };
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j) {
+        const double x = i, y = j;
+        sample_piece({{{x, y}, {x + 1, y}, {x, y + 1}}});
+        if (i + j + 1 < n) sample_piece({{{x + 1, y + 1}, {x, y + 1}, {x + 1, y}}});
+      }
   }
   return out;
 }
@@ -770,6 +869,14 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     if (has_material)
       std::tie(report.material_iterations, report.material_rs) =
           iterate(fit_m, start_m, options, progress(1));
+    // The steps are explicit: one that is not stable blows up rather than slows down, and a
+    // model with a non-finite control point must not reach a file.
+    for (const std::vector<double>* field : {&g, &m})
+      for (double x : *field)
+        if (!std::isfinite(x))
+          throw InputError("the spline fit diverged in round " + std::to_string(round + 1) +
+                           " (a control value is not finite); try a smaller step (the seed's "
+                           "0.4-0.6) or more tets per cell");
     const ProbeError eg = probe_error<3>(basis, probe, g, points.g);
     report.geometry_rms = eg.rms * units.size;
     report.geometry_max = eg.max * units.size;

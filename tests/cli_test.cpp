@@ -182,7 +182,7 @@ TEST(Cli, FillFailuresExitTwoAndWriteNothing) {
       in + lattice + " --porosity 1.2",
       in + lattice + " --grade porosity 0.8 0.5 --grade-along w",
       in + lattice + " --grade-along depth",
-      in + lattice + " --grade cell 2 4 --grade-along depth",
+      in + lattice + " --grade cell 0 4 --grade-along depth",
       in + lattice + " --grade level 0 0.2 --sheet",
       in + lattice + " --skin-windows",
       in + lattice + " --recipe '" + (dir / "bad.json").string() + "'",

@@ -251,6 +251,56 @@ TEST(Design, GradedPorosityIsMonotoneAlongTheAxis) {
   EXPECT_NEAR(1 - solid[7], 0.5 + 0.3 / 16, 0.05);
 }
 
+TEST(Design, CellGradedByAVolumeOrDepthMixesALadderOfCellSizes) {
+  // A volume whose value is x (0 to 20 mm) grades the cell 1.5 → 3 mm. No phase follows a
+  // field's level sets, so the design is made at the cell sizes 1.5 · 2^(k/4), k = 0..4
+  // (neighbours 1.19× apart), and mixed in log size: where x asks for one of them the field is
+  // that lattice's own, and it is continuous everywhere.
+  ScalarVolume v{.dims = {41, 3, 3}, .spacing = {0.5, 0.5, 0.5}, .origin = {0, 0, 0}, .values = {}};
+  for (int n = 0; n < 41 * 9; ++n) v.values.push_back(0.5 * (n % 41));
+  LatticeDesign d{{.type = TpmsType::Gyroid, .cell = {1.5, 1.5, 1.5}, .porosity = 0.7}};
+  d.grading.push_back({Graded::Cell,
+                       {.shape = RampShape::Volume,
+                        .from = 0,
+                        .to = 20,
+                        .start = 1.5,
+                        .end = 3,
+                        .volume = std::make_shared<const ScalarVolume>(std::move(v))}});
+  auto phi = [&](Vec3 p) { return static_cast<double>(test::design_value(p, d)); };
+  auto at_cell = [](double cell) {
+    return LatticeDesign{{.type = TpmsType::Gyroid, .cell = {cell, cell, cell}, .porosity = 0.7}};
+  };
+  for (int k = 0; k < 5; ++k) {
+    const double cell = 1.5 * std::pow(2.0, k / 4.0), x = 20 * (cell / 1.5 - 1);
+    for (double y : {0.13, 0.41, 0.77}) {
+      const Vec3 p{x, y, 0.3};
+      EXPECT_NEAR(phi(p), test::design_value(p, at_cell(cell)), 1e-5) << "cell " << cell;
+    }
+  }
+  // Continuous: the largest step between samples shrinks with their spacing, and is no larger
+  // than the ladder's own lattices take (f/|∇f| is steep near f's critical points).
+  const Vec3 a{-1, 0.5, 0.5}, b{21, 0.5, 0.5};
+  const double coarse = largest_step(phi, a, b, 0.01);
+  EXPECT_LT(largest_step(phi, a, b, 0.0025), 0.5 * coarse);
+  double own = 0;
+  for (double cell : {1.5, 3.0}) {
+    const LatticeDesign plain = at_cell(cell);
+    own = std::max(own, largest_step([&](Vec3 p) { return double(test::design_value(p, plain)); },
+                                     a, b, 0.01));
+  }
+  EXPECT_LT(coarse, 1.5 * own);
+
+  // By depth: 1 mm cells at the skin, 2.5 mm from 3 mm in. The output is valid and keeps the
+  // porosity every rung has: two rungs mixed would thin the walls (72 % void), and the mix's
+  // offset, solved once on the first pair, restores it.
+  FillOptions o = cube_job(0.08, {.type = TpmsType::Gyroid, .porosity = 0.7});
+  o.design.grading.push_back(
+      {Graded::Cell, {.shape = RampShape::Depth, .from = 0, .to = 3, .start = 1, .end = 2.5}});
+  const FillResult r = fill(test::make_box({0, 0, 0}, {10, 10, 10}), o);
+  EXPECT_TRUE(r.report.validation.valid());
+  EXPECT_NEAR(r.report.porosity(), 0.7, 0.01);
+}
+
 TEST(Design, CellGradingKeepsThePhaseContinuous) {
   // Cell size 1.5 → 4 mm along x. The field stays a distance (no jump between neighbouring
   // samples: a torn cell would show one), the zero crossings along x are T/2 apart at each
@@ -409,7 +459,9 @@ TEST(Design, CustomSourcesPlugIntoTheSamePipeline) {
 TEST(Design, DesignErrorsAreClear) {
   LatticeDesign d;
   d.grading.push_back({Graded::Cell, {.shape = RampShape::Depth, .start = 1, .end = 2}});
-  EXPECT_THROW(require_valid(d), InputError);
+  EXPECT_NO_THROW(require_valid(d));  // a ladder of cell sizes
+  d.grading[0].ramp.start = 0;
+  EXPECT_THROW(require_valid(d), InputError);  // no cell of size 0
   d.grading = {{Graded::Level, {.start = 0, .end = 0.2}}};
   d.style = TpmsStyle::Sheet;
   EXPECT_THROW(require_valid(d), InputError);

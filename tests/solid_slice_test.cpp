@@ -9,6 +9,7 @@
 #include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/solid_slice.hpp>
+#include <tpmsfill/thb_basis.hpp>
 
 #include "test_util.hpp"
 
@@ -113,6 +114,75 @@ TEST(SolidSlice, IsoMaterialSurfacesCarryTheirValueAndNest) {
     }
     expect_crack_free(s);
   }
+}
+
+// Winding number of the contours about p.
+int winding(const std::vector<Contour>& contours, Vec2 p) {
+  int w = 0;
+  for (const Contour& c : contours)
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      const Vec2 a = c.points[i], b = c.points[(i + 1) % c.points.size()];
+      const double side = (b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y);
+      if (a.y <= p.y && b.y > p.y && side > 0) ++w;
+      if (a.y > p.y && b.y <= p.y && side < 0) --w;
+    }
+  return w;
+}
+
+// Whether segments ab and cd cross at a point inside both.
+bool cross_properly(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  auto orient = [](Vec2 p, Vec2 q, Vec2 r) {
+    return (q.x - p.x) * (r.y - p.y) - (r.x - p.x) * (q.y - p.y);
+  };
+  return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
+}
+
+TEST(SolidSlice, WhereTheSolidFoldsTheContoursBoundWhatItCovers) {
+  // A 10 mm cube whose spline has one control point on its face x = 10 pulled in past its
+  // neighbours: G folds under that face, so some of the section's triangles come out turned
+  // over and its border chains cross themselves. The contours must instead be simple and
+  // bound every point some triangle covers, either way up.
+  SolidSpline cube{tensor_basis(6), {}, {}};
+  for (const auto& g : greville_points(cube.basis))
+    cube.geometry.push_back(10.0 * Vec3{g[0], g[1], g[2]});
+  std::size_t pulled = 0;
+  double best = 1e300;
+  const auto grevilles = greville_points(cube.basis);
+  for (std::size_t f = 0; f < grevilles.size(); ++f) {
+    const auto& g = grevilles[f];
+    const double d = std::abs(g[0] - 1) + std::abs(g[1] - 0.5) + std::abs(g[2] - 0.5);
+    if (d < best) best = d, pulled = f;
+  }
+  cube.geometry[pulled].x = 4;
+  const SolidSection s = slice_solid(cube, cube.geometry[pulled].z, {.tau = 0.01});
+  ASSERT_GT(s.flipped, 0u);
+  double signed_sum = 0, unsigned_sum = 0;
+  for (const auto& t : s.mesh.triangles) {
+    const Vec3 a = s.mesh.points[t[0]], b = s.mesh.points[t[1]], c = s.mesh.points[t[2]];
+    const double area = ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)) / 2;
+    signed_sum += area, unsigned_sum += std::abs(area);
+    // Inside the region: each triangle's centre, unless the triangle is a sliver.
+    const double longest = std::max({norm(b - a), norm(c - b), norm(a - c)});
+    if (std::abs(area) > 1e-4 * longest * longest) {
+      const Vec3 m = (1.0 / 3) * (a + b + c);
+      EXPECT_NE(winding(s.contours, {m.x, m.y}), 0) << "a triangle outside the contours";
+    }
+  }
+  double contour_area = 0;
+  for (const Contour& c : s.contours) contour_area += c.area;
+  EXPECT_NEAR(s.area, contour_area, 1e-12 * s.area);
+  EXPECT_GT(s.area, signed_sum);  // the notch a fold made is filled
+  EXPECT_LE(s.area, unsigned_sum * (1 + 1e-9));
+  // Simple: no two contour edges cross.
+  std::vector<std::pair<Vec2, Vec2>> edges;
+  for (const Contour& c : s.contours)
+    for (std::size_t i = 0; i < c.points.size(); ++i)
+      edges.push_back({c.points[i], c.points[(i + 1) % c.points.size()]});
+  std::size_t crossings = 0;
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    for (std::size_t j = i + 1; j < edges.size(); ++j)
+      crossings += cross_properly(edges[i].first, edges[i].second, edges[j].first, edges[j].second);
+  EXPECT_EQ(crossings, 0u);
 }
 
 }  // namespace

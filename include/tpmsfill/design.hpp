@@ -9,6 +9,9 @@
 ///  - Grading: a quantity follows a Ramp (linear along a direction, radial from an axis or a
 ///    point, or by depth below the model's surface). Cell-size grading warps the coordinates
 ///    so that the phase is the integral of 1/T along the ramp: cells stretch, none is torn.
+///    Depth and volume ramps give no direction to integrate along: there the design is made
+///    at a ladder of fixed cell sizes (neighbours at most 1.2× apart) and each node mixes the
+///    two rungs around its size, linearly in log size.
 ///  - Blending: φ_L = (1 − μ)·φ_base + μ·φ_k for each Blend in turn, μ rising from 0 to 1
 ///    across a transition band of the given width centred on the region's boundary (a sigmoid,
 ///    or the Beta growth function of Yin et al. 2003 as used by Yang et al. 2023).
@@ -132,8 +135,7 @@ struct LatticeDesign : TpmsOptions {
 
 /// @throws InputError  a layer fails require_valid(TpmsOptions), a quantity is graded twice,
 ///                     porosity and level/thickness are both graded, a level grading on a
-///                     sheet or a thickness grading on a network, a cell grading by depth or
-///                     by a volume (the phase could not stay continuous), a non-positive cell
+///                     sheet or a thickness grading on a network, a non-positive cell
 ///                     value, a zero ramp axis for linear ramps, a volume ramp without a valid
 ///                     volume in mm, a blend width ≤ 0, peak ∉ (0, 1), or a region of
 ///                     non-positive size

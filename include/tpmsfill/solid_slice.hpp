@@ -62,11 +62,13 @@ struct SolidLevelSet {
 };
 
 struct SolidSection {
-  double z = 0;                   ///< the plane, mm
-  SolidLevelSet mesh;             ///< the filled cross-section
-  std::vector<Contour> contours;  ///< outer counter-clockwise, holes clockwise (seen from +z)
-  double area = 0;                ///< Σ of the triangles' areas, mm²
-  std::size_t flipped = 0;        ///< triangles clockwise from +z (where G folds)
+  double z = 0;        ///< the plane, mm
+  SolidLevelSet mesh;  ///< the filled cross-section
+  /// Outer counter-clockwise, holes clockwise (seen from +z), none crossing another: the
+  /// border of the triangles, or with turned-over triangles, of the region they all cover.
+  std::vector<Contour> contours;
+  double area = 0;          ///< mm², enclosed by the contours
+  std::size_t flipped = 0;  ///< triangles clockwise from +z (where G folds)
 };
 
 /// The cross-section of the solid at height z (see the file comment). Empty when the plane

@@ -160,8 +160,8 @@ int run_material_slice(const ModelArgs& a) {
   }
   if (flipped > 0)
     print_warnings({std::to_string(flipped) +
-                    " section triangles are turned over (where G folds): the layers' areas "
-                    "count them negative"});
+                    " section triangles are turned over (where G folds): each layer's "
+                    "contours and area are those of the region its triangles cover"});
   return kOk;
 }
 
