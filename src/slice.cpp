@@ -122,12 +122,7 @@ class Tracer {
         v = next_[v];
       } while (v != start && v != kNone);
       if (v == kNone) throw Error("trace_contours: an open contour (a bug)");
-      double twice = 0;
-      for (std::size_t k = 0, n = c.points.size(); k < n; ++k) {
-        const Vec2 p = c.points[k], q = c.points[(k + 1) % n];
-        twice += p.x * q.y - q.x * p.y;
-      }
-      c.area = 0.5 * twice;
+      c.area = signed_area(c.points);
       out.push_back(std::move(c));
     }
     return out;

@@ -385,10 +385,7 @@ std::vector<Contour> border_contours(const SolidLevelSet& mesh) {
       at = it->second;
       next.erase(it);
     } while (at != first);
-    for (std::size_t i = 0; i < c.points.size(); ++i) {
-      const Vec2 p = c.points[i], q = c.points[(i + 1) % c.points.size()];
-      c.area += (p.x * q.y - q.x * p.y) / 2;
-    }
+    c.area = signed_area(c.points);
     contours.push_back(std::move(c));
   }
   return contours;
@@ -408,13 +405,15 @@ SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOp
   section.z = z;
   section.mesh = finder.extract(finder.cells(tau));
   for (Vec3& p : section.mesh.points) p.z = z;  // on the plane (edge points are, to 1e-9)
+  std::vector<std::vector<Vec2>> turned;        // the turned-over triangles, reversed
   for (const auto& t : section.mesh.triangles) {
     const Vec3 a = section.mesh.points[t[0]], b = section.mesh.points[t[1]],
                c = section.mesh.points[t[2]];
     const double area = ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)) / 2;
     section.area += area;
-    section.flipped += area < 0;
+    if (area < 0) turned.push_back({{a.x, a.y}, {c.x, c.y}, {b.x, b.y}});
   }
+  section.flipped = turned.size();
   section.contours = border_contours(section.mesh);
   if (section.flipped > 0) {
     // Where G folds, turned-over triangles lie over others and the border chains cross
@@ -424,12 +423,7 @@ SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOp
     // solid covers at z, as simple contours.
     std::vector<std::vector<Vec2>> paths;
     for (const Contour& c : section.contours) paths.push_back(c.points);
-    for (const auto& t : section.mesh.triangles) {
-      const Vec3 a = section.mesh.points[t[0]], b = section.mesh.points[t[1]],
-                 c = section.mesh.points[t[2]];
-      if ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) >= 0) continue;
-      for (int twice = 0; twice < 2; ++twice) paths.push_back({{a.x, a.y}, {c.x, c.y}, {b.x, b.y}});
-    }
+    for (const auto& t : turned) paths.insert(paths.end(), 2, t);
     section.contours = detail::nonzero_region(paths);
     section.area = 0;
     for (const Contour& c : section.contours) section.area += c.area;

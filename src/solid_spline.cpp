@@ -13,6 +13,7 @@
 #include "detail/parallel.hpp"
 #include "detail/spline_terms.hpp"
 #include "detail/stage_progress.hpp"
+#include "detail/surface_normals.hpp"
 #include "tpmsfill/cube_lookup.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/tet_mesh.hpp"
@@ -88,9 +89,8 @@ std::vector<std::array<Vec3, 3>> corner_normals(const std::vector<Vec3>& points,
   std::vector<std::uint32_t> start(points.size() + 1, 0);
   for (std::size_t f = 0; f < triangles.size(); ++f) {
     const Triangle& t = triangles[f];
-    const Vec3 n = cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
-    const double length = norm(n);
-    normal[f] = length > 0 ? (1 / length) * n : Vec3{};
+    normal[f] =
+        detail::unit_or_zero(cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]));
     for (int k = 0; k < 3; ++k) {
       const Vec3 a = points[t[(k + 1) % 3]] - points[t[k]],
                  b = points[t[(k + 2) % 3]] - points[t[k]];
@@ -113,8 +113,7 @@ std::vector<std::array<Vec3, 3>> corner_normals(const std::vector<Vec3>& points,
         const auto [g, corner] = around[i];
         if (dot(normal[g], normal[f]) >= same_side) sum = sum + angle[g][corner] * normal[g];
       }
-      const double length = norm(sum);
-      out[f][k] = length > 0 ? (1 / length) * sum : normal[f];
+      out[f][k] = norm(sum) > 0 ? detail::unit_or_zero(sum) : normal[f];
     }
   return out;
 }

@@ -46,6 +46,17 @@ struct Contour {
   bool outer() const { return area > 0; }
 };
 
+/// Signed area of the closed polygon through `points` (shoelace), mm²: positive when
+/// counter-clockwise seen from +z.
+inline double signed_area(const std::vector<Vec2>& points) {
+  double twice = 0;
+  for (std::size_t k = 0, n = points.size(); k < n; ++k) {
+    const Vec2 p = points[k], q = points[(k + 1) % n];
+    twice += p.x * q.y - q.x * p.y;
+  }
+  return 0.5 * twice;
+}
+
 /// A layer's filled section as triangles with a material per point (seed 001's direct
 /// slices, issue 18: material_layers.hpp). Writers draw it when it has triangles: SVG fills
 /// each triangle with its mean material's colour, PNG writes the material as grey.

@@ -41,10 +41,7 @@ std::vector<Contour> nonzero_region(const std::vector<std::vector<Vec2>>& paths)
     for (const ClipperLib::IntPoint& p : path)
       c.points.push_back(
           {cx + static_cast<double>(p.X) / scale, cy + static_cast<double>(p.Y) / scale});
-    for (std::size_t i = 0; i < c.points.size(); ++i) {
-      const Vec2 a = c.points[i], b = c.points[(i + 1) % c.points.size()];
-      c.area += (a.x * b.y - b.x * a.y) / 2;
-    }
+    c.area = signed_area(c.points);
     contours.push_back(std::move(c));
   }
   return contours;
