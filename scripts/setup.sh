@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev  # hole fairing in `tpmsfill repair` (optional at build time)
   lib3mf-dev  # 3MF in and out (the 3MF Consortium's lib3mf)
   libpolyclipping-dev  # Clipper: the region a folded solid's section covers (material slice)
+  libcpp-httplib-dev  # HTTP for `tpmsfill serve` (pulls libssl-dev, zlib1g-dev, libbrotli-dev)
   # Real meshes for the tests and the demo: CGAL's demo data (femur.off, elephant-with-holes.off,
   # ...) and assimp's odd STL/OBJ/PLY/OFF test files.
   libcgal-demo assimp-testmodels

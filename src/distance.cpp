@@ -30,33 +30,32 @@ namespace {
 using detail::TreeNode;
 using detail::TrianglePrimitive;
 
-/// Squared distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5),
+/// p minus its nearest point on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5),
 /// in double. Degenerate (collinear) triangles fall into the edge/vertex regions.
-double squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+Vec3 offset_from_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  auto sq = [](const Vec3& v) { return dot(v, v); };
-  if (d1 <= 0 && d2 <= 0) return sq(ap);  // vertex a
+  if (d1 <= 0 && d2 <= 0) return ap;  // vertex a
   const Vec3 bp = p - b;
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return sq(bp);  // vertex b
+  if (d3 >= 0 && d4 <= d3) return bp;  // vertex b
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0 && d1 >= 0 && d3 <= 0) {  // edge ab
     const double t = d1 / (d1 - d3);
-    return sq(ap - t * ab);
+    return ap - t * ab;
   }
   const Vec3 cp = p - c;
   const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return sq(cp);  // vertex c
+  if (d6 >= 0 && d5 <= d6) return cp;  // vertex c
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) {  // edge ac
     const double t = d2 / (d2 - d6);
-    return sq(ap - t * ac);
+    return ap - t * ac;
   }
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {  // edge bc
     const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return sq(bp - t * (c - b));
+    return bp - t * (c - b);
   }
   const double sum = va + vb + vc;
   if (!(sum > 0)) {  // degenerate triangle that slipped through: nearest of the three edges
@@ -64,12 +63,20 @@ double squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3&
       const Vec3 d = e - s, sp = p - s;
       const double len2 = dot(d, d);
       const double t = len2 > 0 ? std::clamp(dot(sp, d) / len2, 0.0, 1.0) : 0.0;
-      return sq(sp - t * d);
+      return sp - t * d;
     };
-    return std::min({seg(a, b), seg(b, c), seg(c, a)});
+    const Vec3 o[3] = {seg(a, b), seg(b, c), seg(c, a)};
+    const auto nearer = [](const Vec3& x, const Vec3& y) { return dot(x, x) < dot(y, y); };
+    return *std::min_element(o, o + 3, nearer);
   }
   const double v = vb / sum, w = vc / sum;  // interior: p minus its projection
-  return sq(ap - v * ab - w * ac);
+  return ap - v * ab - w * ac;
+}
+
+/// Squared distance from p to triangle abc.
+double squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 o = offset_from_triangle(p, a, b, c);
+  return dot(o, o);
 }
 
 /// Squared distance from p to a box (0 inside).
@@ -132,6 +139,13 @@ class Nearest {
   std::uint32_t best_id_ = detail::kNoIndex;
 };
 
+// The walk's rounding slack for points within `reach` mm of the origin: the point-triangle
+// and point-box formulas round far below 1e-9 of the largest coordinate, and a box is pruned
+// only beyond best + slack, so the minimiser always survives.
+double rounding_slack(double reach) {
+  return 1e-9 * (reach + 1.0);
+}
+
 /// Nodes per chunk: the unit of parallel work and of hint reuse (fixed, so that the visiting
 /// order inside a chunk does not depend on the thread count; the result would not either).
 constexpr std::size_t kChunk = 512;
@@ -144,13 +158,11 @@ void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const No
   const Grid& grid = inside.grid;
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
-  // Rounding of the point-triangle and point-box formulas is far below 1e-9 of the largest
-  // coordinate; a box is pruned only beyond best + slack, so the minimiser always survives.
   double reach = impl.magnitude;
   for (int a = 0; a < 3; ++a)
     reach = std::max({reach, std::fabs(grid.coordinate(a, 0)),
                       std::fabs(grid.coordinate(a, std::max(grid.dims[a] - 1, 0)))});
-  const double slack = 1e-9 * (reach + 1.0);
+  const double slack = rounding_slack(reach);
 
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   detail::ProgressCounter progress(options.progress, "distance", n);
@@ -195,6 +207,29 @@ void require_mask(const Mask& inside) {
 }
 
 }  // namespace
+
+std::vector<Vec3> closest_points(const MeshIndex& index, const std::vector<Vec3>& points) {
+  const auto& impl = detail::MeshIndexAccess::impl(index);
+  double reach = impl.magnitude;
+  for (std::size_t q = 0; q < points.size(); ++q) {
+    const Vec3 p = points[q];
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+      throw InputError("closest_points: point " + std::to_string(q) + " is not finite");
+    reach = std::max({reach, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  }
+  const double slack = rounding_slack(reach);
+  std::vector<Vec3> out(points.size());
+  detail::parallel_for(points.size(), kChunk, [&](std::size_t begin, std::size_t end) {
+    Nearest nearest(impl.triangles, slack);
+    for (std::size_t q = begin; q < end; ++q) {
+      nearest.start(points[q], detail::kNoIndex);
+      for (const auto& tree : impl.trees) tree->traversal_with_priority(points[q], nearest);
+      const auto& v = impl.triangles[nearest.best_id()].v;
+      out[q] = points[q] - offset_from_triangle(points[q], v[0], v[1], v[2]);
+    }
+  });
+  return out;
+}
 
 std::vector<float> band_distances(const MeshIndex& index, const Mask& inside, const Band& band,
                                   const DistanceOptions& options) {

@@ -15,6 +15,7 @@
 #include "detail/stage_progress.hpp"
 #include "detail/surface_normals.hpp"
 #include "tpmsfill/cube_lookup.hpp"
+#include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/tet_mesh.hpp"
 
@@ -142,7 +143,29 @@ Vec3 point_normal_triangle(const std::array<Vec3, 3>& p, const std::array<Vec3, 
   return x;
 }
 
-TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) {
+// Where the tets were made from a surface (tetrahedralize()), the boundary samples from
+// `first` on aim at that surface itself: each at the surface's nearest point to its
+// point-normal target. The point-normal triangles only guess the surface between the tets'
+// corners; where Mesh_3's triangles cut chords of a curved surface (facet_distance, the
+// bounding box's diagonal / 300 by default) that guess fell short of it: bear's tets hold
+// 1.8 % less than its surface, and a section near the top of a limb lost the limb's tip.
+void aim_at_surface(const MeshIndex& surface, const Units& u, std::size_t first,
+                    TetSamples& samples) {
+  std::vector<Vec3> guess(samples.target.size() - first);
+  for (std::size_t k = 0; k < guess.size(); ++k) {
+    const auto& t = samples.target[first + k];
+    guess[k] = u.centre + u.size * Vec3{t[0], t[1], t[2]};
+  }
+  const std::vector<Vec3> on_surface = closest_points(surface, guess);
+  for (std::size_t k = 0; k < guess.size(); ++k) {
+    const Vec3 x = (1 / u.size) * (on_surface[k] - u.centre);
+    auto& t = samples.target[first + k];
+    t[0] = x.x, t[1] = x.y, t[2] = x.z;
+  }
+}
+
+TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u,
+                       const MeshIndex* surface) {
   TetSamples out;
   // The sample at Σ_k w_k corner_k of a tet or a triangle (its first n corners), in the cube
   // and in the fit's units.
@@ -158,6 +181,11 @@ TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) 
       target[2] += w * (x.z - u.centre.z) / u.size;
       if (!mesh.material.empty()) target[3] += w * (mesh.material[corners[k]] - u.m0) / u.m_range;
     }
+    // The harmonic map can fold interior points past the cube's faces (bear with tets refined
+    // in its ears: v = −0.02); the spline has no value there, and the element's cubic pieces,
+    // extrapolated, took values down to −1.8: the data step lost its partition-of-unity bound
+    // and grew tenfold a step. Such a sample belongs to the face it left.
+    for (double& x : uvw) x = std::clamp(x, 0.0, 1.0);
     out.uvw.push_back(uvw);
     out.weight.push_back(weight);
     out.target.push_back(target);
@@ -188,6 +216,7 @@ TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) 
   constexpr double kBoundaryLayer = 4;
   constexpr int kBoundarySplit = 2;
   constexpr double kRegularTet = 0.4387;  // a regular tet's volume / its face's area^1.5
+  const std::size_t first_boundary_sample = out.uvw.size();
   const std::vector<Triangle> boundary = tet_boundary(mesh).triangles;
   const std::vector<std::array<Vec3, 3>> normals = corner_normals(mesh.points, boundary);
   for (std::size_t f = 0; f < boundary.size(); ++f) {
@@ -223,6 +252,7 @@ TetSamples tet_samples(const TetMesh& mesh, const CubeMap& map, const Units& u) 
         if (i + j + 1 < n) sample_piece({{{x + 1, y + 1}, {x, y + 1}, {x + 1, y}}});
       }
   }
+  if (surface) aim_at_surface(*surface, u, first_boundary_sample, out);
   return out;
 }
 
@@ -661,7 +691,8 @@ Probe make_probe(const SplineBasis& basis, const CubeMap& map) {
   probe.value.resize(probe.point.size());
   detail::parallel_for(probe.point.size(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const std::array<double, 3> uvw = map.uvw[probe.point[i]];
+      std::array<double, 3> uvw = map.uvw[probe.point[i]];
+      for (double& x : uvw) x = std::clamp(x, 0.0, 1.0);  // as the samples (tet_samples)
       probe.element[i] = static_cast<std::uint32_t>(basis_element_at(basis, uvw));
       probe.value[i] = local_basis(basis, probe.element[i], uvw, 0).value;
     }
@@ -824,7 +855,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
   const CubeLookup lookup = build_cube_lookup(mesh, map);
   const PointTargets points = point_targets(mesh, units);
   const std::vector<std::array<double, 3>> centroids = tet_centroids(mesh, map);
-  const TetSamples samples = tet_samples(mesh, map, units);
+  const TetSamples samples = tet_samples(mesh, map, units, options.surface);
   CubeOctree octree;
   SplineBasis basis;
   if (options.uniform > 0) {

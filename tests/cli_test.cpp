@@ -324,8 +324,10 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
   const std::string job = "fill '" + in + "' '" + out + "' ";
   const std::pair<std::string, std::string> cases[] = {
       {"",
-       "a command is needed: check, fill, repair, decimate, field, conformal, slice, render or "
-       "material"},
+       "a command is needed: check, fill, repair, decimate, field, conformal, slice, render, "
+       "material or serve"},
+      {"serve --listen localhost", "--listen: 'localhost' is not ADDRESS:PORT"},
+      {"serve --listen 127.0.0.1:70000", "the port in '127.0.0.1:70000' must be 0 to 65535"},
       {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},

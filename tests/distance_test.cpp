@@ -133,5 +133,32 @@ TEST(Distance, MismatchedGridsAreAnInputError) {
   EXPECT_THROW(band_distances(s.index, s.occ.inside, other), InputError);
 }
 
+TEST(Distance, ClosestPointsOnABoxAreTheNearestFacePoints) {
+  // Outside the unit box, the nearest point is the point clamped onto it; inside, the point
+  // moved onto its nearest face. Every third point lies exactly on an edge's extension, where
+  // two or three triangles tie.
+  const MeshIndex index = build_index(test::make_box({0, 0, 0}, {1, 1, 1}));
+  std::vector<Vec3> points;
+  for (int i = 0; i < 2000; ++i) {
+    const double a = std::fmod(i * 0.7548776662, 1.0), b = std::fmod(i * 0.5698402910, 1.0),
+                 c = std::fmod(i * 0.4142135624, 1.0);
+    points.push_back({3 * a - 1, 3 * b - 1, i % 3 == 0 ? 2.0 : 3 * c - 1});
+  }
+  const std::vector<Vec3> q = closest_points(index, points);
+  ASSERT_EQ(q.size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3 p = points[i];
+    Vec3 expected{std::clamp(p.x, 0.0, 1.0), std::clamp(p.y, 0.0, 1.0), std::clamp(p.z, 0.0, 1.0)};
+    if (expected == p) {  // inside: the nearest face
+      const double gaps[6] = {p.x, 1 - p.x, p.y, 1 - p.y, p.z, 1 - p.z};
+      const int f = static_cast<int>(std::min_element(gaps, gaps + 6) - gaps);
+      double* axis[3] = {&expected.x, &expected.y, &expected.z};
+      *axis[f / 2] = f % 2;
+    }
+    EXPECT_NEAR(norm(q[i] - expected), 0, 1e-12) << "point " << i;
+  }
+  EXPECT_THROW(closest_points(index, {{0, 0, NAN}}), InputError);
+}
+
 }  // namespace
 }  // namespace tpmsfill

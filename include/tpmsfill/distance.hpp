@@ -30,6 +30,12 @@ struct DistanceOptions {
 std::vector<float> band_distances(const MeshIndex& index, const Mask& inside, const Band& band,
                                   const DistanceOptions& options = {});
 
+/// Per point, its nearest point on the index's triangles (caps included): the same walk and
+/// formula as the distances, so the answer is the one triangle that attains the minimum (the
+/// lowest id among ties) whatever the thread count.
+/// @throws InputError  a point that is not finite
+std::vector<Vec3> closest_points(const MeshIndex& index, const std::vector<Vec3>& points);
+
 /// Signed distance at every node of inside.grid: dims[0]·dims[1]·dims[2] queries.
 /// @throws Cancelled  when options.progress says so
 Field signed_distance_field(const MeshIndex& index, const Mask& inside,

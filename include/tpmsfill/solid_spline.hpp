@@ -36,6 +36,7 @@
 #include "tpmsfill/cube_map.hpp"
 #include "tpmsfill/cube_octree.hpp"
 #include "tpmsfill/progress.hpp"
+#include "tpmsfill/spatial.hpp"
 #include "tpmsfill/tet_mesh.hpp"
 #include "tpmsfill/thb_basis.hpp"
 #include "tpmsfill/types.hpp"
@@ -63,6 +64,10 @@ struct SolidFitOptions {
   int max_iterations = 50;   ///< per field and round
   int refinements = 2;       ///< progressive rounds after the first (THB only)
   double refine_sigmas = 2;  ///< split leaves whose residual exceeds mean + this · σ
+  /// The surface the tets were made from (tetrahedralize()), or null: the boundary samples
+  /// then aim at it rather than at the point-normal triangles over the tets' boundary.
+  /// Must outlive the call.
+  const MeshIndex* surface = nullptr;
   Progress* progress = nullptr;
 };
 

@@ -20,6 +20,11 @@ namespace tpmsfill {
 struct TetrahedralizeOptions {
   /// Largest tet circumradius and boundary-triangle size, mm; 0: the bounding box's diagonal / 30.
   double cell_size = 0;
+  /// Parts thinner than cell_size get smaller tets, about this many across their thickness
+  /// (measured inward from each boundary face), down to cell_size / 8; 0: one size everywhere.
+  /// Mesh_3 drops a tet whose circumcentre lies outside, so without it a flap thinner than
+  /// the tets loses area in the sections of a model fitted to them.
+  double cells_across_thin_parts = 2;
   /// Largest distance between a boundary triangle's centre and the surface, mm; 0: cell_size / 10.
   double facet_distance = 0;
   /// Edges where the surface's normal turns by more than this many degrees are kept as sharp
@@ -36,7 +41,7 @@ struct TetrahedralizeOptions {
 ///                     are turned), one or more shells
 /// @throws InputError  no triangles; the surface is not a closed 2-manifold (the sentence says
 ///                     why) or intersects itself; sizes that are not positive and finite, an angle
-///                     outside (0, 180]; Mesh_3 made no tets
+///                     outside (0, 180], a negative cells_across_thin_parts; Mesh_3 made no tets
 /// @throws Cancelled   options.progress asked to stop (checked before and after)
 TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions& options = {});
 

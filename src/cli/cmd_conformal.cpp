@@ -72,7 +72,7 @@ int run_conformal(const ConformalArgs& a) {
   require_writable_outputs(inputs, outputs);
 
   std::unique_ptr<TerminalProgress> progress;
-  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
   const MeshFile file = read_mesh_file(a.input);
   print_warnings(file.warnings);

@@ -56,7 +56,7 @@ int run_decimate(const DecimateArgs& args) {
   const ModelUnits units{.units = units_from_name(args.units)};
 
   std::unique_ptr<TerminalProgress> progress;
-  if (!args.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (progress_wanted(args.quiet)) progress = std::make_unique<TerminalProgress>();
   DecimateOptions options;
   options.tolerance = args.tolerance;
   options.target_triangles = args.target;

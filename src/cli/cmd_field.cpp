@@ -310,7 +310,7 @@ int run_mesh(const FieldArgs& a) {
   if (rounding_for(format_from_extension(a.output)) == CoordinateRounding::ThreeMf)
     o.rounding = CoordinateRounding::ThreeMf;
   std::unique_ptr<TerminalProgress> progress;
-  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
   FillResult r = fill(box_soup(Box3{{0, 0, 0}, {size[0], size[1], size[2]}}), o);
   if (progress) progress->clear();
@@ -334,7 +334,7 @@ int run_from(const FieldArgs& a, const std::string& kind) {
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
   std::unique_ptr<TerminalProgress> progress;
-  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   const ScannedFieldOptions o{
       .voxel = a.voxel.value_or(0), .padding = a.padding, .progress = progress.get()};
   ScalarVolume v;

@@ -123,8 +123,7 @@ int run_fill(FillArgs args) {
   require_writable_outputs(inputs, outputs);
 
   std::unique_ptr<TerminalProgress> progress;
-  if (!args.quiet && rank() == 0 && isatty(STDERR_FILENO))
-    progress = std::make_unique<TerminalProgress>();
+  if (rank() == 0 && progress_wanted(args.quiet)) progress = std::make_unique<TerminalProgress>();
   options.progress = progress.get();
 
   auto t0 = std::chrono::steady_clock::now();

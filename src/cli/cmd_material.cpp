@@ -18,6 +18,7 @@
 #include <tpmsfill/material.hpp>
 #include <tpmsfill/solid_model.hpp>
 #include <tpmsfill/solid_spline.hpp>
+#include <tpmsfill/spatial.hpp>
 #include <tpmsfill/tet_mesh.hpp>
 #include <tpmsfill/tetrahedralize.hpp>
 #include <tpmsfill/units.hpp>
@@ -98,8 +99,10 @@ std::string apply_material(const MaterialArgs& a, TetMesh& mesh) {
                    "' (known: point, geodesic, x, y, z, radial, ct)");
 }
 
-// The input as a tet mesh: read, or a closed surface filled with tets.
-TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j) {
+// The input as a tet mesh: read, or a closed surface filled with tets (then `surface` is set
+// to an index of that surface, for the fit's boundary).
+TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j,
+                   std::optional<MeshIndex>& surface_index) {
   const ModelUnits units{.units = units_from_name(a.units)};
   if (tet_format_from_extension(a.input) != TetFormat::Auto) {
     TetMesh mesh = read_tet_mesh(a.input);
@@ -115,6 +118,7 @@ TetMesh input_tets(const MaterialArgs& a, nlohmann::ordered_json& j) {
   for (const Triangle& t : surface.triangles)
     surface_volume +=
         dot(surface.points[t[0]], cross(surface.points[t[1]], surface.points[t[2]])) / 6;
+  surface_index = build_index(surface);
   j["source"] = "surface";
   j["surface_triangles"] = surface.triangles.size();
   j["surface_volume_mm3"] = std::abs(surface_volume);
@@ -136,6 +140,7 @@ void print_json_or_text(const nlohmann::ordered_json& j, bool json) {
 // `j`; without a map, the sentence saying why the tets are not a ball.
 struct MappedSolid {
   TetMesh mesh;
+  std::optional<MeshIndex> surface;  // the surface the tets were made from, if they were
   std::optional<CubeMap> map;
   std::optional<std::string> problem;
 };
@@ -143,7 +148,7 @@ struct MappedSolid {
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                       std::vector<std::string>& warnings) {
   MappedSolid out;
-  out.mesh = input_tets(a, j);
+  out.mesh = input_tets(a, j, out.surface);
   TetMesh& mesh = out.mesh;
   TetMeshReport report = check_tet_mesh(mesh);
   if (report.tets > 0 && report.negative_tets == report.tets) {  // the other convention: turned
@@ -282,9 +287,10 @@ int run_material_fit(const MaterialArgs& a) {
     return refuse_non_ball(a, solid.problem);
   }
   std::unique_ptr<TerminalProgress> progress;
-  if (!a.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   SolidFitOptions options = a.fit;
   options.progress = progress.get();
+  if (solid.surface) options.surface = &*solid.surface;
   SolidModel model{fit_solid_spline(solid.mesh, *solid.map, options), ""};
   progress.reset();
   const bool material = !solid.mesh.material.empty();

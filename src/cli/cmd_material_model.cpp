@@ -53,7 +53,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 struct ItemProgress {
   std::unique_ptr<TerminalProgress> terminal;
   ItemProgress(bool quiet, const char* stage) {
-    if (!quiet && isatty(STDERR_FILENO)) {
+    if (progress_wanted(quiet)) {
       terminal = std::make_unique<TerminalProgress>();
       terminal->begin(stage);
     }

@@ -52,7 +52,7 @@ int run_repair(const RepairArgs& args) {
   // STL stores floats: check what will be written.
   options.rounding = rounding_for(format);
   std::unique_ptr<TerminalProgress> progress;
-  if (!args.quiet && isatty(STDERR_FILENO)) progress = std::make_unique<TerminalProgress>();
+  if (progress_wanted(args.quiet)) progress = std::make_unique<TerminalProgress>();
   options.progress = progress.get();
 
   const auto t0 = std::chrono::steady_clock::now();

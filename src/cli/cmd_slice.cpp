@@ -85,8 +85,7 @@ int run_slice(SliceArgs a) {
   require_writable_outputs(inputs, outputs);
 
   std::unique_ptr<TerminalProgress> progress;
-  if (!a.quiet && rank() == 0 && isatty(STDERR_FILENO))
-    progress = std::make_unique<TerminalProgress>();
+  if (rank() == 0 && progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   options.progress = progress.get();
   SliceOptions so = slice_options;
   so.progress = progress.get();

@@ -29,6 +29,7 @@ Command add_conformal_command(CLI::App& app);
 Command add_slice_command(CLI::App& app);
 Command add_render_command(CLI::App& app);
 Command add_material_command(CLI::App& app);
+Command add_serve_command(CLI::App& app);
 /// `material slice` and `material iso` (cmd_material_model.cpp): adds them to `material` and
 /// returns what runs the one parsed (nothing when neither was).
 std::function<std::optional<int>()> add_material_model_commands(CLI::App* material);

@@ -15,13 +15,13 @@
 namespace tpmsfill::cli {
 
 // "8G", "512M", "1.5GB", "1000000" → bytes.
-std::uint64_t parse_bytes(const std::string& text) {
+std::uint64_t parse_bytes(const std::string& text, const std::string& flag) {
   std::size_t used = 0;
   double value = 0;
   try {
     value = std::stod(text, &used);
   } catch (const std::exception&) {
-    throw InputError("--memory: '" + text + "' is not a size such as 8G or 512M");
+    throw InputError(flag + ": '" + text + "' is not a size such as 8G or 512M");
   }
   std::string unit = text.substr(used);
   if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
@@ -32,7 +32,7 @@ std::uint64_t parse_bytes(const std::string& text) {
                        : unit == "T" || unit == "t" ? 1024.0 * 1024 * 1024 * 1024
                                                     : -1.0;
   if (scale < 0 || !(value > 0) || !std::isfinite(value))
-    throw InputError("--memory: '" + text + "' is not a size such as 8G or 512M");
+    throw InputError(flag + ": '" + text + "' is not a size such as 8G or 512M");
   return static_cast<std::uint64_t>(value * scale);
 }
 

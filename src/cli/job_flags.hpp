@@ -39,6 +39,6 @@ FillOptions job_options(JobArgs& args);
 
 /// "8G", "512M", "1.5GB", "1000000" → bytes.
 /// @throws InputError  not such a size
-std::uint64_t parse_bytes(const std::string& text);
+std::uint64_t parse_bytes(const std::string& text, const std::string& flag = "--memory");
 
 }  // namespace tpmsfill::cli

@@ -1,5 +1,6 @@
 // `tpmsfill`: the command line. It parses arguments, calls the library and turns library
 // exceptions into one line on stderr and an exit code; everything else lives in the library.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -9,6 +10,7 @@
 #include "cli/job_files.hpp"
 #include "cli/memory_policy.hpp"
 #include "cli/ranks.hpp"
+#include "cli/terminal_progress.hpp"
 #include "cli/usage_errors.hpp"
 
 namespace {
@@ -41,6 +43,7 @@ int run(int argc, char** argv) {
   Command slice = add_slice_command(app);
   Command render = add_render_command(app);
   Command material = add_material_command(app);
+  Command serve = add_serve_command(app);
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence
@@ -93,6 +96,8 @@ int run(int argc, char** argv) {
         return render();
       else if (sub->get_name() == "material")
         return material();
+      else if (sub->get_name() == "serve")
+        return serve();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
     std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());
@@ -114,6 +119,11 @@ int run(int argc, char** argv) {
 // Under mpirun every rank runs the command; an error on one stops them all.
 int main(int argc, char** argv) {
   tpmsfill::cli::keep_freed_memory();
+  // A job `tpmsfill serve` runs is cancelled by SIGTERM: the next progress report answers
+  // false and the command stops there, writing nothing (the service kills one that never
+  // reports after a grace period).
+  if (tpmsfill::cli::service_progress_fd() >= 0)
+    std::signal(SIGTERM, [](int) { tpmsfill::cli::cancel_requested() = true; });
   tpmsfill::cli::RanksSession session(argc, argv);
   const int code = run(argc, argv);
   if (code != 0 && tpmsfill::cli::ranks() > 1) tpmsfill::cli::abort_all(code);

@@ -1,0 +1,583 @@
+// `tpmsfill serve` (server.hpp): cpp-httplib (Debian's libcpp-httplib-dev) for HTTP, the job
+// store for state, and one child process per running job.
+#include "service/server.hpp"
+
+#include <fcntl.h>
+#include <httplib.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+#include <tpmsfill/error.hpp>
+#include <vector>
+
+#include "service/job_spec.hpp"
+#include "service/job_store.hpp"
+
+namespace tpmsfill::service {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+constexpr std::size_t kMaxOptionsBytes = 1 << 20;
+// A cancelled job that never reports progress (check) is killed after this long.
+constexpr auto kCancelGrace = std::chrono::seconds(5);
+
+void answer(httplib::Response& res, int status, const Json& body) {
+  res.status = status;
+  res.set_content(body.dump(2) + "\n", "application/json");
+}
+
+void refuse(httplib::Response& res, int status, const std::string& sentence) {
+  answer(res, status, {{"error", sentence}});
+}
+
+// Equal in time whatever the first difference: the token is not leaked a byte at a time.
+bool same_secret(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;  // the length is no secret worth keeping
+  unsigned char diff = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The extension of an uploaded mesh's file name that the readers know, or "".
+std::string mesh_extension(std::string name) {
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* ext :
+       {".stl.gz", ".obj.gz", ".ply.gz", ".off.gz", ".stl", ".obj", ".ply", ".off", ".3mf"})
+    if (name.size() > std::strlen(ext) && name.ends_with(ext)) return ext;
+  return "";
+}
+
+// SIGINT and SIGTERM are taken by one thread (sigwait), which stops the server.
+sigset_t stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
+
+// The job-running half: worker threads take queued jobs and run each as a child process.
+class Runner {
+ public:
+  Runner(JobStore& store, const ServeOptions& options) : store_(store), options_(options) {
+    for (int i = 0; i < options.jobs; ++i) workers_.emplace_back([this] { work(); });
+  }
+  ~Runner() { stop(); }
+
+  void wake() { wake_.notify_all(); }
+
+  void stop() {
+    {
+      std::lock_guard lock(mutex_);
+      if (stopping_) return;
+      stopping_ = true;
+      // Jobs stopped here stay "running" on disk and run again at the next start.
+      for (const auto& [id, pid] : children_) kill(pid, SIGKILL);
+    }
+    wake_.notify_all();
+    for (std::thread& t : workers_) t.join();
+    for (std::thread& t : cancellers_) t.join();
+  }
+
+  // Cancels a running job through its progress (SIGTERM: the command's progress callback
+  // answers false and it stops at its next report, writing nothing), then kills it if it
+  // has not stopped after kCancelGrace.
+  void cancel(const std::string& id) {
+    pid_t pid = 0;
+    {
+      std::lock_guard lock(mutex_);
+      const auto it = children_.find(id);
+      if (it == children_.end()) return;
+      pid = it->second;
+    }
+    kill(pid, SIGTERM);
+    std::lock_guard lock(mutex_);
+    cancellers_.emplace_back([this, id, pid] {
+      std::unique_lock lock(mutex_);
+      wake_.wait_for(lock, kCancelGrace, [&] {
+        const auto it = children_.find(id);
+        return stopping_ || it == children_.end() || it->second != pid;
+      });
+      const auto it = children_.find(id);
+      if (it != children_.end() && it->second == pid) kill(pid, SIGKILL);
+    });
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      std::optional<JobRecord> job;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait_for(lock, std::chrono::seconds(1),
+                       [&] { return stopping_ || store_.queued() > 0; });
+        if (stopping_) return;
+      }
+      job = store_.start_next();
+      if (job) run(*job);
+    }
+  }
+
+  void run(const JobRecord& job) {
+    const fs::path dir = store_.folder(job.id);
+    const JobPaths paths{(dir / job.input_name).string(), (dir / job.options.output_name).string(),
+                         (dir / "recipe.json").string(), (dir / "report.json").string()};
+    std::vector<std::string> args = {options_.program.string()};
+    for (std::string& a : job_command(job.kind, job.options, paths, options_.memory))
+      args.push_back(std::move(a));
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    // The environment with the progress pipe's number, made before fork (no allocation after).
+    std::vector<std::string> env_strings = {"TPMSFILL_PROGRESS_FD=3"};
+    for (char** e = environ; *e; ++e)
+      if (std::strncmp(*e, "TPMSFILL_PROGRESS_FD=", 21) != 0) env_strings.emplace_back(*e);
+    std::vector<char*> envp;
+    for (std::string& e : env_strings) envp.push_back(e.data());
+    envp.push_back(nullptr);
+    const std::string out_path = (dir / "stdout.txt").string();
+    const std::string err_path = (dir / "stderr.txt").string();
+
+    const sigset_t stop_set = stop_signals();
+    int pipe_fds[2];
+    if (pipe2(pipe_fds, O_CLOEXEC) != 0) {
+      finish_failed(job.id, "the server could not start the job (no pipe)");
+      return;
+    }
+    pid_t pid = 0;
+    {
+      std::lock_guard lock(mutex_);
+      if (stopping_) {
+        close(pipe_fds[0]);
+        close(pipe_fds[1]);
+        return;
+      }
+      // Only async-signal-safe calls between fork and exec; everything is prepared above.
+      pid = fork();
+      if (pid == 0) {
+        prctl(PR_SET_PDEATHSIG, SIGKILL);  // a job never outlives the server
+        // The server blocks SIGINT and SIGTERM for its sigwait thread, and a child inherits
+        // the mask: the job must see SIGTERM (its cancel).
+        sigprocmask(SIG_UNBLOCK, &stop_set, nullptr);
+        const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int devnull = open("/dev/null", O_RDONLY);
+        if (out < 0 || err < 0 || devnull < 0) _exit(127);
+        dup2(devnull, 0);
+        dup2(out, 1);
+        dup2(err, 2);
+        if (pipe_fds[1] == 3)
+          fcntl(3, F_SETFD, 0);  // keep it open across exec
+        else
+          dup2(pipe_fds[1], 3);  // the copy is open across exec
+        execve(argv[0], argv.data(), envp.data());
+        _exit(127);
+      }
+      if (pid > 0) children_[job.id] = pid;
+    }
+    close(pipe_fds[1]);
+    if (pid < 0) {
+      close(pipe_fds[0]);
+      finish_failed(job.id, "the server could not start the job (fork failed)");
+      return;
+    }
+    read_progress(job.id, pipe_fds[0]);
+    close(pipe_fds[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    {
+      std::lock_guard lock(mutex_);
+      children_.erase(job.id);
+      // Killed because the server stops: the record stays "running", so the job runs again
+      // at the next start (JobStore's constructor).
+      if (stopping_) return;
+    }
+    wake_.notify_all();
+    finish(job, status, dir);
+  }
+
+  // Progress lines from the command ("stage<TAB>fraction<TAB>overall"), until it exits.
+  void read_progress(const std::string& id, int fd) {
+    std::string pending;
+    char buffer[4096];
+    for (;;) {
+      const ssize_t n = read(fd, buffer, sizeof buffer);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return;
+      pending.append(buffer, static_cast<std::size_t>(n));
+      std::size_t end;
+      std::string last;
+      while ((end = pending.find('\n')) != std::string::npos) {
+        last = pending.substr(0, end);
+        pending.erase(0, end + 1);
+      }
+      if (last.empty()) continue;
+      const std::size_t tab1 = last.find('\t'), tab2 = last.rfind('\t');
+      if (tab1 == std::string::npos) continue;
+      const std::string stage = last.substr(0, tab1);
+      const double overall = tab2 > tab1 ? std::atof(last.c_str() + tab2 + 1) : -1;
+      store_.update(
+          id,
+          [&](JobRecord& r) {
+            r.stage = stage;
+            if (overall >= 0) r.progress = std::max(r.progress, std::min(overall, 1.0));
+          },
+          false);
+    }
+  }
+
+  void finish(const JobRecord& job, int status, const fs::path& dir) {
+    const std::string err = read_text(dir / "stderr.txt");
+    std::string sentence, warnings;
+    std::istringstream lines(err);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("tpmsfill: error: ", 0) == 0) sentence = line.substr(17);
+      if (line.rfind("tpmsfill: warning: ", 0) == 0) warnings += line.substr(19) + "\n";
+    }
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    Json report;
+    try {
+      const std::string text = job.kind == JobKind::Check || job.kind == JobKind::Repair
+                                   ? read_text(dir / "stdout.txt")
+                                   : read_text(dir / "report.json");
+      if (!text.empty()) report = Json::parse(text);
+    } catch (const std::exception&) {
+      report = nullptr;
+    }
+    // check's exit 1 is its verdict (not valid), not a failure.
+    const bool ok = code == 0 || (job.kind == JobKind::Check && code == 1 && !report.is_null());
+    store_.update(
+        job.id,
+        [&](JobRecord& r) {
+          r.exit_code = code;
+          r.warnings = warnings;
+          if (r.cancel_asked) {
+            r.state = JobState::Cancelled;
+            r.error = sentence.empty() ? "cancelled (killed: it did not stop within " +
+                                             std::to_string(kCancelGrace.count()) + " s)"
+                                       : sentence;
+            std::error_code ec;
+            if (!r.options.output_name.empty()) fs::remove(dir / r.options.output_name, ec);
+          } else if (ok) {
+            r.state = JobState::Done;
+            r.progress = 1;
+            r.report = report;
+          } else {
+            r.state = JobState::Failed;
+            r.report = report;
+            r.error = !sentence.empty() ? sentence
+                      : WIFSIGNALED(status)
+                          ? "the job stopped on signal " + std::to_string(WTERMSIG(status)) +
+                                " (out of memory?)"
+                          : "the job ended with exit code " + std::to_string(code);
+          }
+        },
+        true);
+  }
+
+  void finish_failed(const std::string& id, const std::string& sentence) {
+    store_.update(
+        id,
+        [&](JobRecord& r) {
+          r.state = JobState::Failed;
+          r.error = sentence;
+        },
+        true);
+  }
+
+  JobStore& store_;
+  const ServeOptions& options_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::map<std::string, pid_t> children_;
+  std::vector<std::thread> workers_;
+  std::vector<std::thread> cancellers_;  // one per cancel; joined at stop()
+};
+
+// A POST /v1/KIND request's parts: the mesh streamed to a file under the cap, the options
+// kept in memory.
+struct Upload {
+  fs::path file;
+  std::string extension;
+  std::string options;
+  std::uint64_t bytes = 0;
+  bool has_mesh = false;
+  std::string problem;  // a sentence for a 400/413, or ""
+  int status = 400;
+  ~Upload() {
+    std::error_code ec;
+    if (!file.empty()) fs::remove(file, ec);
+  }
+};
+
+bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
+                 std::uint64_t max_upload, Upload& up) {
+  std::ofstream mesh;
+  std::string part;  // the part being read
+  static std::atomic<std::uint64_t> counter{0};
+  const bool read = reader(
+      [&](const httplib::MultipartFormData& header) {
+        part = header.name;
+        if (part == "mesh") {
+          if (up.has_mesh) {
+            up.problem = "send one mesh part";
+            return false;
+          }
+          up.has_mesh = true;
+          up.extension = mesh_extension(header.filename);
+          if (up.extension.empty()) {
+            up.problem =
+                "mesh: the file name must end in .stl, .obj, .ply, .off (each also "
+                ".gz) or .3mf (it was '" +
+                header.filename + "')";
+            return false;
+          }
+          up.file = uploads / ("upload-" + std::to_string(getpid()) + "-" +
+                               std::to_string(counter++) + ".part");
+          mesh.open(up.file, std::ios::binary | std::ios::trunc);
+          if (!mesh) {
+            up.problem = "the server cannot store the upload";
+            up.status = 500;
+            return false;
+          }
+        } else if (part != "options") {
+          up.problem = "unknown part '" + part + "' (send 'mesh' and, optionally, 'options')";
+          return false;
+        }
+        return true;
+      },
+      [&](const char* data, std::size_t length) {
+        if (part == "mesh") {
+          up.bytes += length;
+          if (up.bytes > max_upload) {
+            up.problem = "mesh: over the upload limit of " + std::to_string(max_upload) + " bytes";
+            up.status = 413;
+            return false;
+          }
+          mesh.write(data, static_cast<std::streamsize>(length));
+          return static_cast<bool>(mesh);
+        }
+        up.options.append(data, length);
+        if (up.options.size() > kMaxOptionsBytes) {
+          up.problem = "options: over 1 MB";
+          up.status = 413;
+          return false;
+        }
+        return true;
+      });
+  mesh.close();
+  if (!read && up.problem.empty()) up.problem = "the request body is not multipart/form-data";
+  if (up.problem.empty() && !up.has_mesh) up.problem = "no 'mesh' part: send the mesh file";
+  return up.problem.empty();
+}
+
+}  // namespace
+
+int serve(const ServeOptions& options) {
+  if (options.token.size() < 16) throw InputError("the token must be at least 16 characters long");
+  const sigset_t signals = stop_signals();
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every thread made below
+  JobStore store(options.data, options.keep);
+  Runner runner(store, options);
+  httplib::Server server;
+  server.set_read_timeout(options.timeout.count(), 0);
+  server.set_write_timeout(options.timeout.count(), 0);
+  server.set_keep_alive_timeout(5);
+  // Requests are short (an upload to disk, a record read) but long polls hold a thread up to
+  // 30 s: more threads than cpp-httplib's 8.
+  server.new_task_queue = [] { return new httplib::ThreadPool(64); };
+  // cpp-httplib 0.11 listens with a backlog of 5: in a burst, connections past it wait in
+  // SYN retransmits for tens of seconds (50 checks at once: one in 50 timed out after 60 s).
+  // The socket is kept here and listened on again with the system's largest backlog.
+  int listening_socket = -1;
+  server.set_socket_options([&listening_socket](socket_t sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);  // cpp-httplib's default
+    listening_socket = sock;
+  });
+  server.set_payload_max_length(options.max_upload + kMaxOptionsBytes + (64 << 10));
+
+  const auto authorised = [&](const httplib::Request& req, httplib::Response& res) {
+    const std::string header = req.get_header_value("Authorization");
+    if (header.rfind("Bearer ", 0) == 0 && same_secret(header.substr(7), options.token))
+      return true;
+    res.set_header("WWW-Authenticate", "Bearer");
+    refuse(res, 401, "send the service's token: Authorization: Bearer TOKEN");
+    return false;
+  };
+
+  server.Get("/v1/health", [&](const httplib::Request&, httplib::Response& res) {
+    answer(res, 200, {{"status", "ok"}, {"queued", store.queued()}});
+  });
+  server.Get("/v1/version", [&](const httplib::Request& req, httplib::Response& res) {
+    if (!authorised(req, res)) return;
+    answer(res, 200,
+           {{"version", TPMSFILL_VERSION},
+            {"kinds", {"check", "repair", "fill", "slice"}},
+            {"max_upload_bytes", options.max_upload}});
+  });
+  server.Post(R"(/v1/(check|repair|fill|slice))",
+              [&](const httplib::Request& req, httplib::Response& res,
+                  const httplib::ContentReader& reader) {
+                if (!authorised(req, res)) return;
+                const JobKind kind = *job_kind_from_name(req.matches[1]);
+                if (!req.is_multipart_form_data())
+                  return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
+                Upload up;
+                if (!read_upload(reader, store.uploads_dir(), options.max_upload, up))
+                  return refuse(res, up.status, up.problem);
+                JobOptions accepted;
+                try {
+                  accepted = job_options(kind, up.options);
+                } catch (const Error& e) {
+                  return refuse(res, 400, e.what());
+                }
+                const std::string id = store.add(kind, accepted, up.file, up.extension);
+                up.file.clear();  // moved into the job
+                runner.wake();
+                res.set_header("Location", "/v1/jobs/" + id);
+                answer(res, 202, {{"id", id}, {"state", "queued"}});
+              });
+
+  const auto job_or_404 = [&](const httplib::Request& req, httplib::Response& res) {
+    // Ids are validated before any lookup: nothing else ever names a job's folder.
+    std::optional<JobRecord> job;
+    if (is_job_id(req.matches[1])) job = store.get(req.matches[1]);
+    if (!job)
+      refuse(res, 404,
+             "no job with this id (finished jobs are kept for " +
+                 std::to_string(options.keep.count() / 3600) + " hours)");
+    return job;
+  };
+  // Long polling: ?wait=S answers when the job's state or stage changes, or after S seconds
+  // (at most 30).
+  server.Get(R"(/v1/jobs/([^/]+))", [&](const httplib::Request& req, httplib::Response& res) {
+    if (!authorised(req, res)) return;
+    std::optional<JobRecord> job = job_or_404(req, res);
+    if (!job) return;
+    double wait = req.has_param("wait") ? std::atof(req.get_param_value("wait").c_str()) : 0;
+    wait = std::clamp(wait, 0.0, 30.0);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait);
+    const JobState state = job->state;
+    const std::string stage = job->stage;
+    const auto ongoing = [](JobState s) { return s == JobState::Queued || s == JobState::Running; };
+    while (ongoing(state) && std::chrono::steady_clock::now() < until && job->state == state &&
+           job->stage == stage) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      job = store.get(job->id);
+      if (!job) return refuse(res, 404, "the job was deleted");
+    }
+    answer(res, 200, record_json(*job));
+  });
+  server.Get(
+      R"(/v1/jobs/([^/]+)/result)", [&](const httplib::Request& req, httplib::Response& res) {
+        if (!authorised(req, res)) return;
+        std::optional<JobRecord> job = job_or_404(req, res);
+        if (!job) return;
+        if (job->state != JobState::Done)
+          return refuse(
+              res, 409,
+              std::string("the job is ") + job_state_name(job->state) + ", there is no result");
+        if (job->options.output_name.empty())
+          return refuse(res, 404, "a check job has no result file: its report is the answer");
+        const fs::path file = store.folder(job->id) / job->options.output_name;
+        auto stream = std::make_shared<std::ifstream>(file, std::ios::binary);
+        std::error_code ec;
+        const std::uint64_t size = fs::file_size(file, ec);
+        if (!*stream || ec) return refuse(res, 410, "the result file is gone");
+        res.set_header("Content-Disposition",
+                       "attachment; filename=\"" + job->options.output_name + "\"");
+        res.set_content_provider(
+            size, job->options.content_type,
+            [stream](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+              std::vector<char> buffer(std::min<std::size_t>(length, 1 << 16));
+              stream->seekg(static_cast<std::streamoff>(offset));
+              stream->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+              const auto got = stream->gcount();
+              if (got <= 0) return false;
+              return sink.write(buffer.data(), static_cast<std::size_t>(got));
+            });
+      });
+  server.Delete(R"(/v1/jobs/([^/]+))", [&](const httplib::Request& req, httplib::Response& res) {
+    if (!authorised(req, res)) return;
+    std::optional<JobRecord> job = job_or_404(req, res);
+    if (!job) return;
+    bool running = false, finished = false;
+    store.update(
+        job->id,
+        [&](JobRecord& r) {
+          if (r.state == JobState::Queued) {
+            r.state = JobState::Cancelled;
+          } else if (r.state == JobState::Running) {
+            r.cancel_asked = true;
+            running = true;
+          } else {
+            finished = true;
+          }
+        },
+        true);
+    if (finished)
+      return refuse(res, 409,
+                    std::string("the job has already ended (") + job_state_name(job->state) + ")");
+    if (running) runner.cancel(job->id);
+    answer(res, 202, {{"id", job->id}, {"state", running ? "cancelling" : "cancelled"}});
+  });
+
+  if (options.port == 0) {
+    const int port = server.bind_to_any_port(options.host.c_str());
+    if (port < 0) throw IoError(options.host + ": cannot listen there");
+    std::printf("listening on http://%s:%d\n", options.host.c_str(), port);
+  } else {
+    if (!server.bind_to_port(options.host.c_str(), options.port))
+      throw IoError(options.host + ":" + std::to_string(options.port) +
+                    ": cannot listen there (in use? a name that does not resolve?)");
+    std::printf("listening on http://%s:%d\n", options.host.c_str(), options.port);
+  }
+  if (listening_socket >= 0) ::listen(listening_socket, SOMAXCONN);
+  std::fflush(stdout);
+
+  std::thread stopper([&] {
+    int signal = 0;
+    sigwait(&signals, &signal);
+    server.stop();
+  });
+  std::atomic<bool> done{false};
+  std::thread expirer([&] {  // finished jobs past --keep, checked every minute
+    for (int second = 1; !done; ++second) {
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      if (second % 60 == 0) store.expire();
+    }
+  });
+  server.listen_after_bind();
+  done = true;
+  runner.stop();
+  // The stopper waits for a signal that may not come (the server stopped another way).
+  pthread_kill(stopper.native_handle(), SIGTERM);
+  stopper.join();
+  expirer.join();
+  return 0;
+}
+
+}  // namespace tpmsfill::service

@@ -1,0 +1,297 @@
+// `tpmsfill serve` (issue 19), end to end: the real program on a free port, spoken to over HTTP
+// with cpp-httplib's client. Authentication, limits, bad input, results, cancelling, restarts
+// with a job queued and one running, and 50 jobs at once.
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <tpmsfill/check.hpp>
+#include <tpmsfill/io.hpp>
+#include <vector>
+
+#include "test_util.hpp"
+
+namespace tpmsfill {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+const std::string kToken = "test-token-0123456789abcdef";
+
+// The service as a child process: started on a free port, stopped (SIGTERM) or killed.
+class Service {
+ public:
+  explicit Service(const fs::path& data, const std::vector<std::string>& extra = {}) : data_(data) {
+    fs::create_directories(data);
+    test::write_file(data / "token.txt", kToken + "\n");
+    std::vector<std::string> args = {
+        TPMSFILL_CLI, "serve",       "--listen",     "127.0.0.1:0",
+        "--data",     data.string(), "--token-file", (data / "token.txt").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    int out[2];
+    if (pipe(out) != 0) throw std::runtime_error("pipe");
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(out[1], 1);
+      close(out[0]);
+      std::vector<char*> argv;
+      for (std::string& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(out[1]);
+    // "token: PATH" then "listening on http://127.0.0.1:PORT".
+    std::string text;
+    char c;
+    while (text.find("listening on http://127.0.0.1:") == std::string::npos ||
+           text.back() != '\n') {
+      if (read(out[0], &c, 1) != 1) throw std::runtime_error("serve printed: " + text);
+      text += c;
+    }
+    close(out[0]);
+    port_ = std::stoi(text.substr(text.rfind(':') + 1));
+  }
+  ~Service() { stop(SIGTERM); }
+
+  void stop(int signal) {
+    if (pid_ <= 0) return;
+    kill(pid_, signal);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = 0;
+  }
+  pid_t pid() const { return pid_; }
+
+  httplib::Client client(bool with_token = true) const {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_read_timeout(60, 0);
+    if (with_token) c.set_bearer_token_auth(kToken.c_str());
+    return c;
+  }
+
+  // POST /v1/KIND with the mesh's bytes (as NAME) and options; the response.
+  httplib::Result submit(const std::string& kind, const std::string& mesh,
+                         const std::string& options, const std::string& name = "part.stl") const {
+    httplib::MultipartFormDataItems items = {{"mesh", mesh, name, "application/octet-stream"}};
+    if (!options.empty()) items.push_back({"options", options, "", "application/json"});
+    return client().Post(("/v1/" + kind).c_str(), items);
+  }
+
+  // The job's record once it has ended (long polling), within `seconds`.
+  Json wait(const std::string& id, double seconds = 120) const {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    Json job;
+    while (std::chrono::steady_clock::now() < until) {
+      auto res = client().Get(("/v1/jobs/" + id + "?wait=5").c_str());
+      if (!res || res->status != 200) throw std::runtime_error("GET job failed");
+      job = Json::parse(res->body);
+      const std::string state = job["state"];
+      if (state != "queued" && state != "running") return job;
+    }
+    return job;
+  }
+
+  Json state_of(const std::string& id) const {
+    auto res = client().Get(("/v1/jobs/" + id).c_str());
+    return Json::parse(res->body);
+  }
+
+ private:
+  fs::path data_;
+  pid_t pid_ = 0;
+  int port_ = 0;
+};
+
+// The bytes of `soup` as a binary STL (written in `dir`: scratch_dir() clears its folder on
+// every call, so each test asks for it once).
+std::string stl_bytes(const fs::path& dir, const TriangleSoup& soup) {
+  const fs::path file = dir / "mesh.stl";
+  write_mesh(file, soup);
+  return test::read_file(file);
+}
+
+std::string id_of(const httplib::Result& res) {
+  EXPECT_TRUE(res);
+  EXPECT_EQ(res->status, 202) << res->body;
+  return Json::parse(res->body).at("id").get<std::string>();
+}
+
+// A fill that takes a few seconds: a ball of radius 15 at a voxel of 0.06 mm.
+const char* kSlowFill = R"({"voxel": 0.06, "lattice": {"type": "gyroid", "cell": 3}})";
+
+TEST(Service, HealthIsOpenEverythingElseAsksForTheToken) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  auto open = service.client(false);
+  auto health = open.Get("/v1/health");
+  ASSERT_TRUE(health);
+  EXPECT_EQ(health->status, 200);
+  EXPECT_EQ(open.Get("/v1/version")->status, 401);
+  auto wrong = service.client(false);
+  wrong.set_bearer_token_auth("test-token-0123456789abcdeX");
+  EXPECT_EQ(wrong.Get("/v1/version")->status, 401);
+  auto version = service.client().Get("/v1/version");
+  EXPECT_EQ(version->status, 200);
+  EXPECT_FALSE(Json::parse(version->body)["version"].get<std::string>().empty());
+  httplib::MultipartFormDataItems items = {{"mesh", "solid x\nendsolid x\n", "a.stl", ""}};
+  EXPECT_EQ(open.Post("/v1/check", items)->status, 401);
+}
+
+TEST(Service, CheckRepairAndFillJobsAnswerWithTheirReportsAndFiles) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data", {"--jobs", "2"});
+  const TriangleSoup box = test::make_box({0, 0, 0}, {10, 10, 10});
+  // check: a valid box, and a bow tie whose verdict (exit 1) is an answer, not a failure.
+  const std::string good = id_of(service.submit("check", stl_bytes(dir, box), ""));
+  const std::string bad = id_of(service.submit("check", stl_bytes(dir, test::make_bow_tie()), ""));
+  // repair: a box with one triangle turned over comes back valid.
+  const std::string repaired =
+      id_of(service.submit("repair", stl_bytes(dir, test::flip(box, 3)), ""));
+  // fill: a gyroid in the box, its result a closed 2-manifold.
+  const std::string filled = id_of(service.submit(
+      "fill", stl_bytes(dir, box), R"({"voxel": 0.25, "lattice": {"type": "gyroid", "cell": 5}})"));
+  Json j = service.wait(good);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["report"]["valid"], true);
+  j = service.wait(bad);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["report"]["valid"], false);
+  EXPECT_EQ(service.client().Get(("/v1/jobs/" + good + "/result").c_str())->status, 404);
+  for (const std::string& id : {repaired, filled}) {
+    j = service.wait(id);
+    ASSERT_EQ(j["state"], "done") << j.dump();
+    auto result = service.client().Get(("/v1/jobs/" + id + "/result").c_str());
+    ASSERT_EQ(result->status, 200);
+    const fs::path file = dir / ("result-" + id + ".stl");
+    test::write_file(file, result->body);
+    const MeshCheck report = check_mesh(read_mesh(file));
+    EXPECT_TRUE(report.valid()) << id;
+  }
+  EXPECT_GT(service.wait(filled)["report"]["output"]["triangles"].get<double>(), 1000);
+}
+
+TEST(Service, BadRequestsAreRefusedWithTheSentence) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  const std::string box = stl_bytes(dir, test::make_box({0, 0, 0}, {1, 1, 1}));
+  const auto refused = [&](const std::string& kind, const std::string& options,
+                           const std::string& words, const std::string& name = "part.stl") {
+    auto res = service.submit(kind, box, options, name);
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 400) << options;
+    EXPECT_NE(Json::parse(res->body)["error"].get<std::string>().find(words), std::string::npos)
+        << res->body;
+  };
+  refused("check", R"({"colour": 1})", "unknown key 'colour'");
+  refused("check", R"({"units": "furlong"})", "furlong");
+  refused("check", "{not json", "not valid JSON");
+  refused("repair", R"({"alpha": -1})", "alpha: must be above 0");
+  refused("slice", R"({"format": "cli"})", "layer");
+  refused("slice", R"({"layer": 0.1, "format": "dxf"})", "format");
+  refused("fill", R"({"lattice": {"type": "gyroidal"}})", "gyroidal");
+  refused("fill", R"({"field": "/etc/passwd"})", "reads no files");
+  refused("check", "", "file name must end in", "part.exe");
+  httplib::MultipartFormDataItems no_mesh = {{"options", "{}", "", ""}};
+  EXPECT_EQ(service.client().Post("/v1/check", no_mesh)->status, 400);
+  EXPECT_EQ(service.client().Post("/v1/check", "{}", "application/json")->status, 400);
+  // Ids are checked before anything is looked up.
+  EXPECT_EQ(service.client().Get("/v1/jobs/..%2F..%2Ftoken.txt")->status, 404);
+  EXPECT_EQ(service.client().Get("/v1/jobs/0123456789abcdef0123456789abcdef")->status, 404);
+  EXPECT_EQ(service.client().Delete("/v1/jobs/0123456789abcdef0123456789abcdef")->status, 404);
+}
+
+TEST(Service, UploadsOverTheLimitAreRefusedAndNotKept) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path data = dir / "data";
+  Service service(data, {"--max-upload", "2K"});
+  const std::string big = stl_bytes(dir, test::make_sphere({0, 0, 0}, 1, 2));
+  ASSERT_GT(big.size(), 4096u);
+  auto res = service.submit("check", big, "");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 413);
+  EXPECT_TRUE(fs::is_empty(data / "uploads"));
+  EXPECT_TRUE(fs::is_empty(data / "jobs"));
+}
+
+TEST(Service, ACancelledJobStopsAndLeavesNoResult) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  const std::string id =
+      id_of(service.submit("fill", stl_bytes(dir, test::make_sphere({0, 0, 0}, 15, 4)), kSlowFill));
+  for (int i = 0; i < 200 && service.state_of(id)["stage"] == ""; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  auto res = service.client().Delete(("/v1/jobs/" + id).c_str());
+  ASSERT_EQ(res->status, 202) << res->body;
+  const Json j = service.wait(id, 30);
+  EXPECT_EQ(j["state"], "cancelled") << j.dump();
+  // Stopped by its own progress callback ("cancelled"), not killed after the grace period.
+  EXPECT_EQ(j["error"], "cancelled") << j.dump();
+  EXPECT_EQ(service.client().Get(("/v1/jobs/" + id + "/result").c_str())->status, 409);
+  EXPECT_EQ(service.client().Delete(("/v1/jobs/" + id).c_str())->status, 409);
+}
+
+TEST(Service, ARestartRunsTheQueuedJobAndReRunsTheInterruptedOne) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path data = dir / "data";
+  std::string running, queued;
+  {
+    Service service(data, {"--jobs", "1"});
+    // A check of 327,680 triangles: seconds of work, no output to speak of.
+    running =
+        id_of(service.submit("check", stl_bytes(dir, test::make_sphere({0, 0, 0}, 15, 7)), ""));
+    queued =
+        id_of(service.submit("check", stl_bytes(dir, test::make_box({0, 0, 0}, {1, 1, 1})), ""));
+    for (int i = 0; i < 200 && service.state_of(running)["state"] != "running"; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_EQ(service.state_of(running)["state"], "running");
+    ASSERT_EQ(service.state_of(queued)["state"], "queued");
+    service.stop(SIGKILL);  // a crash: nothing saved on the way out
+  }
+  Service again(data, {"--jobs", "1"});
+  Json j = again.wait(running, 180);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["report"]["valid"], true);
+  j = again.wait(queued, 60);
+  EXPECT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["report"]["valid"], true);
+}
+
+TEST(Service, FiftyChecksAtOnceAreAllAnswered) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data", {"--jobs", "2"});
+  const std::string mesh = stl_bytes(dir, test::make_sphere({0, 0, 0}, 5, 2));
+  std::vector<std::string> ids(50);
+  std::vector<std::thread> clients;
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    clients.emplace_back([&, i] {
+      auto res = service.submit("check", mesh, "");
+      if (res && res->status == 202)
+        ids[i] = Json::parse(res->body)["id"];
+      else
+        ids[i] = res ? res->body : httplib::to_string(res.error());
+    });
+  for (std::thread& t : clients) t.join();
+  for (const std::string& id : ids) {
+    ASSERT_EQ(id.size(), 32u) << id;
+    EXPECT_EQ(service.wait(id)["state"], "done") << id;
+  }
+  // The server holds records, not meshes: its peak stays small.
+  std::ifstream status("/proc/" + std::to_string(service.pid()) + "/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) {
+      EXPECT_LT(std::stol(line.substr(6)), 200 * 1024) << line;
+    }
+}
+
+}  // namespace
+}  // namespace tpmsfill
