@@ -196,6 +196,11 @@ class Runner {
       if (pid > 0) children_[job.id] = pid;
     }
     close(pipe_fds[1]);
+    // A DELETE between start_next() and the fork found no child to signal.
+    if (pid > 0) {
+      const std::optional<JobRecord> now = store_.get(job.id);
+      if (now && now->cancel_asked) cancel(job.id);
+    }
     if (pid < 0) {
       close(pipe_fds[0]);
       finish_failed(job.id, "the server could not start the job (fork failed)");
