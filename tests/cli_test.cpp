@@ -327,6 +327,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
        "a command is needed: check, fill, repair, decimate, field, conformal, slice, render, "
        "material or serve"},
       {"serve --listen localhost", "--listen: 'localhost' is not ADDRESS:PORT"},
+      {"serve --jobs 0", "--jobs must be 1 to 64"},
       {"serve --listen 127.0.0.1:70000", "the port in '127.0.0.1:70000' must be 0 to 65535"},
       {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},

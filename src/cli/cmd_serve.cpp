@@ -13,6 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/job_flags.hpp"
+#include "cli/validators.hpp"
 #include "service/server.hpp"
 
 namespace tpmsfill::cli {
@@ -103,7 +104,8 @@ Command add_serve_command(CLI::App& app) {
   sub->add_option("--data", args->data,
                   "Folder for the queue, the jobs' inputs and results (default tpmsfill-data); "
                   "jobs there survive a restart");
-  sub->add_option("--jobs", args->jobs, "Jobs run at once (default 1)")->check(CLI::Range(1, 64));
+  sub->add_option("--jobs", args->jobs, "Jobs run at once (default 1)")
+      ->check(between(1, 64, "1 to 64"));
   sub->add_option("--token-file", args->token_file,
                   "File whose first line is the token clients send (Authorization: Bearer "
                   "TOKEN); default DATA/token, made when missing");
@@ -113,7 +115,7 @@ Command add_serve_command(CLI::App& app) {
                   "physical memory)");
   sub->add_option("--keep-hours", args->keep_hours,
                   "Finished jobs are deleted this many hours after they end (default 24)")
-      ->check(CLI::Range(0.01, 1e5));
+      ->check(between(0.01, 1e5, "0.01 to 100000"));
   sub->footer(
       "Endpoints, fields and status codes: docs/service.md. Stop with Ctrl-C (SIGINT) or "
       "SIGTERM; jobs that were running run again at the next start.\n"

@@ -134,10 +134,8 @@ std::string checked_recipe(const Json& recipe) {
 }  // namespace
 
 std::optional<JobKind> job_kind_from_name(const std::string& name) {
-  if (name == "check") return JobKind::Check;
-  if (name == "repair") return JobKind::Repair;
-  if (name == "fill") return JobKind::Fill;
-  if (name == "slice") return JobKind::Slice;
+  for (JobKind kind : {JobKind::Check, JobKind::Repair, JobKind::Fill, JobKind::Slice})
+    if (name == job_kind_name(kind)) return kind;
   return std::nullopt;
 }
 

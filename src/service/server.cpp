@@ -19,7 +19,10 @@
 #include <sstream>
 #include <thread>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/io.hpp>
 #include <vector>
+
+#include "detail/file_bytes.hpp"
 
 #include "service/job_spec.hpp"
 #include "service/job_store.hpp"
@@ -58,13 +61,13 @@ std::string read_text(const fs::path& path) {
   return text.str();
 }
 
-// The extension of an uploaded mesh's file name that the readers know, or "".
-std::string mesh_extension(std::string name) {
-  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* ext :
-       {".stl.gz", ".obj.gz", ".ply.gz", ".off.gz", ".stl", ".obj", ".ply", ".off", ".3mf"})
-    if (name.size() > std::strlen(ext) && name.ends_with(ext)) return ext;
-  return "";
+// The extension of an uploaded mesh's file name, lower case, when the readers know it (their
+// own format_from_extension decides), or "".
+std::string mesh_extension(const std::string& name) {
+  if (format_from_extension(name) == MeshFormat::Auto) return "";
+  const bool gzip = is_gzip_name(name);
+  return detail::lower_extension(gzip ? fs::path(name).stem() : fs::path(name)) +
+         (gzip ? ".gz" : "");
 }
 
 // SIGINT and SIGTERM are taken by one thread (sigwait), which stops the server.
@@ -568,15 +571,21 @@ int serve(const ServeOptions& options) {
     sigwait(&signals, &signal);
     server.stop();
   });
-  std::atomic<bool> done{false};
-  std::thread expirer([&] {  // finished jobs past --keep, checked every minute
-    for (int second = 1; !done; ++second) {
-      std::this_thread::sleep_for(std::chrono::seconds(1));
-      if (second % 60 == 0) store.expire();
-    }
+  // Finished jobs past --keep, checked every minute until the server stops.
+  std::mutex expiry_mutex;
+  std::condition_variable expiry_wake;
+  bool done = false;
+  std::thread expirer([&] {
+    std::unique_lock lock(expiry_mutex);
+    while (!expiry_wake.wait_for(lock, std::chrono::minutes(1), [&] { return done; }))
+      store.expire();
   });
   server.listen_after_bind();
-  done = true;
+  {
+    std::lock_guard lock(expiry_mutex);
+    done = true;
+  }
+  expiry_wake.notify_all();
   runner.stop();
   // The stopper waits for a signal that may not come (the server stopped another way).
   pthread_kill(stopper.native_handle(), SIGTERM);
