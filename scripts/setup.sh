@@ -12,14 +12,21 @@ packages=(
   lib3mf-dev  # 3MF in and out (the 3MF Consortium's lib3mf)
   libpolyclipping-dev  # Clipper: the region a folded solid's section covers (material slice)
   libcpp-httplib-dev  # HTTP for `tpmsfill serve` (pulls libssl-dev, zlib1g-dev, libbrotli-dev)
+  libzip-dev  # `tpmsfill serve`: a slice job's folder of layers sent as one zip
   # Real meshes for the tests and the demo: CGAL's demo data (femur.off, elephant-with-holes.off,
   # ...) and assimp's odd STL/OBJ/PLY/OFF test files.
   libcgal-demo assimp-testmodels
 )
-# Extra tools: `scripts/test.sh --sanitize` and `scripts/fuzz.sh` need clang's runtimes.
-if [[ "${TPMSFILL_SETUP_EXTRA:-}" == clang ]]; then
-  packages+=(clang libclang-rt-14-dev)
-fi
+# The service's page is bundled at build time by npm (three.js, esbuild): Debian's Node.js and
+# npm, unless a Node.js with npm is already installed (NodeSource's includes npm, and Debian's
+# npm package would conflict with it).
+command -v npm > /dev/null || packages+=(nodejs npm)
+# Extra tools: `scripts/test.sh --sanitize` and `scripts/fuzz.sh` need clang's runtimes; the
+# page's browser test needs Debian's chromium.
+case "${TPMSFILL_SETUP_EXTRA:-}" in
+  clang) packages+=(clang libclang-rt-14-dev) ;;
+  chromium) packages=(chromium) ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

@@ -6,10 +6,12 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zip.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
@@ -291,6 +293,198 @@ TEST(Service, FiftyChecksAtOnceAreAllAnswered) {
     if (line.rfind("VmHWM:", 0) == 0) {
       EXPECT_LT(std::stol(line.substr(6)), 200 * 1024) << line;
     }
+}
+
+TEST(Service, ThePageAndItsFilesNeedNoTokenAndHoldNoData) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  auto open = service.client(false);
+  auto page = open.Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_EQ(page->get_header_value("Content-Type"), "text/html; charset=utf-8");
+  EXPECT_NE(page->body.find(R"(<script type="module" src="/app.js">)"), std::string::npos);
+  // Same-origin only: nothing is loaded from a CDN, and the page cannot be framed.
+  EXPECT_NE(page->get_header_value("Content-Security-Policy").find("default-src 'self'"),
+            std::string::npos);
+  EXPECT_EQ(page->body.find("http"), std::string::npos) << "the page names no other site";
+  auto script = open.Get("/app.js");
+  ASSERT_TRUE(script);
+  EXPECT_EQ(script->status, 200);
+  EXPECT_EQ(script->get_header_value("Content-Type"), "text/javascript; charset=utf-8");
+  EXPECT_EQ(open.Get("/style.css")->status, 200);
+  for (const auto* res : {&page, &script}) EXPECT_EQ((*res)->body.find(kToken), std::string::npos);
+  EXPECT_EQ(open.Get("/../token.txt")->status, 404);
+  EXPECT_EQ(open.Get("/token.txt")->status, 404);
+}
+
+TEST(Service, EventsFollowAJobFromQueuedToItsEnd) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  const std::string mesh = stl_bytes(dir, test::make_sphere({0, 0, 0}, 15, 4));
+  const std::string id = id_of(service.submit("fill", mesh, kSlowFill));
+  EXPECT_EQ(service.client(false).Get(("/v1/jobs/" + id + "/events").c_str())->status, 401);
+  EXPECT_EQ(service.client().Get("/v1/jobs/0123456789abcdef0123456789abcdef/events")->status, 404);
+
+  std::string stream;
+  auto res = service.client().Get(("/v1/jobs/" + id + "/events").c_str(),
+                                  [&](const char* data, std::size_t length) {
+                                    stream.append(data, length);
+                                    return true;
+                                  });
+  ASSERT_TRUE(res);  // the server ends the stream when the job ends
+  EXPECT_EQ(res->status, 200);
+  EXPECT_EQ(res->get_header_value("Content-Type"), "text/event-stream");
+  std::vector<Json> records;
+  for (std::size_t at = 0, end; (end = stream.find("\n\n", at)) != std::string::npos;
+       at = end + 2) {
+    const std::string event = stream.substr(at, end - at);
+    if (event.rfind("data: ", 0) == 0) records.push_back(Json::parse(event.substr(6)));
+  }
+  ASSERT_GE(records.size(), 3u) << stream;  // the fill reports a dozen stages
+  EXPECT_EQ(records.back()["state"], "done");
+  EXPECT_EQ(records.back()["result"], "/v1/jobs/" + id + "/result");
+  for (std::size_t i = 0; i + 1 < records.size(); ++i) {
+    EXPECT_NE(records[i].dump(), records[i + 1].dump()) << "an event is sent for a change only";
+    EXPECT_LE(records[i]["progress"].get<double>(), records[i + 1]["progress"].get<double>());
+  }
+  // A finished job's stream is its last record, then the end.
+  auto again = service.client().Get(("/v1/jobs/" + id + "/events").c_str());
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->body, "data: " + records.back().dump() + "\n\n");
+}
+
+TEST(Service, AJobPastItsMemoryIsStoppedWithTheNumbers) {
+  const fs::path dir = test::scratch_dir();
+  // 1 MB a job: with the 64 MB the program itself is allowed, a check of a 330,000-triangle
+  // ball (about 160 MB) is stopped; a box's check (about 20 MB) is not.
+  Service service(dir / "data", {"--memory", "1M"});
+  const TriangleSoup ball = test::make_sphere({0, 0, 0}, 10, 7);
+  ASSERT_GT(ball.triangles.size(), 300000u);
+  const std::string big = id_of(service.submit("check", stl_bytes(dir, ball), ""));
+  const Json stopped = service.wait(big);
+  EXPECT_EQ(stopped["state"], "failed");
+  const std::string error = stopped.value("error", "");
+  EXPECT_NE(error.find("past the service's 1 MB a job"), std::string::npos) << error;
+  const std::string small =
+      id_of(service.submit("check", stl_bytes(dir, test::make_box({0, 0, 0}, {1, 1, 1})), ""));
+  EXPECT_EQ(service.wait(small)["state"], "done");
+  // fill and slice plan within the same budget and refuse, saying so, what cannot fit it.
+  const std::string fill = id_of(service.submit("fill", stl_bytes(dir, ball), kSlowFill));
+  const Json refused = service.wait(fill);
+  EXPECT_EQ(refused["state"], "failed");
+  EXPECT_NE(refused.value("error", "").find("memory"), std::string::npos) << refused.dump();
+}
+
+// The entries of a zip archive (name -> bytes), read with libzip.
+std::map<std::string, std::string> unzip(const std::string& bytes) {
+  std::map<std::string, std::string> entries;
+  zip_error_t error;
+  zip_error_init(&error);
+  zip_source_t* source = zip_source_buffer_create(bytes.data(), bytes.size(), 0, &error);
+  zip_t* zip = source ? zip_open_from_source(source, ZIP_RDONLY, &error) : nullptr;
+  if (!zip) {
+    if (source) zip_source_free(source);
+    zip_error_fini(&error);
+    return entries;
+  }
+  for (zip_int64_t i = 0; i < zip_get_num_entries(zip, 0); ++i) {
+    zip_stat_t stat;
+    zip_stat_index(zip, static_cast<zip_uint64_t>(i), 0, &stat);
+    std::string data(stat.size, '\0');
+    zip_file_t* file = zip_fopen_index(zip, static_cast<zip_uint64_t>(i), 0);
+    zip_fread(file, data.data(), stat.size);
+    zip_fclose(file);
+    entries[stat.name] = data;
+  }
+  zip_close(zip);
+  zip_error_fini(&error);
+  return entries;
+}
+
+std::string result_of(const Service& service, const std::string& id, std::string* type = nullptr) {
+  auto res = service.client().Get(("/v1/jobs/" + id + "/result").c_str());
+  EXPECT_TRUE(res && res->status == 200) << (res ? res->body : "no answer");
+  if (!res) return "";
+  if (type) *type = res->get_header_value("Content-Type");
+  return res->body;
+}
+
+TEST(Service, APngSliceStackComesAsOneZipOfItsLayers) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  const std::string box = stl_bytes(dir, test::make_box({0, 0, 0}, {10, 10, 10}));
+  // A pixel size is for PNG masks: asked of another format, the sentence, before any work.
+  auto refused = service.submit("slice", box, R"({"layer": 1, "pixel": 0.1})");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 400);
+  EXPECT_NE(Json::parse(refused->body)["error"].get<std::string>().find(R"(needs "format": "png")"),
+            std::string::npos)
+      << refused->body;
+
+  const std::string id = id_of(service.submit(
+      "slice", box, R"({"layer": 1, "format": "png", "pixel": 0.1, "recipe": {"voxel": 0.1}})"));
+  const Json job = service.wait(id);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  std::string type;
+  const auto entries = unzip(result_of(service, id, &type));
+  EXPECT_EQ(type, "application/zip");
+  // Ten 1 mm layers of a 10 mm box, each a mask, and the folder's index.
+  int layers = 0;
+  for (const auto& [name, bytes] : entries) layers += name.rfind("layer_", 0) == 0;
+  EXPECT_EQ(layers, 10);
+  ASSERT_TRUE(entries.count("index.json"));
+  ASSERT_TRUE(entries.count("layer_00005.png"));
+  // The middle mask is the gyroid's section: about half solid at level 0, on the box's 100
+  // pixels a side (the box is 10 mm at 0.1 mm a pixel; the image may add a margin).
+  const test::Png mask = test::decode_png(entries.at("layer_00005.png"), 1);
+  EXPECT_GE(mask.width, 100);
+  double solid = 0;
+  for (std::uint8_t p : mask.pixels) solid += p / 255.0;
+  const double fraction = solid / (100.0 * 100.0);
+  EXPECT_GT(fraction, 0.35);
+  EXPECT_LT(fraction, 0.65);
+  // Nothing but the zip is left of the folder.
+  EXPECT_FALSE(fs::exists(dir / "data" / "jobs" / id / "result"));
+}
+
+TEST(Service, MaterialJobsFitAModelThenSliceItAndFindItsIsoSurfaces) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  const std::string ball = stl_bytes(dir, test::make_sphere({0, 0, 0}, 10, 3));
+  auto ct = service.submit("material-fit", ball, R"({"material": ["ct", "/etc/passwd"]})");
+  ASSERT_TRUE(ct);
+  EXPECT_EQ(ct->status, 400);
+  EXPECT_NE(ct->body.find("reads only the upload"), std::string::npos) << ct->body;
+  auto not_a_model = service.submit("material-slice", ball, R"({"layer": 1})");
+  ASSERT_TRUE(not_a_model);
+  EXPECT_EQ(not_a_model->status, 400);
+  EXPECT_NE(not_a_model->body.find(".tsm"), std::string::npos) << not_a_model->body;
+
+  // The material rises from 0 to 1 along z across the ball.
+  const std::string fit = id_of(service.submit(
+      "material-fit", ball,
+      R"({"material": ["z", 0, 1], "uniform": 6, "refinements": 0, "max_iterations": 5})"));
+  const Json fitted = service.wait(fit, 300);
+  ASSERT_EQ(fitted["state"], "done") << fitted.dump();
+  EXPECT_TRUE(fitted["report"].is_object());
+  const std::string model = result_of(service, fit);
+  ASSERT_FALSE(model.empty());
+
+  const std::string sliced = id_of(
+      service.submit("material-slice", model, R"({"layer": 2, "format": "svg"})", "ball.tsm"));
+  const std::string iso =
+      id_of(service.submit("material-iso", model, R"({"values": [0.5]})", "ball.tsm"));
+  const Json slices = service.wait(sliced, 300);
+  ASSERT_EQ(slices["state"], "done") << slices.dump();
+  EXPECT_NE(result_of(service, sliced).find("<svg"), std::string::npos);
+  const Json surfaces = service.wait(iso, 300);
+  ASSERT_EQ(surfaces["state"], "done") << surfaces.dump();
+  // M = 0.5 halfway up a ramp across the ball: the surface lies near z = 0.
+  test::write_file(dir / "iso.stl", result_of(service, iso));
+  const TriangleSoup surface = read_mesh(dir / "iso.stl");
+  ASSERT_GT(surface.triangles.size(), 10u);
+  for (const Vec3& p : surface.points) EXPECT_LT(std::abs(p.z), 1.0) << p.x << " " << p.y;
 }
 
 }  // namespace

@@ -78,10 +78,7 @@ int run_serve(const ServeArgs& a) {
   o.data = a.data;
   o.jobs = a.jobs;
   o.max_upload = parse_bytes(a.max_upload, "--max-upload");
-  if (!a.memory.empty()) {
-    parse_bytes(a.memory);  // refused here, not in every job
-    o.memory = a.memory;
-  }
+  if (!a.memory.empty()) o.memory = parse_bytes(a.memory);  // refused here, not in every job
   o.keep = std::chrono::seconds(static_cast<long>(a.keep_hours * 3600));
   char self[PATH_MAX];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
@@ -97,7 +94,8 @@ Command add_serve_command(CLI::App& app) {
   auto args = std::make_shared<ServeArgs>();
   CLI::App* sub = app.add_subcommand(
       "serve",
-      "Run the HTTP service: check, repair, fill and slice jobs from a browser or a script");
+      "Run the HTTP service and its web page: check, repair, fill, slice and material jobs from "
+      "a browser or a script");
   sub->add_option("--listen", args->listen,
                   "ADDRESS:PORT to listen on (default 127.0.0.1:8080, this machine only; "
                   "0.0.0.0:8080 for the LAN; port 0: any free one, printed)");
@@ -111,8 +109,9 @@ Command add_serve_command(CLI::App& app) {
                   "TOKEN); default DATA/token, made when missing");
   sub->add_option("--max-upload", args->max_upload, "Largest mesh upload (default 512M)");
   sub->add_option("--memory", args->memory,
-                  "Memory each fill or slice job fits in, e.g. 4G (default: theirs, half of "
-                  "physical memory)");
+                  "Memory each job may use, e.g. 4G: fill and slice plan within it, and a job "
+                  "past it (and 64M for the program itself) is stopped (default: half of "
+                  "physical memory shared among the --jobs)");
   sub->add_option("--keep-hours", args->keep_hours,
                   "Finished jobs are deleted this many hours after they end (default 24)")
       ->check(between(0.01, 1e5, "0.01 to 100000"));

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/layer_files.hpp>
 #include <tpmsfill/recipe.hpp>
 #include <tpmsfill/units.hpp>
 
@@ -13,13 +14,17 @@ using Json = nlohmann::json;
 
 // How one key of a kind's options becomes a flag.
 enum class Value {
-  Positive,    // a number > 0: "--flag VALUE"
-  Fraction,    // a number in [0, 1): "--flag VALUE"
-  Count,       // an integer in [0, 1e6]: "--flag VALUE"
-  Number,      // any finite number: "--flag VALUE"
-  Units,       // mm, cm, m, in, um: "--flag VALUE"
-  FlagIfTrue,  // true: "--flag"
-  FlagIfFalse  // false: "--flag" (a default-on behaviour turned off)
+  Positive,     // a number > 0: "--flag VALUE"
+  Fraction,     // a number in [0, 1): "--flag VALUE"
+  Count,        // an integer in [0, 1e6]: "--flag VALUE"
+  Number,       // any finite number: "--flag VALUE"
+  Units,        // mm, cm, m, in, um: "--flag VALUE"
+  FlagIfTrue,   // true: "--flag"
+  FlagIfFalse,  // false: "--flag" (a default-on behaviour turned off)
+  Point,        // [x, y, z]: "--flag X Y Z"
+  Numbers,      // [a, b, ...], at least one: "--flag A B ..."
+  Material,     // ["point", x, y, z], ["geodesic", depth], ["x"|"y"|"z"|"radial", a, b]
+  Format        // a layer format's name (layer_files.hpp): "--flag NAME"
 };
 
 struct Key {
@@ -44,7 +49,31 @@ const std::vector<Key>& keys_of(JobKind kind) {
       {"min_component", "--min-component", Value::Fraction}};
   static const std::vector<Key> slice = {{"layer", "--layer", Value::Positive},
                                          {"start", "--start", Value::Number},
+                                         {"format", "--format", Value::Format},
                                          {"pixel", "--pixel", Value::Positive}};
+  static const std::vector<Key> material_fit = {
+      {"units", "--units", Value::Units},
+      {"cell", "--cell", Value::Positive},
+      {"feature_angle", "--feature-angle", Value::Positive},
+      {"material", "--material", Value::Material},
+      {"up", "--up", Value::Point},
+      {"max_tets_per_cell", "--max-tets-per-cell", Value::Count},
+      {"max_level", "--max-level", Value::Count},
+      {"uniform", "--uniform", Value::Count},
+      {"step", "--step", Value::Positive},
+      {"refinements", "--refinements", Value::Count},
+      {"rs_change", "--rs-change", Value::Number},
+      {"max_iterations", "--max-iterations", Value::Count}};
+  static const std::vector<Key> material_slice = {
+      {"layer", "--layer", Value::Positive},     {"start", "--start", Value::Number},
+      {"format", "--format", Value::Format},     {"pixel", "--pixel", Value::Positive},
+      {"colour", "--colour", Value::FlagIfTrue}, {"bins", "--bins", Value::Count},
+      {"tau", "--tau", Value::Positive},         {"initial_level", "--initial-level", Value::Count},
+      {"max_level", "--max-level", Value::Count}};
+  static const std::vector<Key> material_iso = {{"values", "--values", Value::Numbers},
+                                                {"tau", "--tau", Value::Positive},
+                                                {"initial_level", "--initial-level", Value::Count},
+                                                {"max_level", "--max-level", Value::Count}};
   static const std::vector<Key> none;
   switch (kind) {
     case JobKind::Check:
@@ -53,6 +82,12 @@ const std::vector<Key>& keys_of(JobKind kind) {
       return repair;
     case JobKind::Slice:
       return slice;
+    case JobKind::MaterialFit:
+      return material_fit;
+    case JobKind::MaterialSlice:
+      return material_slice;
+    case JobKind::MaterialIso:
+      return material_iso;
     case JobKind::Fill:
       return none;
   }
@@ -63,7 +98,7 @@ std::string key_list(JobKind kind) {
   std::string out;
   for (const Key& k : keys_of(kind)) out += std::string(out.empty() ? "" : ", ") + k.name;
   if (kind == JobKind::Fill) out = "those of a recipe (docs/recipes.md)";
-  if (kind == JobKind::Slice) out += ", format, recipe";
+  if (kind == JobKind::Slice) out += ", recipe";
   return out;
 }
 
@@ -87,6 +122,51 @@ void add_flags(const Key& key, const Json& value, std::vector<std::string>& flag
       if (!value.is_string()) throw InputError(where + "must be a unit name (mm, cm, m, in, um)");
       units_from_name(value.get<std::string>());  // its own sentence for an unknown name
       flags.insert(flags.end(), {key.flag, value.get<std::string>()});
+      return;
+    }
+    case Value::Format: {
+      const char* formats = "must be cli, cli-binary, svg, svg-layers or png";
+      if (!value.is_string()) throw InputError(where + formats);
+      try {
+        layer_format_from_name(value.get<std::string>());
+      } catch (const InputError&) {
+        throw InputError(where + formats);
+      }
+      flags.insert(flags.end(), {key.flag, value.get<std::string>()});
+      return;
+    }
+    case Value::Point:
+    case Value::Numbers:
+    case Value::Material: {
+      const char* shape = key.value == Value::Point     ? "must be [x, y, z] in mm"
+                          : key.value == Value::Numbers ? "must be a list of numbers"
+                                                        : "must be [\"point\", x, y, z], "
+                                                          "[\"geodesic\", depth] or "
+                                                          "[\"x\"|\"y\"|\"z\"|\"radial\", a, b]";
+      if (!value.is_array() || value.empty()) throw InputError(where + shape);
+      std::vector<std::string> words;
+      for (const Json& item : value) {
+        if (key.value == Value::Material && words.empty()) {
+          if (!item.is_string()) throw InputError(where + shape);
+          const std::string kind = item.get<std::string>();
+          if (kind == "ct")
+            throw InputError(where + "a CT volume is a file; the service reads only the upload");
+          const std::size_t wanted = kind == "point"      ? 4
+                                     : kind == "geodesic" ? 2
+                                     : kind == "x" || kind == "y" || kind == "z" || kind == "radial"
+                                         ? 3
+                                         : 0;
+          if (wanted == 0 || value.size() != wanted) throw InputError(where + shape);
+          words.push_back(kind);
+          continue;
+        }
+        if (!item.is_number() || !std::isfinite(item.get<double>()))
+          throw InputError(where + shape);
+        words.push_back(number_text(item.get<double>()));
+      }
+      if (key.value == Value::Point && words.size() != 3) throw InputError(where + shape);
+      flags.push_back(key.flag);
+      flags.insert(flags.end(), words.begin(), words.end());
       return;
     }
     default:
@@ -133,10 +213,25 @@ std::string checked_recipe(const Json& recipe) {
 
 }  // namespace
 
+const std::vector<JobKind>& job_kinds() {
+  static const std::vector<JobKind> kinds = {
+      JobKind::Check,       JobKind::Repair,        JobKind::Fill,       JobKind::Slice,
+      JobKind::MaterialFit, JobKind::MaterialSlice, JobKind::MaterialIso};
+  return kinds;
+}
+
 std::optional<JobKind> job_kind_from_name(const std::string& name) {
-  for (JobKind kind : {JobKind::Check, JobKind::Repair, JobKind::Fill, JobKind::Slice})
+  for (JobKind kind : job_kinds())
     if (name == job_kind_name(kind)) return kind;
   return std::nullopt;
+}
+
+bool takes_model(JobKind kind) {
+  return kind == JobKind::MaterialSlice || kind == JobKind::MaterialIso;
+}
+
+bool report_on_stdout(JobKind kind) {
+  return kind != JobKind::Fill && kind != JobKind::Slice;
 }
 
 const char* job_kind_name(JobKind kind) {
@@ -149,6 +244,12 @@ const char* job_kind_name(JobKind kind) {
       return "fill";
     case JobKind::Slice:
       return "slice";
+    case JobKind::MaterialFit:
+      return "material-fit";
+    case JobKind::MaterialSlice:
+      return "material-slice";
+    case JobKind::MaterialIso:
+      return "material-iso";
   }
   return "?";
 }
@@ -171,16 +272,9 @@ JobOptions job_options(JobKind kind, const std::string& options_json) {
     out.content_type = "model/stl";
     return out;
   }
-  std::string format = "cli";
   for (const auto& [name, value] : options.items()) {
     if (kind == JobKind::Slice && name == "recipe") {
       out.recipe = checked_recipe(value);
-      continue;
-    }
-    if (kind == JobKind::Slice && name == "format") {
-      if (!value.is_string() || (value != "cli" && value != "svg"))
-        throw InputError("options: format: must be \"cli\" or \"svg\"");
-      format = value.get<std::string>();
       continue;
     }
     const auto& keys = keys_of(kind);
@@ -191,6 +285,27 @@ JobOptions job_options(JobKind kind, const std::string& options_json) {
                        " (known: " + key_list(kind) + ")");
     add_flags(*key, value, out.flags);
   }
+  const auto required = [&](const char* key, const char* what) {
+    if (!options.contains(key)) throw InputError(std::string("options: ") + key + ": " + what);
+  };
+  // Layers (slice, material-slice): a file, or a folder of layers sent as one zip (archive.hpp).
+  const auto layers = [&] {
+    required("layer", "the layer thickness in mm is required");
+    const std::string format = options.value("format", "cli");
+    if (options.contains("pixel") && format != "png")
+      throw InputError(
+          "options: pixel: sets the PNG masks' pixel size; it needs \"format\": \"png\"");
+    if (!options.contains("format")) out.flags.insert(out.flags.end(), {"--format", format});
+    if (writes_folder(layer_format_from_name(format))) {
+      out.output_name = "result.zip";
+      out.content_type = "application/zip";
+    } else {
+      out.output_name = format == "svg" ? "result.svg" : "result.cli";
+      out.content_type = format == "svg"   ? "image/svg+xml"
+                         : format == "cli" ? "text/plain"
+                                           : "application/octet-stream";
+    }
+  };
   switch (kind) {
     case JobKind::Check:
       out.flags.push_back("--json");
@@ -201,10 +316,24 @@ JobOptions job_options(JobKind kind, const std::string& options_json) {
       out.content_type = "model/stl";
       break;
     case JobKind::Slice:
-      if (!options.contains("layer"))
-        throw InputError("options: layer: the layer thickness in mm is required");
-      out.output_name = "result." + format;
-      out.content_type = format == "svg" ? "image/svg+xml" : "text/plain";
+      layers();
+      break;
+    case JobKind::MaterialFit:
+      out.flags.push_back("--json");
+      out.output_name = "result.tsm";
+      out.content_type = "application/octet-stream";
+      break;
+    case JobKind::MaterialSlice:
+      if (options.value("colour", false) && options.value("format", "cli") != "png")
+        throw InputError("options: colour: colours PNG masks; it needs \"format\": \"png\"");
+      out.flags.push_back("--json");
+      layers();
+      break;
+    case JobKind::MaterialIso:
+      required("values", "the material values, one surface each, are required");
+      out.flags.push_back("--json");
+      out.output_name = "result.stl";
+      out.content_type = "model/stl";
       break;
     case JobKind::Fill:
       break;
@@ -212,15 +341,29 @@ JobOptions job_options(JobKind kind, const std::string& options_json) {
   return out;
 }
 
+std::string command_output_name(const JobOptions& options) {
+  const std::string& name = options.output_name;
+  const std::string zip = ".zip";
+  if (name.size() > zip.size() && name.compare(name.size() - zip.size(), zip.size(), zip) == 0)
+    return name.substr(0, name.size() - zip.size());
+  return name;
+}
+
 std::vector<std::string> job_command(JobKind kind, const JobOptions& options, const JobPaths& paths,
-                                     const std::string& memory_budget) {
-  std::vector<std::string> command = {job_kind_name(kind), paths.input};
+                                     std::uint64_t memory_budget) {
+  std::vector<std::string> command;
+  if (kind == JobKind::MaterialFit || kind == JobKind::MaterialSlice ||
+      kind == JobKind::MaterialIso)
+    command = {"material", std::string(job_kind_name(kind)).substr(9)};  // after "material-"
+  else
+    command = {job_kind_name(kind)};
+  command.push_back(paths.input);
   if (!options.output_name.empty()) command.push_back(paths.output);
   command.insert(command.end(), options.flags.begin(), options.flags.end());
   if (!options.recipe.empty()) command.insert(command.end(), {"--recipe", paths.recipe});
   if (kind == JobKind::Fill || kind == JobKind::Slice) {
     command.insert(command.end(), {"--report", paths.report});
-    if (!memory_budget.empty()) command.insert(command.end(), {"--memory", memory_budget});
+    command.insert(command.end(), {"--memory", std::to_string(memory_budget)});
   }
   return command;
 }

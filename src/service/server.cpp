@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <httplib.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
@@ -19,13 +20,16 @@
 #include <sstream>
 #include <thread>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
 #include <vector>
 
 #include "detail/file_bytes.hpp"
 
+#include "service/archive.hpp"
 #include "service/job_spec.hpp"
 #include "service/job_store.hpp"
+#include "service/web_assets.hpp"
 
 namespace tpmsfill::service {
 namespace {
@@ -68,6 +72,18 @@ std::string mesh_extension(const std::string& name) {
   const bool gzip = is_gzip_name(name);
   return detail::lower_extension(gzip ? fs::path(name).stem() : fs::path(name)) +
          (gzip ? ".gz" : "");
+}
+
+// A process's resident memory in bytes (0 when it is gone).
+std::uint64_t resident_memory(pid_t pid) {
+  std::ifstream statm("/proc/" + std::to_string(pid) + "/statm");
+  std::uint64_t size = 0, resident = 0;
+  if (!(statm >> size >> resident)) return 0;
+  return resident * static_cast<std::uint64_t>(sysconf(_SC_PAGE_SIZE));
+}
+
+bool ongoing(JobState s) {
+  return s == JobState::Queued || s == JobState::Running;
 }
 
 // SIGINT and SIGTERM are taken by one thread (sigwait), which stops the server.
@@ -143,10 +159,11 @@ class Runner {
 
   void run(const JobRecord& job) {
     const fs::path dir = store_.folder(job.id);
-    const JobPaths paths{(dir / job.input_name).string(), (dir / job.options.output_name).string(),
+    const JobPaths paths{(dir / job.input_name).string(),
+                         (dir / command_output_name(job.options)).string(),
                          (dir / "recipe.json").string(), (dir / "report.json").string()};
     std::vector<std::string> args = {options_.program.string()};
-    for (std::string& a : job_command(job.kind, job.options, paths, options_.memory))
+    for (std::string& a : job_command(job.kind, job.options, paths, job_memory(options_)))
       args.push_back(std::move(a));
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
@@ -209,7 +226,7 @@ class Runner {
       finish_failed(job.id, "the server could not start the job (fork failed)");
       return;
     }
-    read_progress(job.id, pipe_fds[0]);
+    const std::uint64_t over_memory = read_progress(job.id, pipe_fds[0], pid);
     close(pipe_fds[0]);
     int status = 0;
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
@@ -222,17 +239,28 @@ class Runner {
       if (stopping_) return;
     }
     wake_.notify_all();
-    finish(job, status, dir);
+    finish(job, status, dir, over_memory);
   }
 
-  // Progress lines from the command ("stage<TAB>fraction<TAB>overall"), until it exits.
-  void read_progress(const std::string& id, int fd) {
+  // Progress lines from the command ("stage<TAB>fraction<TAB>overall"), until it exits. Its
+  // resident memory is read every 100 ms: past the budget and headroom, it is killed and that
+  // memory returned (0 otherwise).
+  std::uint64_t read_progress(const std::string& id, int fd, pid_t pid) {
+    const std::uint64_t limit = job_memory(options_) + kMemoryHeadroom;
     std::string pending;
     char buffer[4096];
     for (;;) {
+      pollfd ready{fd, POLLIN, 0};
+      const int polled = poll(&ready, 1, 100);
+      if (polled < 0 && errno == EINTR) continue;
+      if (const std::uint64_t rss = resident_memory(pid); rss > limit) {
+        kill(pid, SIGKILL);
+        return rss;
+      }
+      if (polled == 0) continue;
       const ssize_t n = read(fd, buffer, sizeof buffer);
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return;
+      if (n <= 0) return 0;
       pending.append(buffer, static_cast<std::size_t>(n));
       std::size_t end;
       std::string last;
@@ -255,7 +283,7 @@ class Runner {
     }
   }
 
-  void finish(const JobRecord& job, int status, const fs::path& dir) {
+  void finish(const JobRecord& job, int status, const fs::path& dir, std::uint64_t over_memory) {
     const std::string err = read_text(dir / "stderr.txt");
     std::string sentence, warnings;
     std::istringstream lines(err);
@@ -266,15 +294,26 @@ class Runner {
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     Json report;
     try {
-      const std::string text = job.kind == JobKind::Check || job.kind == JobKind::Repair
-                                   ? read_text(dir / "stdout.txt")
-                                   : read_text(dir / "report.json");
+      const std::string text = report_on_stdout(job.kind) ? read_text(dir / "stdout.txt")
+                                                          : read_text(dir / "report.json");
       if (!text.empty()) report = Json::parse(text);
     } catch (const std::exception&) {
       report = nullptr;
     }
     // check's exit 1 is its verdict (not valid), not a failure.
-    const bool ok = code == 0 || (job.kind == JobKind::Check && code == 1 && !report.is_null());
+    bool ok = code == 0 || (job.kind == JobKind::Check && code == 1 && !report.is_null());
+    // A folder of layers becomes the one file the result is.
+    const std::string written = command_output_name(job.options);
+    if (ok && !over_memory && written != job.options.output_name) {
+      try {
+        zip_folder(dir / written, dir / job.options.output_name);
+        std::error_code ec;
+        fs::remove_all(dir / written, ec);
+      } catch (const Error& e) {
+        ok = false;
+        sentence = e.what();
+      }
+    }
     store_.update(
         job.id,
         [&](JobRecord& r) {
@@ -286,7 +325,10 @@ class Runner {
                                              std::to_string(kCancelGrace.count()) + " s)"
                                        : sentence;
             std::error_code ec;
-            if (!r.options.output_name.empty()) fs::remove(dir / r.options.output_name, ec);
+            if (!r.options.output_name.empty()) {
+              fs::remove_all(dir / command_output_name(r.options), ec);
+              fs::remove(dir / r.options.output_name, ec);
+            }
           } else if (ok) {
             r.state = JobState::Done;
             r.progress = 1;
@@ -294,11 +336,15 @@ class Runner {
           } else {
             r.state = JobState::Failed;
             r.report = report;
-            r.error = !sentence.empty() ? sentence
-                      : WIFSIGNALED(status)
-                          ? "the job stopped on signal " + std::to_string(WTERMSIG(status)) +
-                                " (out of memory?)"
-                          : "the job ended with exit code " + std::to_string(code);
+            r.error =
+                over_memory > 0
+                    ? "stopped: it used " + std::to_string(over_memory >> 20) +
+                          " MB, past the service's " + std::to_string(job_memory(options_) >> 20) +
+                          " MB a job (serve --memory) and 64 MB for the program itself"
+                : !sentence.empty()   ? sentence
+                : WIFSIGNALED(status) ? "the job stopped on signal " +
+                                            std::to_string(WTERMSIG(status)) + " (out of memory?)"
+                                      : "the job ended with exit code " + std::to_string(code);
           }
         },
         true);
@@ -341,7 +387,7 @@ struct Upload {
 };
 
 bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
-                 std::uint64_t max_upload, Upload& up) {
+                 std::uint64_t max_upload, JobKind kind, Upload& up) {
   std::ofstream mesh;
   std::string part;  // the part being read
   static std::atomic<std::uint64_t> counter{0};
@@ -354,8 +400,15 @@ bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
             return false;
           }
           up.has_mesh = true;
-          up.extension = mesh_extension(header.filename);
-          if (up.extension.empty()) {
+          if (takes_model(kind)) {
+            up.extension =
+                detail::lower_extension(fs::path(header.filename)) == ".tsm" ? ".tsm" : "";
+            if (up.extension.empty()) {
+              up.problem = "mesh: send a fitted model, a .tsm file from material-fit (it was '" +
+                           header.filename + "')";
+              return false;
+            }
+          } else if ((up.extension = mesh_extension(header.filename)).empty()) {
             up.problem =
                 "mesh: the file name must end in .stl, .obj, .ply, .off (each also "
                 ".gz) or .3mf (it was '" +
@@ -403,11 +456,17 @@ bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
 
 }  // namespace
 
+std::uint64_t job_memory(const ServeOptions& options) {
+  return options.memory > 0 ? options.memory
+                            : default_memory_budget() / static_cast<std::uint64_t>(options.jobs);
+}
+
 int serve(const ServeOptions& options) {
   if (options.token.size() < 16) throw InputError("the token must be at least 16 characters long");
   const sigset_t signals = stop_signals();
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every thread made below
   JobStore store(options.data, options.keep);
+  std::atomic<bool> stopping = false;
   Runner runner(store, options);
   httplib::Server server;
   server.set_read_timeout(options.timeout.count(), 0);
@@ -439,14 +498,16 @@ int serve(const ServeOptions& options) {
   server.Get("/v1/health", [&](const httplib::Request&, httplib::Response& res) {
     answer(res, 200, {{"status", "ok"}, {"queued", store.queued()}});
   });
+  Json kind_names = Json::array();
+  for (JobKind kind : job_kinds()) kind_names.push_back(job_kind_name(kind));
   server.Get("/v1/version", [&](const httplib::Request& req, httplib::Response& res) {
     if (!authorised(req, res)) return;
     answer(res, 200,
            {{"version", TPMSFILL_VERSION},
-            {"kinds", {"check", "repair", "fill", "slice"}},
+            {"kinds", kind_names},
             {"max_upload_bytes", options.max_upload}});
   });
-  server.Post(R"(/v1/(check|repair|fill|slice))",
+  server.Post(R"(/v1/(check|repair|fill|slice|material-fit|material-slice|material-iso))",
               [&](const httplib::Request& req, httplib::Response& res,
                   const httplib::ContentReader& reader) {
                 if (!authorised(req, res)) return;
@@ -454,7 +515,7 @@ int serve(const ServeOptions& options) {
                 if (!req.is_multipart_form_data())
                   return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
                 Upload up;
-                if (!read_upload(reader, store.uploads_dir(), options.max_upload, up))
+                if (!read_upload(reader, store.uploads_dir(), options.max_upload, kind, up))
                   return refuse(res, up.status, up.problem);
                 JobOptions accepted;
                 try {
@@ -468,6 +529,20 @@ int serve(const ServeOptions& options) {
                 res.set_header("Location", "/v1/jobs/" + id);
                 answer(res, 202, {{"id", id}, {"state", "queued"}});
               });
+
+  // The page and its two files: public (they hold no data; every call they make asks for the
+  // token), same-origin only, never cached stale.
+  server.Get(R"(/|/index\.html|/app\.js|/style\.css)",
+             [](const httplib::Request& req, httplib::Response& res) {
+               const std::optional<WebAsset> asset = web_asset(req.path);
+               res.set_header("Cache-Control", "no-cache");
+               res.set_header("X-Content-Type-Options", "nosniff");
+               res.set_header("Referrer-Policy", "no-referrer");
+               res.set_header("Content-Security-Policy",
+                              "default-src 'self'; img-src 'self' blob: data:; "
+                              "object-src 'none'; frame-ancestors 'none'; base-uri 'none'");
+               res.set_content(asset->body.data(), asset->body.size(), asset->content_type);
+             });
 
   const auto job_or_404 = [&](const httplib::Request& req, httplib::Response& res) {
     // Ids are validated before any lookup: nothing else ever names a job's folder.
@@ -490,7 +565,6 @@ int serve(const ServeOptions& options) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait);
     const JobState state = job->state;
     const std::string stage = job->stage;
-    const auto ongoing = [](JobState s) { return s == JobState::Queued || s == JobState::Running; };
     while (ongoing(state) && std::chrono::steady_clock::now() < until && job->state == state &&
            job->stage == stage) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -499,6 +573,44 @@ int serve(const ServeOptions& options) {
     }
     answer(res, 200, record_json(*job));
   });
+  // Server-sent events: the job's record whenever it changes (state, stage, progress), a
+  // comment every 15 s so proxies keep the stream open, and the end of the stream once the job
+  // has ended. Each stream holds one of the pool's threads, as a long poll does.
+  server.Get(
+      R"(/v1/jobs/([^/]+)/events)", [&](const httplib::Request& req, httplib::Response& res) {
+        if (!authorised(req, res)) return;
+        std::optional<JobRecord> job = job_or_404(req, res);
+        if (!job) return;
+        res.set_header("Cache-Control", "no-cache");
+        auto sent = std::make_shared<std::string>();  // the last record sent
+        res.set_chunked_content_provider(
+            "text/event-stream",
+            [&store, &stopping, id = job->id, sent](std::size_t, httplib::DataSink& sink) {
+              const auto keep_alive = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+              while (!stopping) {
+                const std::optional<JobRecord> now = store.get(id);
+                if (!now) {  // expired or deleted under us
+                  sink.done();
+                  return true;
+                }
+                std::string record = record_json(*now).dump();
+                if (record != *sent) {
+                  const std::string event = "data: " + record + "\n\n";
+                  *sent = std::move(record);
+                  if (!sink.write(event.data(), event.size())) return false;
+                  if (!ongoing(now->state)) sink.done();
+                  return true;
+                }
+                if (std::chrono::steady_clock::now() >= keep_alive) {
+                  static constexpr char comment[] = ": still here\n\n";
+                  return sink.write(comment, sizeof comment - 1);
+                }
+                if (!sink.is_writable()) return false;
+                std::this_thread::sleep_for(std::chrono::milliseconds(100));
+              }
+              return false;
+            });
+      });
   server.Get(
       R"(/v1/jobs/([^/]+)/result)", [&](const httplib::Request& req, httplib::Response& res) {
         if (!authorised(req, res)) return;
@@ -553,22 +665,24 @@ int serve(const ServeOptions& options) {
     answer(res, 202, {{"id", job->id}, {"state", running ? "cancelling" : "cancelled"}});
   });
 
-  if (options.port == 0) {
-    const int port = server.bind_to_any_port(options.host.c_str());
+  int port = options.port;
+  if (port == 0) {
+    port = server.bind_to_any_port(options.host.c_str());
     if (port < 0) throw IoError(options.host + ": cannot listen there");
-    std::printf("listening on http://%s:%d\n", options.host.c_str(), port);
-  } else {
-    if (!server.bind_to_port(options.host.c_str(), options.port))
-      throw IoError(options.host + ":" + std::to_string(options.port) +
-                    ": cannot listen there (in use? a name that does not resolve?)");
-    std::printf("listening on http://%s:%d\n", options.host.c_str(), options.port);
+  } else if (!server.bind_to_port(options.host.c_str(), port)) {
+    throw IoError(options.host + ":" + std::to_string(port) +
+                  ": cannot listen there (in use? a name that does not resolve?)");
   }
+  std::printf("listening on http://%s:%d\n", options.host.c_str(), port);
+  std::printf("the page: http://%s:%d/ (paste the token into its token field)\n",
+              options.host.c_str(), port);
   if (listening_socket >= 0) ::listen(listening_socket, SOMAXCONN);
   std::fflush(stdout);
 
   std::thread stopper([&] {
     int signal = 0;
     sigwait(&signals, &signal);
+    stopping = true;  // event streams end, so the pool's threads can be joined
     server.stop();
   });
   // Finished jobs past --keep, checked every minute until the server stops.
