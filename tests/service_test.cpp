@@ -313,6 +313,12 @@ TEST(Service, ThePageAndItsFilesNeedNoTokenAndHoldNoData) {
   EXPECT_EQ(script->status, 200);
   EXPECT_EQ(script->get_header_value("Content-Type"), "text/javascript; charset=utf-8");
   EXPECT_EQ(open.Get("/style.css")->status, 200);
+  // Built with npm (scripts/setup.sh installs it), the script is the bundle: three.js inside.
+  const Json version = Json::parse(service.client().Get("/v1/version")->body);
+  if (version["page"] == true) {
+    EXPECT_GT(script->body.size(), 300000u);
+    EXPECT_NE(script->body.find("WebGLRenderer"), std::string::npos);
+  }
   for (const auto* res : {&page, &script}) EXPECT_EQ((*res)->body.find(kToken), std::string::npos);
   EXPECT_EQ(open.Get("/../token.txt")->status, 404);
   EXPECT_EQ(open.Get("/token.txt")->status, 404);

@@ -85,6 +85,14 @@ try {
   await page.goto(`${url}/#token=${token}`, { waitUntil: 'load' });
   const loaded = performance.now() - t0;
   assert.equal(await page.inputValue('#token'), token, 'the token from the address fills the field');
+  // Every control has a label a screen reader reads, and the live regions are announced.
+  const unlabelled = await page.evaluate(() =>
+    [...document.querySelectorAll('input, select, button')]
+      .filter((e) => !(e.labels?.length || e.textContent.trim()))
+      .map((e) => e.id || e.outerHTML));
+  assert.deepEqual(unlabelled, [], 'every control has a label');
+  for (const id of ['verdict', 'stage', 'outcome'])
+    assert.equal(await page.getAttribute(`#${id}`, 'aria-live'), 'polite', `#${id} is a live region`);
   assert.ok(!page.url().includes(token), 'the token is dropped from the address bar');
 
   // A wrong token: the service's sentence, and nothing to fill.

@@ -454,6 +454,211 @@ bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
   return up.problem.empty();
 }
 
+// What the route handlers share; each handler keeps a copy (references only).
+struct Routes {
+  const ServeOptions& options;
+  JobStore& store;
+  Runner& runner;
+  const std::atomic<bool>& stopping;  // set when the server stops: event streams end
+
+  bool authorised(const httplib::Request& req, httplib::Response& res) const {
+    const std::string header = req.get_header_value("Authorization");
+    if (header.rfind("Bearer ", 0) == 0 && same_secret(header.substr(7), options.token))
+      return true;
+    res.set_header("WWW-Authenticate", "Bearer");
+    refuse(res, 401, "send the service's token: Authorization: Bearer TOKEN");
+    return false;
+  }
+
+  // The job named by the path's first group, or a 404 (then nullopt).
+  std::optional<JobRecord> job_or_404(const httplib::Request& req, httplib::Response& res) const {
+    // Ids are validated before any lookup: nothing else ever names a job's folder.
+    std::optional<JobRecord> job;
+    if (is_job_id(req.matches[1])) job = store.get(req.matches[1]);
+    if (!job)
+      refuse(res, 404,
+             "no job with this id (finished jobs are kept for " +
+                 std::to_string(options.keep.count() / 3600) + " hours)");
+    return job;
+  }
+};
+
+Json kind_names() {
+  Json names = Json::array();
+  for (JobKind kind : job_kinds()) names.push_back(job_kind_name(kind));
+  return names;
+}
+
+void add_page_routes(httplib::Server& server) {
+  // The page and its two files: public (they hold no data; every call they make asks for the
+  // token), same-origin only, never cached stale.
+  server.Get(R"(/|/index\.html|/app\.js|/style\.css)",
+             [](const httplib::Request& req, httplib::Response& res) {
+               const std::optional<WebAsset> asset = web_asset(req.path);
+               res.set_header("Cache-Control", "no-cache");
+               res.set_header("X-Content-Type-Options", "nosniff");
+               res.set_header("Referrer-Policy", "no-referrer");
+               res.set_header("Content-Security-Policy",
+                              "default-src 'self'; img-src 'self' blob: data:; "
+                              "object-src 'none'; frame-ancestors 'none'; base-uri 'none'");
+               res.set_content(asset->body.data(), asset->body.size(), asset->content_type);
+             });
+}
+
+// Health, version, and POST /v1/KIND: a job accepted onto the queue.
+void add_submit_routes(httplib::Server& server, const Routes& r) {
+  server.Get("/v1/health", [r](const httplib::Request&, httplib::Response& res) {
+    answer(res, 200, {{"status", "ok"}, {"queued", r.store.queued()}});
+  });
+  server.Get("/v1/version", [r](const httplib::Request& req, httplib::Response& res) {
+    if (!r.authorised(req, res)) return;
+    answer(res, 200,
+           {{"version", TPMSFILL_VERSION},
+            {"kinds", kind_names()},
+            {"page", web_page_bundled()},
+            {"max_upload_bytes", r.options.max_upload}});
+  });
+  server.Post(R"(/v1/(check|repair|fill|slice|material-fit|material-slice|material-iso))",
+              [r](const httplib::Request& req, httplib::Response& res,
+                  const httplib::ContentReader& reader) {
+                if (!r.authorised(req, res)) return;
+                const JobKind kind = *job_kind_from_name(req.matches[1]);
+                if (!req.is_multipart_form_data())
+                  return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
+                Upload up;
+                if (!read_upload(reader, r.store.uploads_dir(), r.options.max_upload, kind, up))
+                  return refuse(res, up.status, up.problem);
+                JobOptions accepted;
+                try {
+                  accepted = job_options(kind, up.options);
+                } catch (const Error& e) {
+                  return refuse(res, 400, e.what());
+                }
+                const std::string id = r.store.add(kind, accepted, up.file, up.extension);
+                up.file.clear();  // moved into the job
+                r.runner.wake();
+                res.set_header("Location", "/v1/jobs/" + id);
+                answer(res, 202, {{"id", id}, {"state", "queued"}});
+              });
+}
+
+// GET /v1/jobs/ID (with long polling) and its event stream.
+void add_progress_routes(httplib::Server& server, const Routes& r) {
+  // Long polling: ?wait=S answers when the job's state or stage changes, or after S seconds
+  // (at most 30).
+  server.Get(R"(/v1/jobs/([^/]+))", [r](const httplib::Request& req, httplib::Response& res) {
+    if (!r.authorised(req, res)) return;
+    std::optional<JobRecord> job = r.job_or_404(req, res);
+    if (!job) return;
+    double wait = req.has_param("wait") ? std::atof(req.get_param_value("wait").c_str()) : 0;
+    wait = std::clamp(wait, 0.0, 30.0);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait);
+    const JobState state = job->state;
+    const std::string stage = job->stage;
+    while (ongoing(state) && std::chrono::steady_clock::now() < until && job->state == state &&
+           job->stage == stage) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      job = r.store.get(job->id);
+      if (!job) return refuse(res, 404, "the job was deleted");
+    }
+    answer(res, 200, record_json(*job));
+  });
+  // Server-sent events: the job's record whenever it changes (state, stage, progress), a
+  // comment every 15 s so proxies keep the stream open, and the end of the stream once the job
+  // has ended. Each stream holds one of the pool's threads, as a long poll does.
+  server.Get(
+      R"(/v1/jobs/([^/]+)/events)", [r](const httplib::Request& req, httplib::Response& res) {
+        if (!r.authorised(req, res)) return;
+        std::optional<JobRecord> job = r.job_or_404(req, res);
+        if (!job) return;
+        res.set_header("Cache-Control", "no-cache");
+        auto sent = std::make_shared<std::string>();  // the last record sent
+        res.set_chunked_content_provider(
+            "text/event-stream", [r, id = job->id, sent](std::size_t, httplib::DataSink& sink) {
+              const auto keep_alive = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+              while (!r.stopping) {
+                const std::optional<JobRecord> now = r.store.get(id);
+                if (!now) {  // expired or deleted under us
+                  sink.done();
+                  return true;
+                }
+                std::string record = record_json(*now).dump();
+                if (record != *sent) {
+                  const std::string event = "data: " + record + "\n\n";
+                  *sent = std::move(record);
+                  if (!sink.write(event.data(), event.size())) return false;
+                  if (!ongoing(now->state)) sink.done();
+                  return true;
+                }
+                if (std::chrono::steady_clock::now() >= keep_alive) {
+                  static constexpr char comment[] = ": still here\n\n";
+                  return sink.write(comment, sizeof comment - 1);
+                }
+                if (!sink.is_writable()) return false;
+                std::this_thread::sleep_for(std::chrono::milliseconds(100));
+              }
+              return false;
+            });
+      });
+}
+
+// GET /v1/jobs/ID/result and DELETE /v1/jobs/ID (cancel).
+void add_result_routes(httplib::Server& server, const Routes& r) {
+  server.Get(
+      R"(/v1/jobs/([^/]+)/result)", [r](const httplib::Request& req, httplib::Response& res) {
+        if (!r.authorised(req, res)) return;
+        std::optional<JobRecord> job = r.job_or_404(req, res);
+        if (!job) return;
+        if (job->state != JobState::Done)
+          return refuse(
+              res, 409,
+              std::string("the job is ") + job_state_name(job->state) + ", there is no result");
+        if (job->options.output_name.empty())
+          return refuse(res, 404, "a check job has no result file: its report is the answer");
+        const fs::path file = r.store.folder(job->id) / job->options.output_name;
+        auto stream = std::make_shared<std::ifstream>(file, std::ios::binary);
+        std::error_code ec;
+        const std::uint64_t size = fs::file_size(file, ec);
+        if (!*stream || ec) return refuse(res, 410, "the result file is gone");
+        res.set_header("Content-Disposition",
+                       "attachment; filename=\"" + job->options.output_name + "\"");
+        res.set_content_provider(
+            size, job->options.content_type,
+            [stream](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+              std::vector<char> buffer(std::min<std::size_t>(length, 1 << 16));
+              stream->seekg(static_cast<std::streamoff>(offset));
+              stream->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+              const auto got = stream->gcount();
+              if (got <= 0) return false;
+              return sink.write(buffer.data(), static_cast<std::size_t>(got));
+            });
+      });
+  server.Delete(R"(/v1/jobs/([^/]+))", [r](const httplib::Request& req, httplib::Response& res) {
+    if (!r.authorised(req, res)) return;
+    std::optional<JobRecord> job = r.job_or_404(req, res);
+    if (!job) return;
+    bool running = false, finished = false;
+    r.store.update(
+        job->id,
+        [&](JobRecord& r) {
+          if (r.state == JobState::Queued) {
+            r.state = JobState::Cancelled;
+          } else if (r.state == JobState::Running) {
+            r.cancel_asked = true;
+            running = true;
+          } else {
+            finished = true;
+          }
+        },
+        true);
+    if (finished)
+      return refuse(res, 409,
+                    std::string("the job has already ended (") + job_state_name(job->state) + ")");
+    if (running) r.runner.cancel(job->id);
+    answer(res, 202, {{"id", job->id}, {"state", running ? "cancelling" : "cancelled"}});
+  });
+}
+
 }  // namespace
 
 std::uint64_t job_memory(const ServeOptions& options) {
@@ -486,184 +691,11 @@ int serve(const ServeOptions& options) {
   });
   server.set_payload_max_length(options.max_upload + kMaxOptionsBytes + (64 << 10));
 
-  const auto authorised = [&](const httplib::Request& req, httplib::Response& res) {
-    const std::string header = req.get_header_value("Authorization");
-    if (header.rfind("Bearer ", 0) == 0 && same_secret(header.substr(7), options.token))
-      return true;
-    res.set_header("WWW-Authenticate", "Bearer");
-    refuse(res, 401, "send the service's token: Authorization: Bearer TOKEN");
-    return false;
-  };
-
-  server.Get("/v1/health", [&](const httplib::Request&, httplib::Response& res) {
-    answer(res, 200, {{"status", "ok"}, {"queued", store.queued()}});
-  });
-  Json kind_names = Json::array();
-  for (JobKind kind : job_kinds()) kind_names.push_back(job_kind_name(kind));
-  server.Get("/v1/version", [&](const httplib::Request& req, httplib::Response& res) {
-    if (!authorised(req, res)) return;
-    answer(res, 200,
-           {{"version", TPMSFILL_VERSION},
-            {"kinds", kind_names},
-            {"max_upload_bytes", options.max_upload}});
-  });
-  server.Post(R"(/v1/(check|repair|fill|slice|material-fit|material-slice|material-iso))",
-              [&](const httplib::Request& req, httplib::Response& res,
-                  const httplib::ContentReader& reader) {
-                if (!authorised(req, res)) return;
-                const JobKind kind = *job_kind_from_name(req.matches[1]);
-                if (!req.is_multipart_form_data())
-                  return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
-                Upload up;
-                if (!read_upload(reader, store.uploads_dir(), options.max_upload, kind, up))
-                  return refuse(res, up.status, up.problem);
-                JobOptions accepted;
-                try {
-                  accepted = job_options(kind, up.options);
-                } catch (const Error& e) {
-                  return refuse(res, 400, e.what());
-                }
-                const std::string id = store.add(kind, accepted, up.file, up.extension);
-                up.file.clear();  // moved into the job
-                runner.wake();
-                res.set_header("Location", "/v1/jobs/" + id);
-                answer(res, 202, {{"id", id}, {"state", "queued"}});
-              });
-
-  // The page and its two files: public (they hold no data; every call they make asks for the
-  // token), same-origin only, never cached stale.
-  server.Get(R"(/|/index\.html|/app\.js|/style\.css)",
-             [](const httplib::Request& req, httplib::Response& res) {
-               const std::optional<WebAsset> asset = web_asset(req.path);
-               res.set_header("Cache-Control", "no-cache");
-               res.set_header("X-Content-Type-Options", "nosniff");
-               res.set_header("Referrer-Policy", "no-referrer");
-               res.set_header("Content-Security-Policy",
-                              "default-src 'self'; img-src 'self' blob: data:; "
-                              "object-src 'none'; frame-ancestors 'none'; base-uri 'none'");
-               res.set_content(asset->body.data(), asset->body.size(), asset->content_type);
-             });
-
-  const auto job_or_404 = [&](const httplib::Request& req, httplib::Response& res) {
-    // Ids are validated before any lookup: nothing else ever names a job's folder.
-    std::optional<JobRecord> job;
-    if (is_job_id(req.matches[1])) job = store.get(req.matches[1]);
-    if (!job)
-      refuse(res, 404,
-             "no job with this id (finished jobs are kept for " +
-                 std::to_string(options.keep.count() / 3600) + " hours)");
-    return job;
-  };
-  // Long polling: ?wait=S answers when the job's state or stage changes, or after S seconds
-  // (at most 30).
-  server.Get(R"(/v1/jobs/([^/]+))", [&](const httplib::Request& req, httplib::Response& res) {
-    if (!authorised(req, res)) return;
-    std::optional<JobRecord> job = job_or_404(req, res);
-    if (!job) return;
-    double wait = req.has_param("wait") ? std::atof(req.get_param_value("wait").c_str()) : 0;
-    wait = std::clamp(wait, 0.0, 30.0);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait);
-    const JobState state = job->state;
-    const std::string stage = job->stage;
-    while (ongoing(state) && std::chrono::steady_clock::now() < until && job->state == state &&
-           job->stage == stage) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      job = store.get(job->id);
-      if (!job) return refuse(res, 404, "the job was deleted");
-    }
-    answer(res, 200, record_json(*job));
-  });
-  // Server-sent events: the job's record whenever it changes (state, stage, progress), a
-  // comment every 15 s so proxies keep the stream open, and the end of the stream once the job
-  // has ended. Each stream holds one of the pool's threads, as a long poll does.
-  server.Get(
-      R"(/v1/jobs/([^/]+)/events)", [&](const httplib::Request& req, httplib::Response& res) {
-        if (!authorised(req, res)) return;
-        std::optional<JobRecord> job = job_or_404(req, res);
-        if (!job) return;
-        res.set_header("Cache-Control", "no-cache");
-        auto sent = std::make_shared<std::string>();  // the last record sent
-        res.set_chunked_content_provider(
-            "text/event-stream",
-            [&store, &stopping, id = job->id, sent](std::size_t, httplib::DataSink& sink) {
-              const auto keep_alive = std::chrono::steady_clock::now() + std::chrono::seconds(15);
-              while (!stopping) {
-                const std::optional<JobRecord> now = store.get(id);
-                if (!now) {  // expired or deleted under us
-                  sink.done();
-                  return true;
-                }
-                std::string record = record_json(*now).dump();
-                if (record != *sent) {
-                  const std::string event = "data: " + record + "\n\n";
-                  *sent = std::move(record);
-                  if (!sink.write(event.data(), event.size())) return false;
-                  if (!ongoing(now->state)) sink.done();
-                  return true;
-                }
-                if (std::chrono::steady_clock::now() >= keep_alive) {
-                  static constexpr char comment[] = ": still here\n\n";
-                  return sink.write(comment, sizeof comment - 1);
-                }
-                if (!sink.is_writable()) return false;
-                std::this_thread::sleep_for(std::chrono::milliseconds(100));
-              }
-              return false;
-            });
-      });
-  server.Get(
-      R"(/v1/jobs/([^/]+)/result)", [&](const httplib::Request& req, httplib::Response& res) {
-        if (!authorised(req, res)) return;
-        std::optional<JobRecord> job = job_or_404(req, res);
-        if (!job) return;
-        if (job->state != JobState::Done)
-          return refuse(
-              res, 409,
-              std::string("the job is ") + job_state_name(job->state) + ", there is no result");
-        if (job->options.output_name.empty())
-          return refuse(res, 404, "a check job has no result file: its report is the answer");
-        const fs::path file = store.folder(job->id) / job->options.output_name;
-        auto stream = std::make_shared<std::ifstream>(file, std::ios::binary);
-        std::error_code ec;
-        const std::uint64_t size = fs::file_size(file, ec);
-        if (!*stream || ec) return refuse(res, 410, "the result file is gone");
-        res.set_header("Content-Disposition",
-                       "attachment; filename=\"" + job->options.output_name + "\"");
-        res.set_content_provider(
-            size, job->options.content_type,
-            [stream](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
-              std::vector<char> buffer(std::min<std::size_t>(length, 1 << 16));
-              stream->seekg(static_cast<std::streamoff>(offset));
-              stream->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-              const auto got = stream->gcount();
-              if (got <= 0) return false;
-              return sink.write(buffer.data(), static_cast<std::size_t>(got));
-            });
-      });
-  server.Delete(R"(/v1/jobs/([^/]+))", [&](const httplib::Request& req, httplib::Response& res) {
-    if (!authorised(req, res)) return;
-    std::optional<JobRecord> job = job_or_404(req, res);
-    if (!job) return;
-    bool running = false, finished = false;
-    store.update(
-        job->id,
-        [&](JobRecord& r) {
-          if (r.state == JobState::Queued) {
-            r.state = JobState::Cancelled;
-          } else if (r.state == JobState::Running) {
-            r.cancel_asked = true;
-            running = true;
-          } else {
-            finished = true;
-          }
-        },
-        true);
-    if (finished)
-      return refuse(res, 409,
-                    std::string("the job has already ended (") + job_state_name(job->state) + ")");
-    if (running) runner.cancel(job->id);
-    answer(res, 202, {{"id", job->id}, {"state", running ? "cancelling" : "cancelled"}});
-  });
+  const Routes routes{options, store, runner, stopping};
+  add_page_routes(server);
+  add_submit_routes(server, routes);
+  add_progress_routes(server, routes);
+  add_result_routes(server, routes);
 
   int port = options.port;
   if (port == 0) {
