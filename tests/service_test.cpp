@@ -287,12 +287,15 @@ TEST(Service, FiftyChecksAtOnceAreAllAnswered) {
     ASSERT_EQ(id.size(), 32u) << id;
     EXPECT_EQ(service.wait(id)["state"], "done") << id;
   }
-  // The server holds records, not meshes: its peak stays small.
+  // The server holds records, not meshes: its peak stays small (not under AddressSanitizer,
+  // whose shadow memory and quarantine alone take it past the bound: 267 MB).
+#if !defined(__SANITIZE_ADDRESS__)
   std::ifstream status("/proc/" + std::to_string(service.pid()) + "/status");
   for (std::string line; std::getline(status, line);)
     if (line.rfind("VmHWM:", 0) == 0) {
       EXPECT_LT(std::stol(line.substr(6)), 200 * 1024) << line;
     }
+#endif
 }
 
 TEST(Service, ThePageAndItsFilesNeedNoTokenAndHoldNoData) {
@@ -361,6 +364,9 @@ TEST(Service, EventsFollowAJobFromQueuedToItsEnd) {
 }
 
 TEST(Service, AJobPastItsMemoryIsStoppedWithTheNumbers) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "under AddressSanitizer a box's check alone is past the 65 MB this allows";
+#endif
   const fs::path dir = test::scratch_dir();
   // 1 MB a job: with the 64 MB the program itself is allowed, a check of a 330,000-triangle
   // ball (about 160 MB) is stopped; a box's check (about 20 MB) is not.

@@ -115,6 +115,9 @@ try {
   assert.match(verdict, /ready to fill/);
   assert.match(verdict, /7,798/, 'the check counts the femur\'s 7798 triangles');
   assert.match(verdict, /35 mm/, 'the size is shown in mm after the scale');
+  await page.selectOption('#units', 'cm');  // modelled in cm: ten times longer
+  assert.match(await page.textContent('#verdict'), /350 mm/, 'the size follows the units chosen');
+  await page.selectOption('#units', 'mm');
   assert.equal(await page.getAttribute('#viewer', 'data-shown'), 'input');
   assert.equal(await page.getAttribute('#viewer', 'data-triangles'), '7798');
 
@@ -131,6 +134,7 @@ try {
   const t2 = performance.now();
   await page.click('#start');
   await page.waitForSelector('#download:not([hidden])', { timeout: 120000 });
+  const fetchedTime = performance.now() - t2;
   await page.waitForFunction(() => document.getElementById('viewer').dataset.shown === 'result', null, { timeout: 60000 });
   const fillTime = performance.now() - t2;
   const stages = await page.evaluate(() => window.stagesSeen);
@@ -173,7 +177,14 @@ try {
   assert.equal(check.self_intersecting_pairs, 0);
 
   assert.deepEqual(pageErrors, [], 'no errors in the page');
-  console.log(`timings: page loaded in ${loaded.toFixed(0)} ms; femur dropped to verdict in ${verdictTime.toFixed(0)} ms; Fill pressed to the lattice drawn in ${fillTime.toFixed(0)} ms`);
+  const marks = await page.evaluate(() => {
+    const at = Object.fromEntries(performance.getEntriesByType('mark').map((m) => [m.name, m.startTime]));
+    const step = (a, b) => (at[b] - at[a]).toFixed(0);
+    return `job ${step('fill-sent', 'fill-ended')} ms, download ${step('fill-ended', 'result-fetched')} ms, ` +
+      `STL read ${step('result-fetched', 'result-read')} ms, drawn ${step('result-read', 'result-drawn')} ms`;
+  });
+  console.log(`fill in the page: ${marks}`);
+  console.log(`timings: page loaded in ${loaded.toFixed(0)} ms; femur dropped to verdict in ${verdictTime.toFixed(0)} ms; Fill pressed to the result downloaded in ${fetchedTime.toFixed(0)} ms and drawn in ${fillTime.toFixed(0)} ms`);
   console.log(`passed: femur checked, filled (${shown} triangles, porosity ${porosity} %), drawn over ${(100 * coverage).toFixed(1)} % of the view, downloaded and valid`);
 } catch (e) {
   failed = true;

@@ -3,8 +3,6 @@
 // definitions set by CMakeLists.txt, which also makes this file depend on them.
 #include "service/web_assets.hpp"
 
-#include <array>
-
 // Defines SYMBOL and SYMBOL_end around FILE's bytes (a zero byte follows, unused).
 #define TPMSFILL_EMBED(symbol, file)                                                        \
   asm(".section .rodata\n.balign 16\n.global " #symbol "\n.hidden " #symbol "\n" #symbol    \
@@ -16,26 +14,28 @@
 TPMSFILL_EMBED(tpmsfill_web_index_html, TPMSFILL_WEB_SOURCE_DIR "/index.html")
 TPMSFILL_EMBED(tpmsfill_web_style_css, TPMSFILL_WEB_SOURCE_DIR "/style.css")
 TPMSFILL_EMBED(tpmsfill_web_app_js, TPMSFILL_WEB_BUILD_DIR "/app.js")
+TPMSFILL_EMBED(tpmsfill_web_index_html_gz, TPMSFILL_WEB_BUILD_DIR "/index.html.gz")
+TPMSFILL_EMBED(tpmsfill_web_style_css_gz, TPMSFILL_WEB_BUILD_DIR "/style.css.gz")
+TPMSFILL_EMBED(tpmsfill_web_app_js_gz, TPMSFILL_WEB_BUILD_DIR "/app.js.gz")
 
 namespace tpmsfill::service {
 
 std::optional<WebAsset> web_asset(std::string_view path) {
-  struct Entry {
-    std::string_view path;
-    const char* begin;
-    const char* end;
-    const char* content_type;
+  const auto view = [](const char* begin, const char* end) {
+    return std::string_view(begin, static_cast<std::size_t>(end - begin));
   };
-  static const std::array<Entry, 4> entries = {{
-      {"/", tpmsfill_web_index_html, tpmsfill_web_index_html_end, "text/html; charset=utf-8"},
-      {"/index.html", tpmsfill_web_index_html, tpmsfill_web_index_html_end,
-       "text/html; charset=utf-8"},
-      {"/style.css", tpmsfill_web_style_css, tpmsfill_web_style_css_end, "text/css; charset=utf-8"},
-      {"/app.js", tpmsfill_web_app_js, tpmsfill_web_app_js_end, "text/javascript; charset=utf-8"},
-  }};
-  for (const Entry& e : entries)
-    if (e.path == path)
-      return WebAsset{{e.begin, static_cast<std::size_t>(e.end - e.begin)}, e.content_type};
+  if (path == "/" || path == "/index.html")
+    return WebAsset{view(tpmsfill_web_index_html, tpmsfill_web_index_html_end),
+                    view(tpmsfill_web_index_html_gz, tpmsfill_web_index_html_gz_end),
+                    "text/html; charset=utf-8"};
+  if (path == "/style.css")
+    return WebAsset{view(tpmsfill_web_style_css, tpmsfill_web_style_css_end),
+                    view(tpmsfill_web_style_css_gz, tpmsfill_web_style_css_gz_end),
+                    "text/css; charset=utf-8"};
+  if (path == "/app.js")
+    return WebAsset{view(tpmsfill_web_app_js, tpmsfill_web_app_js_end),
+                    view(tpmsfill_web_app_js_gz, tpmsfill_web_app_js_gz_end),
+                    "text/javascript; charset=utf-8"};
   return std::nullopt;
 }
 

@@ -10,6 +10,7 @@ namespace tpmsfill::service {
 
 struct WebAsset {
   std::string_view body;
+  std::string_view gzipped;  ///< the same bytes gzipped at build time (gzip -9)
   const char* content_type;
 };
 

@@ -42,14 +42,15 @@ function caption(text) {
 
 // ---- 1. The mesh: a preview read here, the verdict from the service's check.
 
-// Millimetres per file unit, as fill will read the file (units, then scale).
-function millimetres() {
-  const perUnit = { mm: 1, cm: 10, m: 1000, in: 25.4, um: 0.001 }[$('units').value];
-  return perUnit * (Number($('scale').value) || 1);
+// The check's report is in mm under the units it was sent with; this turns its lengths into
+// mm as fill will read the file with the units and scale chosen now.
+const kPerUnit = { mm: 1, cm: 10, m: 1000, in: 25.4, um: 0.001 };
+function millimetres(report) {
+  return (kPerUnit[$('units').value] / kPerUnit[report.units ?? 'mm']) * (Number($('scale').value) || 1);
 }
 
 function showVerdict(report) {
-  const mm = millimetres();
+  const mm = millimetres(report);
   const [x, y, z] = report.bbox.max.map((hi, i) => (hi - report.bbox.min[i]) * mm);
   const good = report.valid && report.closed;
   const problems = [...(report.problems ?? []), ...(report.warnings ?? [])];
@@ -156,7 +157,9 @@ function showOutcome(record) {
     <p class="ok">Written and checked: closed, 2-manifold, outward, no self-intersections.</p>
     <dl>
       <dt>Triangles</dt><dd>${number(r.output.triangles, 9)}</dd>
-      <dt>Porosity</dt><dd>${number(100 * r.porosity)} % (asked ${number(100 * r.lattice.porosity_target)} %)</dd>
+      <dt>Porosity</dt><dd>${number(100 * r.porosity)} % ${
+        r.lattice.grading ? `(graded: ${escape(r.lattice.grading)})`
+        : r.lattice.porosity_target != null ? `(asked ${number(100 * r.lattice.porosity_target)} %)` : ''}</dd>
       <dt>Lattice volume</dt><dd>${number(r.lattice_volume)} mm³ of ${number(r.model_volume)} mm³</dd>
       <dt>Pieces removed</dt><dd>${r.islands_removed}</dd>
       <dt>Time</dt><dd>${number(r.total_seconds)} s</dd>
@@ -180,6 +183,7 @@ $('design').addEventListener('submit', async (e) => {
   $('progress').value = 0;
   $('stage').textContent = 'queued';
   try {
+    performance.mark('fill-sent');
     job = await api().submit('fill', mesh, recipe());
     const record = await api().follow(job, (r) => {
       $('progress').value = r.progress ?? 0;
@@ -190,9 +194,11 @@ $('design').addEventListener('submit', async (e) => {
       return;
     }
     if (record.state !== 'done') throw new Error(record.error ?? `the job ${record.state}`);
+    performance.mark('fill-ended');  // marks: what the browser test times
     showOutcome(record);
     $('stage').textContent = 'fetching the result';
     const blob = await api().result(job);
+    performance.mark('result-fetched');
     resultUrl = URL.createObjectURL(blob);
     const name = mesh.name.replace(/(\.gz)?$/i, '').replace(/\.[^.]*$/, '') + `-${$('type').value}.stl`;
     Object.assign($('download'), { href: resultUrl, download: name, hidden: false });
@@ -201,7 +207,9 @@ $('design').addEventListener('submit', async (e) => {
       caption(`${name}: ${number(record.report.output.triangles, 9)} triangles, more than this page draws; open the download in a viewer.`);
     } else {
       const geometry = await readMeshFile('result.stl', await blob.arrayBuffer());
+      performance.mark('result-read');
       const triangles = viewer.show(geometry, 'result', 0xd9a441);
+      performance.mark('result-drawn');
       caption(`${name}: ${number(triangles, 9)} triangles.`);
     }
     $('stage').textContent = 'done';
