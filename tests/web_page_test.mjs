@@ -176,6 +176,21 @@ try {
   assert.ok(check.closed && check.manifold && check.outward && check.consistently_oriented, 'the download is a closed, outward 2-manifold');
   assert.equal(check.self_intersecting_pairs, 0);
 
+  // A sheet set by its wall thickness: the field appears for sheets only, and the job's
+  // report echoes the thickness asked for.
+  assert.ok(await page.isHidden('#thickness'), 'no wall thickness for a network');
+  await page.selectOption('#style', 'sheet');
+  assert.ok(await page.isVisible('#thickness'));
+  await page.fill('#cell', '3');
+  await page.fill('#thickness', '0.4');
+  await page.fill('#voxel', '0.15');
+  await page.click('#start');
+  await page.waitForFunction((before) => /Written and checked/.test(document.getElementById('outcome').textContent) &&
+    document.getElementById('viewer').dataset.triangles !== before, String(shown), { timeout: 120000 });
+  const sheet = await page.evaluate(() => document.getElementById('outcome').textContent);
+  assert.ok(Number(await page.getAttribute('#viewer', 'data-triangles')) > 10000, 'the sheet is drawn');
+  assert.doesNotMatch(sheet, /asked/, 'a thickness, not a porosity, was asked for');
+
   assert.deepEqual(pageErrors, [], 'no errors in the page');
   const marks = await page.evaluate(() => {
     const at = Object.fromEntries(performance.getEntriesByType('mark').map((m) => [m.name, m.startTime]));

@@ -118,11 +118,15 @@ for (const id of ['units', 'scale', 'cell'])
 
 // ---- 2. The design, as the recipe fill reads (docs/recipes.md).
 
-function gradingShown() {
+// Fields that apply only to some designs are shown only then.
+function fieldsShown() {
   for (const element of document.querySelectorAll('.graded')) element.hidden = !$('grading').value;
+  for (const element of document.querySelectorAll('.sheet-only'))
+    element.hidden = $('style').value !== 'sheet';
 }
-$('grading').addEventListener('change', gradingShown);
-gradingShown();
+$('grading').addEventListener('change', fieldsShown);
+$('style').addEventListener('change', fieldsShown);
+fieldsShown();
 
 function recipe() {
   const porosity = Number($('porosity').value);
@@ -139,6 +143,11 @@ function recipe() {
       porosity,
     },
   };
+  const thickness = Number($('thickness').value);
+  if ($('style').value === 'sheet' && thickness > 0) {
+    delete r.lattice.porosity;
+    r.lattice.thickness = thickness;
+  }
   const along = $('grading').value;
   if (along) {
     const ramp = { what: 'porosity', start: porosity, end: Number($('porosity-end').value) };
