@@ -191,6 +191,25 @@ try {
   assert.ok(Number(await page.getAttribute('#viewer', 'data-triangles')) > 10000, 'the sheet is drawn');
   assert.doesNotMatch(sheet, /asked/, 'a thickness, not a porosity, was asked for');
 
+  // A design that cannot come out as asked: the command's sentence, nothing drawn anew.
+  await page.selectOption('#style', 'network');
+  await page.fill('#cell', '2');
+  await page.fill('#voxel', '1.5');
+  await page.click('#start');
+  await page.waitForSelector('#outcome .bad', { timeout: 60000 });
+  assert.match(await page.textContent('#outcome'), /voxel/, 'the refusal names the voxel');
+  assert.ok(await page.isHidden('#download'), 'no download for a refused job');
+
+  // Cancel: a long fill (voxel 0.04 mm: 16 times the nodes, seconds) stopped from the page.
+  await page.fill('#voxel', '0.04');
+  await page.click('#start');
+  await page.waitForFunction(() => /\[\d+\/\d+\]/.test(document.getElementById('stage').textContent), null, { timeout: 60000 });
+  await page.click('#cancel');
+  await page.waitForFunction(() => /Cancelled/.test(document.getElementById('outcome').textContent), null, { timeout: 60000 });
+  assert.ok(await page.isHidden('#download'), 'nothing to download after a cancel');
+  assert.ok(await page.isEnabled('#start'), 'Fill can be pressed again');
+  assert.ok(await page.isHidden('#cancel') && await page.isHidden('#progress-box'), 'no Cancel or progress when idle');
+
   assert.deepEqual(pageErrors, [], 'no errors in the page');
   const marks = await page.evaluate(() => {
     const at = Object.fromEntries(performance.getEntriesByType('mark').map((m) => [m.name, m.startTime]));
