@@ -565,8 +565,8 @@ void add_progress_routes(httplib::Server& server, const Routes& r) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait);
     const JobState state = job->state;
     const std::string stage = job->stage;
-    while (ongoing(state) && std::chrono::steady_clock::now() < until && job->state == state &&
-           job->stage == stage) {
+    while (ongoing(state) && !r.stopping && std::chrono::steady_clock::now() < until &&
+           job->state == state && job->stage == stage) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       job = r.store.get(job->id);
       if (!job) return refuse(res, 404, "the job was deleted");

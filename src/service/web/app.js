@@ -7,7 +7,7 @@ import { Viewer } from './viewer.js';
 
 const $ = (id) => document.getElementById(id);
 const number = (x, digits = 3) => Number(x).toLocaleString('en', { maximumSignificantDigits: digits });
-const escape = (text) =>
+const escapeHtml = (text) =>
   String(text).replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
 
 // A result larger than this (an STL of 8 million triangles) is offered for download but not
@@ -19,6 +19,7 @@ let mesh = null;        // the chosen File
 let checked = null;     // its check report, once the service has answered
 let job = null;         // the running fill job's id
 let resultUrl = null;   // the object URL behind the download link
+let choices = 0;        // files chosen so far: a check that answers late for an older one is dropped
 
 // The token: from the address's #token=... once (then dropped from the address bar), or typed;
 // kept in sessionStorage, this tab only.
@@ -66,8 +67,8 @@ function showVerdict(report) {
       <dt>Holes</dt><dd>${report.holes}</dd>
       <dt>Self-intersections</dt><dd>${report.self_intersecting_pairs ?? '—'}</dd>
     </dl>
-    ${problems.length ? `<ul class="problems">${problems.map((p) => `<li class="warn">${escape(p)}</li>`).join('')}</ul>` : ''}
-    ${report.units_hint ? `<p class="warn">${escape(report.units_hint)}</p>` : ''}`;
+    ${problems.length ? `<ul class="problems">${problems.map((p) => `<li class="warn">${escapeHtml(p)}</li>`).join('')}</ul>` : ''}
+    ${report.units_hint ? `<p class="warn">${escapeHtml(report.units_hint)}</p>` : ''}`;
   const smallest = Math.min(x, y, z);
   if (smallest < Number($('cell').value))
     $('verdict').insertAdjacentHTML('beforeend',
@@ -75,13 +76,15 @@ function showVerdict(report) {
 }
 
 async function choose(file) {
+  const choice = ++choices;
   mesh = file;
   checked = null;
   $('start').disabled = true;
-  $('verdict').innerHTML = `<p>Checking <strong>${escape(file.name)}</strong>…</p>`;
+  $('verdict').innerHTML = `<p>Checking <strong>${escapeHtml(file.name)}</strong>…</p>`;
   try {
     if (file.size > kLargestDrawn) throw new Error('too large to draw here');
     const geometry = await readMeshFile(file.name, await file.arrayBuffer());
+    if (choice !== choices) return;
     const triangles = viewer.show(geometry, 'input', 0xb8c4d6);
     caption(`${file.name}: ${number(triangles, 9)} triangles (preview).`);
   } catch (e) {
@@ -90,12 +93,13 @@ async function choose(file) {
   try {
     const id = await api().submit('check', file, { units: $('units').value });
     const record = await api().follow(id, () => {});
+    if (choice !== choices) return;  // another file was chosen meanwhile
     if (record.state !== 'done') throw new Error(record.error ?? `the check was ${record.state}`);
     checked = record.report;
     showVerdict(checked);
-    $('start').disabled = false;
+    $('start').disabled = job !== null;  // one fill at a time from this page
   } catch (e) {
-    $('verdict').innerHTML = `<p class="bad">${escape(e.message)}</p>`;
+    if (choice === choices) $('verdict').innerHTML = `<p class="bad">${escapeHtml(e.message)}</p>`;
   }
 }
 
@@ -167,13 +171,13 @@ function showOutcome(record) {
     <dl>
       <dt>Triangles</dt><dd>${number(r.output.triangles, 9)}</dd>
       <dt>Porosity</dt><dd>${number(100 * r.porosity)} % ${
-        r.lattice.grading ? `(graded: ${escape(r.lattice.grading)})`
+        r.lattice.grading ? `(graded: ${escapeHtml(r.lattice.grading)})`
         : r.lattice.porosity_target != null ? `(asked ${number(100 * r.lattice.porosity_target)} %)` : ''}</dd>
       <dt>Lattice volume</dt><dd>${number(r.lattice_volume)} mm³ of ${number(r.model_volume)} mm³</dd>
       <dt>Pieces removed</dt><dd>${r.islands_removed}</dd>
       <dt>Time</dt><dd>${number(r.total_seconds)} s</dd>
     </dl>
-    ${warnings.length ? `<ul class="problems">${warnings.map((w) => `<li class="warn">${escape(w)}</li>`).join('')}</ul>` : ''}`;
+    ${warnings.length ? `<ul class="problems">${warnings.map((w) => `<li class="warn">${escapeHtml(w)}</li>`).join('')}</ul>` : ''}`;
 }
 
 function running(on) {
@@ -223,7 +227,7 @@ $('design').addEventListener('submit', async (e) => {
     }
     $('stage').textContent = 'done';
   } catch (error) {
-    $('outcome').innerHTML = `<p class="bad">${escape(error.message)}</p>`;
+    $('outcome').innerHTML = `<p class="bad">${escapeHtml(error.message)}</p>`;
   } finally {
     job = null;
     running(false);
@@ -236,7 +240,7 @@ $('cancel').addEventListener('click', async () => {
   try {
     await api().cancel(job);
   } catch (e) {
-    $('outcome').innerHTML = `<p class="bad">${escape(e.message)}</p>`;
+    $('outcome').innerHTML = `<p class="bad">${escapeHtml(e.message)}</p>`;
   }
 });
 
