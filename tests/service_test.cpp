@@ -103,6 +103,11 @@ class Service {
     return job;
   }
 
+  // GET /v1/jobs/ID/result.
+  httplib::Result get_result(const std::string& id) const {
+    return client().Get(("/v1/jobs/" + id + "/result").c_str());
+  }
+
   Json state_of(const std::string& id) const {
     auto res = client().Get(("/v1/jobs/" + id).c_str());
     return Json::parse(res->body);
@@ -168,11 +173,11 @@ TEST(Service, CheckRepairAndFillJobsAnswerWithTheirReportsAndFiles) {
   j = service.wait(bad);
   EXPECT_EQ(j["state"], "done") << j.dump();
   EXPECT_EQ(j["report"]["valid"], false);
-  EXPECT_EQ(service.client().Get(("/v1/jobs/" + good + "/result").c_str())->status, 404);
+  EXPECT_EQ(service.get_result(good)->status, 404);
   for (const std::string& id : {repaired, filled}) {
     j = service.wait(id);
     ASSERT_EQ(j["state"], "done") << j.dump();
-    auto result = service.client().Get(("/v1/jobs/" + id + "/result").c_str());
+    auto result = service.get_result(id);
     ASSERT_EQ(result->status, 200);
     const fs::path file = dir / ("result-" + id + ".stl");
     test::write_file(file, result->body);
@@ -210,6 +215,15 @@ TEST(Service, BadRequestsAreRefusedWithTheSentence) {
   EXPECT_EQ(service.client().Get("/v1/jobs/..%2F..%2Ftoken.txt")->status, 404);
   EXPECT_EQ(service.client().Get("/v1/jobs/0123456789abcdef0123456789abcdef")->status, 404);
   EXPECT_EQ(service.client().Delete("/v1/jobs/0123456789abcdef0123456789abcdef")->status, 404);
+  // A kind or an endpoint that does not exist: a 404 with the sentence, not an empty body.
+  auto typo = service.submit("fil", box, "");
+  ASSERT_TRUE(typo);
+  EXPECT_EQ(typo->status, 404);
+  EXPECT_NE(typo->body.find("no job kind 'fil' (kinds: check, repair, fill"), std::string::npos)
+      << typo->body;
+  auto nowhere = service.client().Get("/v1/nowhere");
+  EXPECT_EQ(nowhere->status, 404);
+  EXPECT_NE(nowhere->body.find("no endpoint GET /v1/nowhere"), std::string::npos) << nowhere->body;
 }
 
 TEST(Service, UploadsOverTheLimitAreRefusedAndNotKept) {
@@ -238,7 +252,7 @@ TEST(Service, ACancelledJobStopsAndLeavesNoResult) {
   EXPECT_EQ(j["state"], "cancelled") << j.dump();
   // Stopped by its own progress callback ("cancelled"), not killed after the grace period.
   EXPECT_EQ(j["error"], "cancelled") << j.dump();
-  EXPECT_EQ(service.client().Get(("/v1/jobs/" + id + "/result").c_str())->status, 409);
+  EXPECT_EQ(service.get_result(id)->status, 409);
   EXPECT_EQ(service.client().Delete(("/v1/jobs/" + id).c_str())->status, 409);
 }
 
@@ -415,7 +429,7 @@ std::map<std::string, std::string> unzip(const std::string& bytes) {
 }
 
 std::string result_of(const Service& service, const std::string& id, std::string* type = nullptr) {
-  auto res = service.client().Get(("/v1/jobs/" + id + "/result").c_str());
+  auto res = service.get_result(id);
   EXPECT_TRUE(res && res->status == 200) << (res ? res->body : "no answer");
   if (!res) return "";
   if (type) *type = res->get_header_value("Content-Type");

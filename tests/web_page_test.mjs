@@ -176,13 +176,14 @@ try {
   assert.ok(check.closed && check.manifold && check.outward && check.consistently_oriented, 'the download is a closed, outward 2-manifold');
   assert.equal(check.self_intersecting_pairs, 0);
 
-  // A sheet set by its wall thickness: the field appears for sheets only, and the job's
-  // report echoes the thickness asked for.
+  // A sheet set by its wall thickness: the field appears for sheets only. Walls of 0.25 mm
+  // at a voxel of 0.15 mm are thinner than two voxels: fill warns, and the page lists the
+  // warning as a sentence.
   assert.ok(await page.isHidden('#thickness'), 'no wall thickness for a network');
   await page.selectOption('#style', 'sheet');
   assert.ok(await page.isVisible('#thickness'));
   await page.fill('#cell', '3');
-  await page.fill('#thickness', '0.4');
+  await page.fill('#thickness', '0.25');
   await page.fill('#voxel', '0.15');
   await page.click('#start');
   await page.waitForFunction((before) => /Written and checked/.test(document.getElementById('outcome').textContent) &&
@@ -190,6 +191,9 @@ try {
   const sheet = await page.evaluate(() => document.getElementById('outcome').textContent);
   assert.ok(Number(await page.getAttribute('#viewer', 'data-triangles')) > 10000, 'the sheet is drawn');
   assert.doesNotMatch(sheet, /asked/, 'a thickness, not a porosity, was asked for');
+  const warnings = await page.$$eval('#outcome li.warn', (items) => items.map((li) => li.textContent));
+  assert.ok(warnings.some((w) => /thinner than two voxels/.test(w)), `the warning is listed (saw: ${warnings.join(' | ')})`);
+  assert.ok(warnings.every((w) => w.length > 20), 'each item is a whole sentence');
 
   // A design that cannot come out as asked: the command's sentence, nothing drawn anew.
   await page.selectOption('#style', 'network');

@@ -12,6 +12,7 @@
 #include <tpmsfill/error.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
 #include "cli/validators.hpp"
 #include "service/server.hpp"
@@ -79,6 +80,16 @@ int run_serve(const ServeArgs& a) {
   o.jobs = a.jobs;
   o.max_upload = parse_bytes(a.max_upload, "--max-upload");
   if (!a.memory.empty()) o.memory = parse_bytes(a.memory);  // refused here, not in every job
+  // Below the program's own allowance every fill and slice is refused and any other job soon
+  // stopped; a bare number is likely a missing unit ("512" for 512M).
+  if (o.memory > 0 && o.memory < service::kMemoryHeadroom) {
+    const bool bare = a.memory.find_first_not_of("0123456789.") == std::string::npos;
+    print_warnings(
+        {"--memory " + a.memory + " gives each job " + std::to_string(o.memory) +
+         " bytes: fill and slice jobs will be refused, other jobs stopped past " +
+         std::to_string((o.memory + service::kMemoryHeadroom) >> 20) + " MB" +
+         (bare ? " (a size without K, M or G is bytes: did you mean " + a.memory + "M?)" : "")});
+  }
   o.keep = std::chrono::seconds(static_cast<long>(a.keep_hours * 3600));
   char self[PATH_MAX];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);

@@ -94,9 +94,16 @@ const std::vector<Key>& keys_of(JobKind kind) {
   return none;
 }
 
-std::string key_list(JobKind kind) {
+// "a, b, c".
+template <class Range, class Name>
+std::string comma_list(const Range& items, Name name) {
   std::string out;
-  for (const Key& k : keys_of(kind)) out += std::string(out.empty() ? "" : ", ") + k.name;
+  for (const auto& item : items) out += std::string(out.empty() ? "" : ", ") + name(item);
+  return out;
+}
+
+std::string key_list(JobKind kind) {
+  std::string out = comma_list(keys_of(kind), [](const Key& k) { return k.name; });
   if (kind == JobKind::Fill) out = "those of a recipe (docs/recipes.md)";
   if (kind == JobKind::Slice) out += ", recipe";
   return out;
@@ -218,6 +225,10 @@ const std::vector<JobKind>& job_kinds() {
       JobKind::Check,       JobKind::Repair,        JobKind::Fill,       JobKind::Slice,
       JobKind::MaterialFit, JobKind::MaterialSlice, JobKind::MaterialIso};
   return kinds;
+}
+
+std::string job_kind_list() {
+  return comma_list(job_kinds(), job_kind_name);
 }
 
 std::optional<JobKind> job_kind_from_name(const std::string& name) {
@@ -351,12 +362,11 @@ std::string command_output_name(const JobOptions& options) {
 
 std::vector<std::string> job_command(JobKind kind, const JobOptions& options, const JobPaths& paths,
                                      std::uint64_t memory_budget) {
-  std::vector<std::string> command;
-  if (kind == JobKind::MaterialFit || kind == JobKind::MaterialSlice ||
-      kind == JobKind::MaterialIso)
-    command = {"material", std::string(job_kind_name(kind)).substr(9)};  // after "material-"
-  else
-    command = {job_kind_name(kind)};
+  // "material-fit" is `tpmsfill material fit`.
+  const std::string name = job_kind_name(kind);
+  const std::string material = "material-";
+  std::vector<std::string> command = {name};
+  if (name.rfind(material, 0) == 0) command = {"material", name.substr(material.size())};
   command.push_back(paths.input);
   if (!options.output_name.empty()) command.push_back(paths.output);
   command.insert(command.end(), options.flags.begin(), options.flags.end());

@@ -19,6 +19,8 @@ const std::vector<JobKind>& job_kinds();
 /// endpoints' names: POST /v1/NAME); nullopt for another name.
 std::optional<JobKind> job_kind_from_name(const std::string& name);
 const char* job_kind_name(JobKind kind);
+/// "check, repair, ...": every kind's name, for sentences.
+std::string job_kind_list();
 /// Whether the kind's input is a fitted model (.tsm) rather than a mesh.
 bool takes_model(JobKind kind);
 /// Whether the command prints its report (--json) rather than writing it to paths.report.

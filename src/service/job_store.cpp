@@ -38,10 +38,6 @@ std::optional<JobState> state_from_name(const std::string& name) {
   return std::nullopt;
 }
 
-bool finished(JobState s) {
-  return s != JobState::Queued && s != JobState::Running;
-}
-
 // Everything needed to rerun the job, and what it came to.
 Json stored_json(const JobRecord& job) {
   Json j = record_json(job);
@@ -78,6 +74,10 @@ JobRecord record_from_json(const Json& j) {
 }
 
 }  // namespace
+
+bool job_ended(JobState state) {
+  return state != JobState::Queued && state != JobState::Running;
+}
 
 const char* job_state_name(JobState state) {
   switch (state) {
@@ -227,7 +227,7 @@ void JobStore::update(const std::string& id, const std::function<void(JobRecord&
   const auto it = jobs_.find(id);
   if (it == jobs_.end()) return;
   change(it->second);
-  if (finished(it->second.state) && it->second.finished == 0) it->second.finished = now_seconds();
+  if (job_ended(it->second.state) && it->second.finished == 0) it->second.finished = now_seconds();
   if (save_it) save(it->second);
 }
 
@@ -236,7 +236,7 @@ std::size_t JobStore::expire() {
   const std::int64_t cutoff = now_seconds() - keep_.count();
   std::size_t removed = 0;
   for (auto it = jobs_.begin(); it != jobs_.end();) {
-    if (finished(it->second.state) && it->second.finished < cutoff) {
+    if (job_ended(it->second.state) && it->second.finished < cutoff) {
       std::error_code ec;
       fs::remove_all(folder(it->first), ec);
       it = jobs_.erase(it);

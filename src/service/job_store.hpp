@@ -21,6 +21,8 @@ namespace tpmsfill::service {
 
 enum class JobState { Queued, Running, Done, Failed, Cancelled };
 const char* job_state_name(JobState state);
+/// Done, failed or cancelled: the state will not change again.
+bool job_ended(JobState state);
 
 struct JobRecord {
   std::string id;

@@ -65,9 +65,11 @@ std::string read_text(const fs::path& path) {
   return text.str();
 }
 
-// The extension of an uploaded mesh's file name, lower case, when the readers know it (their
-// own format_from_extension decides), or "".
-std::string mesh_extension(const std::string& name) {
+// The extension an upload is kept under, lower case, or "" when the kind's command cannot read
+// a file of that name: a mesh's (the readers' own format_from_extension decides) or, for the
+// kinds that take one, a fitted model's.
+std::string input_extension(JobKind kind, const std::string& name) {
+  if (takes_model(kind)) return detail::lower_extension(fs::path(name)) == ".tsm" ? ".tsm" : "";
   if (format_from_extension(name) == MeshFormat::Auto) return "";
   const bool gzip = is_gzip_name(name);
   return detail::lower_extension(gzip ? fs::path(name).stem() : fs::path(name)) +
@@ -80,10 +82,6 @@ std::uint64_t resident_memory(pid_t pid) {
   std::uint64_t size = 0, resident = 0;
   if (!(statm >> size >> resident)) return 0;
   return resident * static_cast<std::uint64_t>(sysconf(_SC_PAGE_SIZE));
-}
-
-bool ongoing(JobState s) {
-  return s == JobState::Queued || s == JobState::Running;
 }
 
 // SIGINT and SIGTERM are taken by one thread (sigwait), which stops the server.
@@ -246,16 +244,22 @@ class Runner {
   // resident memory is read every 100 ms: past the budget and headroom, it is killed and that
   // memory returned (0 otherwise).
   std::uint64_t read_progress(const std::string& id, int fd, pid_t pid) {
+    constexpr auto kEvery = std::chrono::milliseconds(100);
     const std::uint64_t limit = job_memory(options_) + kMemoryHeadroom;
+    auto next_reading = std::chrono::steady_clock::now();
     std::string pending;
     char buffer[4096];
     for (;;) {
       pollfd ready{fd, POLLIN, 0};
-      const int polled = poll(&ready, 1, 100);
+      const int polled = poll(&ready, 1, static_cast<int>(kEvery.count()));
       if (polled < 0 && errno == EINTR) continue;
-      if (const std::uint64_t rss = resident_memory(pid); rss > limit) {
-        kill(pid, SIGKILL);
-        return rss;
+      // Read on the clock, not per progress line (a fill reports thousands).
+      if (const auto now = std::chrono::steady_clock::now(); now >= next_reading) {
+        next_reading = now + kEvery;
+        if (const std::uint64_t rss = resident_memory(pid); rss > limit) {
+          kill(pid, SIGKILL);
+          return rss;
+        }
       }
       if (polled == 0) continue;
       const ssize_t n = read(fd, buffer, sizeof buffer);
@@ -340,7 +344,8 @@ class Runner {
                 over_memory > 0
                     ? "stopped: it used " + std::to_string(over_memory >> 20) +
                           " MB, past the service's " + std::to_string(job_memory(options_) >> 20) +
-                          " MB a job (serve --memory) and 64 MB for the program itself"
+                          " MB a job (serve --memory) and " +
+                          std::to_string(kMemoryHeadroom >> 20) + " MB for the program itself"
                 : !sentence.empty()   ? sentence
                 : WIFSIGNALED(status) ? "the job stopped on signal " +
                                             std::to_string(WTERMSIG(status)) + " (out of memory?)"
@@ -400,19 +405,14 @@ bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
             return false;
           }
           up.has_mesh = true;
-          if (takes_model(kind)) {
-            up.extension =
-                detail::lower_extension(fs::path(header.filename)) == ".tsm" ? ".tsm" : "";
-            if (up.extension.empty()) {
-              up.problem = "mesh: send a fitted model, a .tsm file from material-fit (it was '" +
-                           header.filename + "')";
-              return false;
-            }
-          } else if ((up.extension = mesh_extension(header.filename)).empty()) {
+          up.extension = input_extension(kind, header.filename);
+          if (up.extension.empty()) {
             up.problem =
-                "mesh: the file name must end in .stl, .obj, .ply, .off (each also "
-                ".gz) or .3mf (it was '" +
-                header.filename + "')";
+                std::string(takes_model(kind) ? "mesh: send a fitted model, a .tsm file from "
+                                                "material-fit"
+                                              : "mesh: the file name must end in .stl, .obj, .ply, "
+                                                ".off (each also .gz) or .3mf") +
+                " (it was '" + header.filename + "')";
             return false;
           }
           up.file = uploads / ("upload-" + std::to_string(getpid()) + "-" +
@@ -483,9 +483,9 @@ struct Routes {
   }
 };
 
-Json kind_names() {
-  Json names = Json::array();
-  for (JobKind kind : job_kinds()) names.push_back(job_kind_name(kind));
+std::vector<std::string> kind_names() {
+  std::vector<std::string> names;
+  for (JobKind kind : job_kinds()) names.emplace_back(job_kind_name(kind));
   return names;
 }
 
@@ -528,28 +528,32 @@ void add_submit_routes(httplib::Server& server, const Routes& r) {
             {"page", web_page_bundled()},
             {"max_upload_bytes", r.options.max_upload}});
   });
-  server.Post(R"(/v1/(check|repair|fill|slice|material-fit|material-slice|material-iso))",
-              [r](const httplib::Request& req, httplib::Response& res,
-                  const httplib::ContentReader& reader) {
-                if (!r.authorised(req, res)) return;
-                const JobKind kind = *job_kind_from_name(req.matches[1]);
-                if (!req.is_multipart_form_data())
-                  return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
-                Upload up;
-                if (!read_upload(reader, r.store.uploads_dir(), r.options.max_upload, kind, up))
-                  return refuse(res, up.status, up.problem);
-                JobOptions accepted;
-                try {
-                  accepted = job_options(kind, up.options);
-                } catch (const Error& e) {
-                  return refuse(res, 400, e.what());
-                }
-                const std::string id = r.store.add(kind, accepted, up.file, up.extension);
-                up.file.clear();  // moved into the job
-                r.runner.wake();
-                res.set_header("Location", "/v1/jobs/" + id);
-                answer(res, 202, {{"id", id}, {"state", "queued"}});
-              });
+  server.Post(R"(/v1/([^/]+))", [r](const httplib::Request& req, httplib::Response& res,
+                                    const httplib::ContentReader& reader) {
+    if (!r.authorised(req, res)) return;
+    const std::optional<JobKind> known = job_kind_from_name(req.matches[1]);
+    if (!known)
+      return refuse(
+          res, 404,
+          "no job kind '" + std::string(req.matches[1]) + "' (kinds: " + job_kind_list() + ")");
+    const JobKind kind = *known;
+    if (!req.is_multipart_form_data())
+      return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
+    Upload up;
+    if (!read_upload(reader, r.store.uploads_dir(), r.options.max_upload, kind, up))
+      return refuse(res, up.status, up.problem);
+    JobOptions accepted;
+    try {
+      accepted = job_options(kind, up.options);
+    } catch (const Error& e) {
+      return refuse(res, 400, e.what());
+    }
+    const std::string id = r.store.add(kind, accepted, up.file, up.extension);
+    up.file.clear();  // moved into the job
+    r.runner.wake();
+    res.set_header("Location", "/v1/jobs/" + id);
+    answer(res, 202, {{"id", id}, {"state", "queued"}});
+  });
 }
 
 // GET /v1/jobs/ID (with long polling) and its event stream.
@@ -565,7 +569,7 @@ void add_progress_routes(httplib::Server& server, const Routes& r) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait);
     const JobState state = job->state;
     const std::string stage = job->stage;
-    while (ongoing(state) && !r.stopping && std::chrono::steady_clock::now() < until &&
+    while (!job_ended(state) && !r.stopping && std::chrono::steady_clock::now() < until &&
            job->state == state && job->stage == stage) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       job = r.store.get(job->id);
@@ -597,7 +601,7 @@ void add_progress_routes(httplib::Server& server, const Routes& r) {
                   const std::string event = "data: " + record + "\n\n";
                   *sent = std::move(record);
                   if (!sink.write(event.data(), event.size())) return false;
-                  if (!ongoing(now->state)) sink.done();
+                  if (job_ended(now->state)) sink.done();
                   return true;
                 }
                 if (std::chrono::steady_clock::now() >= keep_alive) {
@@ -650,11 +654,11 @@ void add_result_routes(httplib::Server& server, const Routes& r) {
     bool running = false, finished = false;
     r.store.update(
         job->id,
-        [&](JobRecord& r) {
-          if (r.state == JobState::Queued) {
-            r.state = JobState::Cancelled;
-          } else if (r.state == JobState::Running) {
-            r.cancel_asked = true;
+        [&](JobRecord& record) {
+          if (record.state == JobState::Queued) {
+            record.state = JobState::Cancelled;
+          } else if (record.state == JobState::Running) {
+            record.cancel_asked = true;
             running = true;
           } else {
             finished = true;
@@ -701,6 +705,20 @@ int serve(const ServeOptions& options) {
   });
   server.set_payload_max_length(options.max_upload + kMaxOptionsBytes + (64 << 10));
 
+  // What cpp-httplib answers itself (no route, a body past the payload cap, a request it
+  // cannot parse) gets a sentence too, not an empty body.
+  server.set_error_handler([&options](const httplib::Request& req, httplib::Response& res) {
+    if (!res.body.empty()) return;  // a route's refusal
+    if (res.status == 404)
+      refuse(res, 404, "no endpoint " + req.method + " " + req.path + " (docs/service.md)");
+    else if (res.status == 413)
+      refuse(res, 413,
+             "the request is over the upload limit of " + std::to_string(options.max_upload) +
+                 " bytes");
+    else
+      refuse(res, res.status,
+             "the request could not be read (HTTP " + std::to_string(res.status) + ")");
+  });
   const Routes routes{options, store, runner, stopping};
   add_page_routes(server);
   add_submit_routes(server, routes);

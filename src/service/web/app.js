@@ -9,6 +9,9 @@ const $ = (id) => document.getElementById(id);
 const number = (x, digits = 3) => Number(x).toLocaleString('en', { maximumSignificantDigits: digits });
 const escapeHtml = (text) =>
   String(text).replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
+// Problems and warnings, one item each ('' for none).
+const warningList = (items) =>
+  items.length ? `<ul class="problems">${items.map((w) => `<li class="warn">${escapeHtml(w)}</li>`).join('')}</ul>` : '';
 
 // A result larger than this (an STL of 8 million triangles) is offered for download but not
 // drawn: a browser tab's memory and a laptop's GPU give out around there.
@@ -67,7 +70,7 @@ function showVerdict(report) {
       <dt>Holes</dt><dd>${report.holes}</dd>
       <dt>Self-intersections</dt><dd>${report.self_intersecting_pairs ?? '—'}</dd>
     </dl>
-    ${problems.length ? `<ul class="problems">${problems.map((p) => `<li class="warn">${escapeHtml(p)}</li>`).join('')}</ul>` : ''}
+    ${warningList(problems)}
     ${report.units_hint ? `<p class="warn">${escapeHtml(report.units_hint)}</p>` : ''}`;
   const smallest = Math.min(x, y, z);
   if (smallest < Number($('cell').value))
@@ -165,7 +168,7 @@ function recipe() {
 
 function showOutcome(record) {
   const r = record.report;
-  const warnings = [...(record.warnings ?? [])];
+  const warnings = (record.warnings ?? '').split('\n').filter((line) => line);  // one a line
   $('outcome').innerHTML = `
     <p class="ok">Written and checked: closed, 2-manifold, outward, no self-intersections.</p>
     <dl>
@@ -177,7 +180,7 @@ function showOutcome(record) {
       <dt>Pieces removed</dt><dd>${r.islands_removed}</dd>
       <dt>Time</dt><dd>${number(r.total_seconds)} s</dd>
     </dl>
-    ${warnings.length ? `<ul class="problems">${warnings.map((w) => `<li class="warn">${escapeHtml(w)}</li>`).join('')}</ul>` : ''}`;
+    ${warningList(warnings)}`;
 }
 
 function running(on) {
