@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -54,6 +54,16 @@
 #     before and after, measured distances both ways, volume change, rounds, time, peak memory,
 #     and `tpmsfill check` of the written file (each mesh stopped after 900 s by `timeout`);
 #     `decimate-meshes` runs the meshes only
+#  placement:
+# 26. every mesh of ../shared/meshes, and every mesh of libcgal-demo and assimp-testmodels that
+#     `tpmsfill check` calls valid, filled at its own position and moved by (150, 150, 0) and
+#     (0, 0, -1000), to binary STL, read back and checked (bench_placement); then the preflight's
+#     forecast (triangles, seconds) against what ran on the femur and the tube of section 4
+#  memory:
+# 27. fill's memory estimate against the measured peak (whole process, /usr/bin/time) on every
+#     mesh of ../shared/meshes and libcgal-demo's larger meshes at three voxels (cell = longest
+#     side / 15; voxel = cell / 10, / 20, / 30), then the same jobs under --memory at half their
+#     whole-grid estimate (slabs): the peak must stay under the budget
 #  decimate-cgal:
 # 19. `tpmsfill decimate IN OUT --tolerance D/500` (D: the bounding box's diagonal) on every mesh
 #     of libcgal-demo's data/meshes that `tpmsfill check` calls valid, each output checked
@@ -63,7 +73,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade|placement|memory)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -927,4 +937,87 @@ PY
       grep -h "warning" "$tmp/err.txt" | sed 's/^/    /' || true
     done
   fi
+fi
+
+if [[ "$section" == all || "$section" == placement ]]; then
+  echo
+  echo "## 26. every mesh where a printer puts it (bench_placement)"
+  if [[ -d ../shared/meshes ]]; then
+    echo; echo "../shared/meshes, every readable mesh:"; echo
+    ./build/tests/bench_placement ../shared/meshes/*.{off,stl,STL,obj,ply}
+  fi
+  mkdir -p "$tmp/cgal"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/cgal" --strip-components=2 \
+    --wildcards 'data/meshes/*.off' 2>/dev/null || true
+  echo; echo "libcgal-demo's data/meshes, those check calls valid:"; echo
+  ./build/tests/bench_placement --valid-only "$tmp"/cgal/*.off
+  echo; echo "assimp-testmodels, those check calls valid:"; echo
+  mapfile -t assimp < <(find /usr/share/assimp/models -type f \( -iname '*.stl' -o -iname '*.obj' \
+    -o -iname '*.ply' -o -iname '*.off' \) | sort)
+  ./build/tests/bench_placement --valid-only "${assimp[@]}"
+  echo
+  echo "preflight forecast against the run (section 4's inputs; --progress json gives the forecast):"
+  echo
+  echo "| case | samples | triangles forecast | triangles out | ratio | seconds forecast | wall s |"
+  echo "|---|---:|---:|---:|---:|---|---:|"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" data/meshes/femur.off
+  ./build/tests/bench_fill_inputs "$tmp/data/meshes/femur.off" "$tmp" >/dev/null
+  for c in femur35 tube; do
+    timed ./build/tpmsfill fill "$tmp/$c.stl" "$tmp/out.stl" --cell 2 --voxel 0.1 --progress json \
+      --report "$tmp/r.json" 2>"$tmp/err.txt" >/dev/null
+    python3 - "$c" "$tmp/err.txt" "$tmp/r.json" "$wall" <<'PY'
+import json, sys
+name, err, report, wall = sys.argv[1:5]
+f = next(json.loads(l)["preflight"] for l in open(err) if l.startswith('{"preflight"'))
+r = json.load(open(report))
+out = r["output"]["triangles"]
+print(f"| {name} | {f['samples']:,} | {f['triangles']:,.0f} | {out:,} | {f['triangles'] / out:.2f} | "
+      f"{f['seconds'][0]:.2g} to {f['seconds'][1]:.2g} | {wall} |")
+PY
+  done
+fi
+
+if [[ "$section" == all || "$section" == memory ]]; then
+  echo
+  echo "## 27. memory: the estimate against the peak"
+  mkdir -p "$tmp/mem"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mem" --strip-components=2 \
+    data/meshes/ChineseDragon-10kv.off data/meshes/elephant.off data/meshes/femur.off 2>/dev/null || true
+  meshes=("$tmp"/mem/*.off)
+  [[ -d ../shared/meshes ]] && meshes+=(../shared/meshes/*.{off,stl,STL,obj,ply})
+  echo
+  echo "| mesh | voxel mm | budget | samples | slab planes | triangles | estimate MB | peak MB | peak / estimate | peak / budget |"
+  echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|"
+  for f in "${meshes[@]}"; do
+    [[ -f "$f" ]] || continue
+    ./build/tpmsfill check --no-self-intersections --json "$f" >"$tmp/c.json" 2>/dev/null || true
+    L=$(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(max(b["max"][i]-b["min"][i] for i in range(3)))' "$tmp/c.json" 2>/dev/null) || continue
+    for div in 10 20 30; do
+      cell=$(python3 -c "print($L / 15)"); voxel=$(python3 -c "print($L / 15 / $div)")
+      for budget in none half; do
+        flags=()
+        if [[ $budget == half ]]; then
+          est=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["estimated_memory_bytes"])' "$tmp/m.json")
+          flags=(--memory "$(python3 -c "print(int($est / 2))")")
+        fi
+        timed timeout 900 ./build/tpmsfill fill "$f" "$tmp/m.stl" --quiet --yes --cell "$cell" \
+          --voxel "$voxel" --report "$tmp/m.json" "${flags[@]}" 2>"$tmp/err.txt"
+        if [[ $code != 0 ]]; then
+          echo "| $(basename "$f") | $voxel | $budget | exit $code: $(head -c 100 "$tmp/err.txt" | tr '\n|' '  ') |"
+          break
+        fi
+        python3 - "$(basename "$f")" "$voxel" "$budget" "$kb" "$tmp/m.json" "${flags[1]:-0}" <<'PY'
+import json, sys
+name, voxel, budget, kb, report, given = sys.argv[1:7]
+r = json.load(open(report))
+peak = int(kb) * 1024
+est = r["estimated_memory_bytes"]
+given = int(given)
+print(f"| {name} | {float(voxel):.4g} | {budget if budget == 'none' else f'{given / 2**20:.0f} MB'} | "
+      f"{r['grid']['samples']:,} | {r['slab_planes'] or ''} | {r['output']['triangles']:,} | {est / 2**20:.0f} | "
+      f"{peak / 2**20:.0f} | {peak / est:.2f} | {peak / given if given else float('nan'):.2f} |")
+PY
+      done
+    done
+  done
 fi

@@ -436,6 +436,8 @@ FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& optio
     throw InputError("skins need the field map (the vertex map carries the slab as it is)");
   FillOptions f = fill_options(options);
   f.design = options.design;
+  // The flat slab is carried over before it is written: rounded after the map, not before.
+  f.rounding = CoordinateRounding::None;
   FillResult filled = fill(box_soup(slab), f);
   const auto t0 = std::chrono::steady_clock::now();
   filled.mesh = map_slab_vertices(filled.mesh, r.layout, lengths, options.layer, options.vertex_map,

@@ -1,6 +1,7 @@
 // The whole pipeline, stage by stage, timing each into the report.
 #include "tpmsfill/fill.hpp"
 
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "detail/job_progress.hpp"
 #include "detail/job_settings.hpp"
 #include "detail/parallel.hpp"
+#include "detail/rounded_grid.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/components.hpp"
@@ -336,12 +338,36 @@ std::vector<bool> main_bodies(const detail::ComponentFacts& comps, const Grid& g
   return keep;
 }
 
-// Settings into the report, the design resolved against the model's box.
+// The forecast of a job (FillForecast): its samples and triangles, the planned peak, and the
+// time on the cores TBB may use.
+FillForecast forecast(const ModelSize& m, const FillOptions& o, const detail::MemoryPlan& plan) {
+  FillForecast f;
+  f.samples = grid_node_count(m.bounds, o.grid);
+  f.triangles = output_triangles(m, o);
+  f.memory_bytes = plan.bytes;
+  // Seconds on 2 cores (docs/benchmarks.md §4: femur 6.4 M samples, 0.65 M triangles out,
+  // 0.85 s; tube 34 M samples, 3.5 M out, 4.7 M in, 9-11 s), scaled by the cores.
+  const double samples = static_cast<double>(f.samples);
+  const double on_two =
+      45e-9 * samples + 1.3e-6 * f.triangles + 0.5e-6 * static_cast<double>(m.triangles) +
+      (o.full_field ? 0.8e-6 * samples : 0.0) + (o.measure ? 60e-9 * samples : 0.0);
+  const auto cores = static_cast<double>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const double middle = on_two * 2.0 / std::max(cores, 1.0);
+  f.seconds_low = 0.5 * middle;
+  f.seconds_high = 2.0 * middle;
+  return f;
+}
+
+// Settings into the report, the design resolved against the model's box; the caller's
+// preflight given the forecast, once everything that can be refused before the work has been.
 void resolve(Job& job, const detail::MemoryPlan& plan) {
   const FillOptions& o = job.options;
   FillReport& r = job.report;
   const LatticeDesign& d = job.result.resolved.design;
   job.grid = make_grid(r.input_bbox, o.grid);  // validates the options first
+  // A grid finer than the output's coordinates where the part sits cannot be written valid.
+  detail::require_held_grid(job.grid, o.rounding);
   // What cannot come out as asked is refused here, before the work; doubts are warnings.
   std::vector<std::string> doubts = job.stage("review", [&] {
     return review_design(d, r.input_bbox,
@@ -349,6 +375,7 @@ void resolve(Job& job, const detail::MemoryPlan& plan) {
   });
   for (std::string& w : doubts) r.warnings.push_back(std::move(w));
   if (!plan.refusal.empty()) throw ResourceError(plan.refusal);
+  if (o.preflight) o.preflight(forecast(model_size(job.model), o, plan));
   r.estimated_memory_bytes = plan.bytes;
   r.slab_planes = plan.slab_planes;
   r.grid = job.grid;
@@ -396,6 +423,7 @@ void compose(Job& job) {
   FillReport& r = job.report;
   const Mask& inside = job.occupancy.inside;
   // Depth ramps grade by the distance below the surface: the occupancy's distance transform.
+  detail::solve_porosity_with_skin(o, *job.tree, job.result.resolved.design, r);
   const LatticeDesign& design = job.result.resolved.design;
   for (const Grading& g : design.grading)
     if (g.ramp.shape == RampShape::Depth && !job.depth)
@@ -579,18 +607,108 @@ std::vector<bool> judge_islands(const Job& job, const ComponentFacts& comps) {
   return keep;
 }
 
-void warn_structure_porosity(const LatticeDesign& d, double got, FillReport& r) {
-  if (!d.structure || !r.porosity_target) return;
+namespace {
+
+// Share of the model's volume within `skin` mm of its surface, measured at the inside nodes of
+// a coarse grid over the model (about 200,000 nodes; finer once when fewer than 20,000 fall
+// inside), at most 50,000 of them, by their distance d to the surface. The grid is offset half
+// a step from the model's box, so that its nodes tile the volume (on a CAD part's flat faces
+// too: nodes on a face would leave its outer half step unsampled), and each node counts the
+// share of its step that lies in the skin, clamp((skin - d) / h + ½): a shell of any thickness
+// comes out within a few per cent of its volume.
+double skin_share(const MeshIndex& tree, InsideRule rule, const Box3& box, double skin) {
+  const Vec3 size = box.size();
+  double h = std::cbrt(std::max(size.x * size.y * size.z, 1e-300) / 2e5);
+  std::vector<Vec3> inside;
+  for (int attempt = 0; attempt < 2 && inside.size() < 20000; ++attempt, h /= 2) {
+    Grid g = make_grid(box, {.voxel_size = h, .padding = 2});
+    g.origin = g.origin + Vec3{0.5 * h, 0.5 * h, 0.5 * h};
+    const Occupancy occupancy = classify_grid(tree, g, {.rule = rule});
+    inside.clear();
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i)
+          if (occupancy.inside.values[g.index(i, j, k)]) inside.push_back(g.node(i, j, k));
+  }
+  if (inside.empty()) return 0;
+  h *= 2;  // the step of the grid that was sampled
+  std::vector<Vec3> sample;
+  const std::size_t stride = (inside.size() + 49999) / 50000;
+  for (std::size_t n = 0; n < inside.size(); n += stride) sample.push_back(inside[n]);
+  const std::vector<Vec3> nearest = closest_points(tree, sample);
+  double in_skin = 0;
+  for (std::size_t n = 0; n < sample.size(); ++n)
+    in_skin += std::clamp((skin - norm(nearest[n] - sample[n])) / h + 0.5, 0.0, 1.0);
+  return in_skin / static_cast<double>(sample.size());
+}
+
+// Whether the design is one TPMS whose porosity is the same everywhere (no grading of how solid
+// it is, no blends, no structure or custom field): then a porosity asked is the part's.
+bool one_porosity(const LatticeDesign& d) {
+  if (d.structure || d.custom || !d.blends.empty()) return false;
+  return std::all_of(d.grading.begin(), d.grading.end(),
+                     [](const Grading& g) { return g.what == Graded::Cell; });
+}
+
+// The most porous a lattice layer is solved to: the review refuses layers under 1 % solid and
+// warns under 3 %.
+constexpr double kMostPorousLattice = 0.97;
+
+}  // namespace
+
+void solve_porosity_with_skin(const FillOptions& o, const MeshIndex& tree, LatticeDesign& d,
+                              FillReport& r) {
+  if (!(o.skin > 0) || !d.porosity || !one_porosity(d)) return;
+  // The part's solid is the skin (share s of its volume) and the lattice in the rest, so a part
+  // porosity p needs a lattice porosity of p / (1 - s).
+  const double asked = *d.porosity;
+  const double share =
+      skin_share(tree, o.inside.value_or(InsideRule::Winding), r.input_bbox, o.skin);
+  double lattice = share < 1 ? asked / (1 - share) : 1;
+  if (lattice > kMostPorousLattice) {
+    lattice = kMostPorousLattice;
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "the %.3g mm skin is %.1f %% of the part's volume: with it the part can be at "
+                  "most %.1f %% porous, not the %.1f %% asked (a thinner --skin, or --skin-windows "
+                  "to open it at the pores)",
+                  o.skin, 100 * share, 100 * kMostPorousLattice * (1 - share), 100 * asked);
+    r.warnings.push_back(text);
+  }
+  LatticeDesign solved = o.design;
+  solved.porosity = lattice;
+  d = resolve_design(solved, r.input_bbox);
+  // The level (or thickness) is now fixed: a porosity left set would be solved again for the
+  // lattice alone. The report keeps the part's target; the echoed recipe the level, which
+  // reruns the job exactly.
+  d.porosity.reset();
+  r.level = d.level;
+  r.thickness = d.thickness;
+  r.unclipped_porosity = lattice;
+}
+
+void warn_porosity(const LatticeDesign& d, double got, FillReport& r) {
+  if (!r.porosity_target || !(d.structure || one_porosity(d))) return;
+  // A skin that leaves no room was warned about with its own numbers (solve_porosity_with_skin).
+  if (r.skin > 0 && r.unclipped_porosity >= kMostPorousLattice) return;
   const double asked = *r.porosity_target;
   if (std::fabs(got - asked) <= 0.05) return;
-  char text[400];
-  std::snprintf(text, sizeof text,
-                "the part's porosity is %.1f %%, not the %.1f %% asked: the structure's porosity "
-                "is solved over its whole cube, and the model covers parts of the cube that are "
-                "%s; tile it (--cell) or ask for %s",
-                100 * got, 100 * asked,
-                got > asked ? "more void than the rest" : "more solid than the rest",
-                got > asked ? "a lower porosity" : "a higher porosity");
+  const char* side = got > asked ? "more void than the rest" : "more solid than the rest";
+  const char* ask = got > asked ? "a lower porosity" : "a higher porosity";
+  char why[300];
+  if (d.structure)
+    std::snprintf(why, sizeof why,
+                  "the structure's porosity is solved over its whole cube, and the model covers "
+                  "parts of the cube that are %s; tile it (--cell) or ask for %s",
+                  side, ask);
+  else
+    std::snprintf(why, sizeof why,
+                  "the lattice is clipped to a part only a few cells across, where its cut cells "
+                  "are %s; ask for %s, or use smaller cells",
+                  side, ask);
+  char text[450];
+  std::snprintf(text, sizeof text, "the part's porosity is %.1f %%, not the %.1f %% asked: %s",
+                100 * got, 100 * asked, why);
   r.warnings.push_back(text);
 }
 
@@ -743,6 +861,15 @@ std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions&
   return plan_memory(m, options, resolve_design(options.design, m.bounds), false).bytes;
 }
 
+FillForecast forecast_fill(const TriangleSoup& model, const FillOptions& options) {
+  require_valid(options.units);
+  const ModelSize m =
+      model_size(options.units.factor() != 1 ? to_millimetres(model, options.units) : model);
+  // As fill_to_file() plans it: a grid over the budget streams by slabs.
+  return forecast(m, options,
+                  plan_memory(m, options, resolve_design(options.design, m.bounds), true));
+}
+
 namespace {
 
 // What every entry point settles first: the options checked, the model in millimetres (a copy
@@ -788,7 +915,7 @@ void finish(Job& job) {
   job.depth.reset();
   job.inside_runs = job.solid_runs = Regions{};
   validate(job);
-  detail::warn_structure_porosity(result.resolved.design, result.report.porosity(), result.report);
+  detail::warn_porosity(result.resolved.design, result.report.porosity(), result.report);
   job.job_progress.finish();
   result.mesh = std::move(job.mesh);
 }
@@ -803,8 +930,9 @@ void fill_in_memory(const FillOptions& options, const Setup& s, FillResult& resu
   } else {
     classify(job);
     compose(job);
-    job.mesh = job.stage("marching cubes",
-                         [&] { return marching_cubes(job.phi, {.progress = job.progress}); });
+    job.mesh = job.stage("marching cubes", [&] {
+      return marching_cubes(job.phi, {.progress = job.progress, .rounding = options.rounding});
+    });
   }
   finish(job);
 }

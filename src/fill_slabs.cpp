@@ -67,13 +67,14 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
       [&](std::uint64_t s) { return widened(slab_planes(grid, first, end, per_slab, s), halo); },
       agree, job.progress);
 
+  solve_porosity_with_skin(o, *indexed.tree, job.result.resolved.design, r);
   FillPart part;
   part.first_plane = first;
   part.end_plane = end;
   part.clean = r.clean;
   job.stage("slabs", [&] {
     const FieldPlanes field{*indexed.tree, rule, o, design, halo};
-    SlabMarchingCubes mc(grid, {}, first);
+    SlabMarchingCubes mc(grid, {.rounding = o.rounding}, first);
     Grid share = grid;
     share.z_offset = first;
     share.dims[2] = end - first;

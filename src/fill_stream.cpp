@@ -543,7 +543,7 @@ void finish_streamed(Job& job, SpillFile& file, Spiller& spill, const std::files
   require_valid_lattice(job.report.validation);
   writer.set_metadata(lattice_metadata(job.report, write.metadata));
   writer.commit();
-  warn_structure_porosity(job.result.resolved.design, job.report.porosity(), job.report);
+  warn_porosity(job.result.resolved.design, job.report.porosity(), job.report);
   job.job_progress.finish();
 }
 

@@ -13,6 +13,7 @@
 #include "detail/index_limits.hpp"
 #include "detail/mc_tables.hpp"
 #include "detail/parallel.hpp"
+#include "detail/rounded_grid.hpp"
 #include "detail/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -20,7 +21,8 @@ namespace tpmsfill {
 namespace {
 
 // Edge parameters are clamped to [kDelta, 1 - kDelta] so a vertex never sits on a grid node
-// and two vertices on edges sharing a node never coincide.
+// and two vertices on edges sharing a node never coincide; where the output is rounded as its
+// file holds it (McOptions::rounding), RoundedGrid keeps the rounded vertex inside its edge.
 constexpr double kDelta = 1e-4;
 
 /// Vertex ids of the +x, +y, +z edges of every node (i + nx·j) of one node layer, and the
@@ -44,6 +46,7 @@ struct Extractor {
   int nx, ny, nz;
   std::size_t sx, sy, sz;  // index strides
   const detail::McTables& tables;
+  const detail::RoundedGrid& held;  // the nodes and edges as the file holds them
   std::size_t first_node = 0;
   // Point id p is written to points[p - id_base]: a slab's caller may have consumed (and
   // dropped) the points below id_base.
@@ -116,10 +119,22 @@ struct Extractor {
     const double v0 = v(n), v1 = v(n + stride);
     const double t = std::clamp((static_cast<double>(iso) - v0) / (v1 - v0), kDelta, 1 - kDelta);
     double p[3];
-    for (int a = 0; a < 3; ++a) p[a] = grid.coordinate(a, at[a]);
-    const double c1 = grid.coordinate(axis, at[axis] + 1);
-    p[axis] = p[axis] + t * (c1 - p[axis]);
+    for (int a = 0; a < 3; ++a) p[a] = held.node(a, at[a]);
+    const double c0 = grid.coordinate(axis, at[axis]), c1 = grid.coordinate(axis, at[axis] + 1);
+    p[axis] = held.inside_edge(axis, at[axis], c0 + t * (c1 - c0));
     return {p[0], p[1], p[2]};
+  }
+
+  // The centroid of the cube's piece (its edge points' mean), rounded strictly inside the cube.
+  Vec3 centroid(int i, int j, int k, unsigned edges) const {
+    Vec3 sum;
+    int n = 0;
+    for (unsigned m = edges; m; m &= m - 1, ++n) {
+      const int e = std::countr_zero(m), c0 = tables.edge_corners[e][0];
+      sum = sum + edge_point(i + (c0 & 1), j + (c0 >> 1 & 1), k + (c0 >> 2), e / 4);
+    }
+    const Vec3 c = (1.0 / n) * sum;
+    return {held.inside_edge(0, i, c.x), held.inside_edge(1, j, c.y), held.inside_edge(2, k, c.z)};
   }
 
   // Crossed edges owned by node (i, j, k), the slow general way (grid borders only).
@@ -208,13 +223,7 @@ struct Extractor {
           slot[e] = base_ids[e][m0 + static_cast<std::size_t>(i) + offset[e]];
         }
         for (int cc = 0; cc < mc.centroid_count; ++cc) {
-          Vec3 sum;
-          int n = 0;
-          for (unsigned m = mc.centroid_edges[cc]; m; m &= m - 1, ++n) {
-            const int e = std::countr_zero(m), c0 = tables.edge_corners[e][0];
-            sum = sum + edge_point(i + (c0 & 1), j + (c0 >> 1 & 1), k + (c0 >> 2), e / 4);
-          }
-          points[centroid - id_base] = (1.0 / n) * sum;
+          points[centroid - id_base] = this->centroid(i, j, k, mc.centroid_edges[cc]);
           slot[12 + cc] = centroid++;
         }
         for (int t = 0; t < mc.triangle_count; ++t)
@@ -300,11 +309,13 @@ void require_cells(const Grid& grid) {
 // An extractor over `values`, which start at grid node `first_node` (0: the whole field).
 template <bool kSlab>
 Extractor<kSlab> extractor(const Grid& grid, const float* values, float iso,
-                           std::size_t first_node = 0, std::uint32_t id_base = 0) {
+                           const detail::RoundedGrid& held, std::size_t first_node = 0,
+                           std::uint32_t id_base = 0) {
   const std::size_t sy = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t sz = sy * static_cast<std::size_t>(grid.dims[1]);
-  return {grid, values, iso, grid.dims[0],        grid.dims[1], grid.dims[2],
-          1,    sy,     sz,  detail::mc_tables(), first_node,   id_base};
+  return {grid,         values,     iso,    grid.dims[0], grid.dims[1],
+          grid.dims[2], 1,          sy,     sz,           detail::mc_tables(),
+          held,         first_node, id_base};
 }
 
 }  // namespace
@@ -315,7 +326,8 @@ TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
   if (field.values.size() != grid.node_count())
     throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
                      " values for " + std::to_string(grid.node_count()) + " grid nodes");
-  const auto ex = extractor<false>(grid, field.values.data(), options.iso);
+  const detail::RoundedGrid held(grid, options.rounding);
+  const auto ex = extractor<false>(grid, field.values.data(), options.iso, held);
   detail::ProgressCounter progress(options.progress, "marching cubes", 2 * grid.dims[2]);
   TriangleSoup soup;
   extract(
@@ -331,6 +343,7 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const M
   const std::size_t ny = static_cast<std::size_t>(grid.dims[1]);
   const std::size_t layer = static_cast<std::size_t>(grid.dims[0]) * ny;
   const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
+  const detail::RoundedGrid held(grid, options.rounding);
   // Each task evaluates the node layers it reads, two more than it owns.
   detail::ProgressCounter progress(options.progress, "marching cubes", 2 * layers);
   TriangleSoup soup;
@@ -340,7 +353,7 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const M
         const std::size_t end = std::min(e + 2, layers);
         std::vector<float> slab((end - b) * layer);
         rows(b * ny, (end - b) * ny, slab.data(), nullptr);
-        work(extractor<true>(grid, slab.data(), options.iso, b * layer));
+        work(extractor<true>(grid, slab.data(), options.iso, held, b * layer));
       },
       soup);
   progress.finish();
@@ -348,7 +361,11 @@ TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const M
 }
 
 SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options, int first_plane)
-    : grid_(grid), options_(options), first_(first_plane), next_(first_plane) {
+    : grid_(grid),
+      options_(options),
+      held_(std::make_shared<const detail::RoundedGrid>(grid, options.rounding)),
+      first_(first_plane),
+      next_(first_plane) {
   require_cells(grid);
   if (grid.z_offset != 0) throw InputError("SlabMarchingCubes: give the whole grid");
   if (first_plane < 0 || first_plane >= grid.dims[2])
@@ -386,7 +403,7 @@ void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) 
                      std::to_string(next_) + " on, with the one or two above)");
   const std::size_t layer = static_cast<std::size_t>(grid_.dims[0]) * grid_.dims[1];
   const auto base = static_cast<std::uint32_t>(dropped_);
-  const auto ex = extractor<true>(grid_, planes.values.data(), options_.iso,
+  const auto ex = extractor<true>(grid_, planes.values.data(), options_.iso, *held_,
                                   static_cast<std::size_t>(next_) * layer, base);
   detail::ProgressCounter progress(nullptr, "marching cubes", 1);
   const std::size_t triangles_before = mesh.triangles.size();

@@ -48,36 +48,34 @@ void require_options(const TriangleSoup& soup, const RenderOptions& o) {
   if (soup.triangles.empty()) throw InputError("render: the mesh has no triangles");
 }
 
-/// The bounding box of what the clip leaves: kept corners plus the points where edges cross
-/// the plane.
-Box3 clipped_box(const TriangleSoup& soup, const ClipTest& clip) {
-  Box3 box;
+/// Calls f(p) for what the clip leaves: kept corners plus the points where edges cross the
+/// plane.
+template <class F>
+void for_kept_points(const TriangleSoup& soup, const ClipTest& clip, const F& f) {
   for (const Triangle& t : soup.triangles)
     for (int e = 0; e < 3; ++e) {
       const Vec3 a = soup.points[t[e]];
       if (clip.axis < 0) {
-        box.extend(a);
+        f(a);
         continue;
       }
       const Vec3 b = soup.points[t[(e + 1) % 3]];
       const double va = clip.value(a), vb = clip.value(b);
-      if (va <= clip.limit) box.extend(a);
+      if (va <= clip.limit) f(a);
       if ((va < clip.limit) != (vb < clip.limit) && va != vb)
-        box.extend(a + ((clip.limit - va) / (vb - va)) * (b - a));
+        f(a + ((clip.limit - va) / (vb - va)) * (b - a));
     }
-  return box;
 }
 
-/// Half extents (mm) of the box's projection on the camera's right and up axes.
-std::pair<double, double> half_extents(const Camera& c, const Box3& box) {
-  double ex = 0, ey = 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p{corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y,
-                 corner & 4 ? box.max.z : box.min.z};
-    ex = std::max(ex, std::abs(dot(p - c.centre, c.right)));
-    ey = std::max(ey, std::abs(dot(p - c.centre, c.up)));
-  }
-  return {ex, ey};
+/// The box of what the clip leaves in the camera's frame (right, up, toward): the picture is
+/// framed on the mesh's own outline, not on its 3D box's corners, which an oblique view
+/// projects well outside it (a quarter to half of the frame was left empty).
+Box3 view_box(const TriangleSoup& soup, const ClipTest& clip, const Camera& c) {
+  Box3 box;
+  for_kept_points(soup, clip, [&](Vec3 p) {
+    box.extend({dot(p, c.right), dot(p, c.up), dot(p, c.toward)});
+  });
+  return box;
 }
 
 // --- rasterizing --------------------------------------------------------------------------
@@ -363,14 +361,15 @@ Camera fit_camera(const TriangleSoup& soup, const RenderOptions& options) {
   c.right = {std::cos(az), std::sin(az), 0};
   c.up = cross(c.toward, c.right);
   const ClipTest clip = detail::clip_test(options.clip, c.toward);
-  const Box3 box = clipped_box(soup, clip);
+  const Box3 box = view_box(soup, clip, c);
   if (box.empty()) {
     char where[64];
     std::snprintf(where, sizeof where, "%c = %g", 'x' + options.clip.axis, options.clip.position);
     throw InputError(std::string("render: nothing is left after the clip at ") + where);
   }
-  c.centre = box.centre();
-  const auto [ex, ey] = half_extents(c, box);
+  const Vec3 mid = box.centre();  // in the camera's frame
+  c.centre = mid.x * c.right + mid.y * c.up + mid.z * c.toward;
+  const double ex = 0.5 * box.size().x, ey = 0.5 * box.size().y;
   if (!(std::max(ex, ey) > 0)) throw InputError("render: the mesh has no extent in this view");
   const double inf = std::numeric_limits<double>::infinity();
   if (options.height == 0) {

@@ -177,14 +177,17 @@ std::vector<std::array<Vec3, 2>> edge_ends(const std::vector<EdgeLocation>& loca
   return ends;
 }
 
-std::vector<LegendEntry> defect_legend(const MeshCheck& check, std::size_t flipped,
+std::vector<LegendEntry> defect_legend(const MeshCheck& check, const CleanResult& cleaned,
                                        const DefectColours& colours) {
   std::vector<LegendEntry> legend;
   legend.push_back({std::nullopt, "not valid: " + std::to_string(check.problems().size()) +
                                       (check.problems().size() == 1 ? " problem" : " problems")});
   std::string border =
       count_text("border edges", check.border_edges, check.border_edge_examples.size());
-  if (check.holes > 0) border += ", " + std::to_string(check.holes) + " holes";
+  // As check's text says it: holes without border edges open where non-manifold edges split.
+  if (check.holes > 0)
+    border += (check.border_edges > 0 ? ", " : "; ") + std::to_string(check.holes) +
+              (check.border_edges > 0 ? " holes" : " holes once its non-manifold edges are split");
   legend.push_back({colours.border_edge, border});
   legend.push_back(
       {colours.non_manifold_edge, count_text("non-manifold edges", check.non_manifold_edges,
@@ -197,7 +200,13 @@ std::vector<LegendEntry> defect_legend(const MeshCheck& check, std::size_t flipp
                         ? count_text("self-intersecting pairs", *check.self_intersecting_pairs,
                                      check.self_intersection_examples.size())
                         : std::string("self-intersecting pairs: not searched")});
-  legend.push_back({colours.flipped, "flipped triangles: " + std::to_string(flipped)});
+  // Whole pieces turned round are judged with their holes capped (clean_soup's step 4): said,
+  // so an open mesh's text (which cannot call it inside out) and picture agree.
+  std::string flipped = "flipped triangles: " + std::to_string(cleaned.reversed.size());
+  if (const std::uint64_t pieces = cleaned.report.reversed_pieces; pieces > 0)
+    flipped += " (" + std::to_string(pieces) + (pieces == 1 ? " piece" : " pieces") +
+               " facing inward" + (check.closed() ? "" : " once its holes are capped") + ")";
+  legend.push_back({colours.flipped, flipped});
   if (check.degenerate_triangles + check.duplicate_triangles > 0)
     legend.push_back({std::nullopt,
                       "not drawn: " + std::to_string(check.degenerate_triangles) + " degenerate, " +
@@ -240,7 +249,7 @@ RenderOptions mark_defects(const TriangleSoup& soup, const MeshCheck& check, Ren
   options.edges.push_back({colours.border_edge, edge_ends(check.border_edge_examples)});
   options.edges.push_back({colours.non_manifold_edge, edge_ends(check.non_manifold_edge_examples)});
   options.points.push_back({colours.non_manifold_vertex, check.non_manifold_vertex_examples});
-  options.legend = defect_legend(check, cleaned.reversed.size(), colours);
+  options.legend = defect_legend(check, cleaned, colours);
   return options;
 }
 

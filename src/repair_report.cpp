@@ -126,7 +126,12 @@ std::string to_text(const RepairReport& r) {
       s += "  (the " + r.rejected_kind + " was not taken: " + deviation_text(*r.rejected) + ")\n";
   }
   for (const std::string& w : r.warnings) s += "warning  " + w + "\n";
-  if (r.valid()) {
+  if (r.valid() && !r.within_tolerance) {
+    // Valid, yet not the part that came in: said here, where the verdict is read.
+    s += "verdict: VALID but BEYOND the tolerance: it lies up to " + g(r.deviation.worst()) +
+         " mm from the input, the tolerance is " + g(r.tolerance) +
+         " mm; held back (not written) unless the deviation is accepted\n";
+  } else if (r.valid()) {
     s += "verdict: VALID: a closed, outward-oriented 2-manifold without self-intersections or "
          "degenerate faces\n";
   } else {

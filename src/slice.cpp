@@ -471,6 +471,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
         return detail::widened(layer_plane(grid, layer_centre(start, L, from + m)), halo);
       },
       slice_options.any_unbalanced, job.get());
+  detail::solve_porosity_with_skin(options, *indexed.tree, design, r);
   stage("slice", [&] {
     std::optional<DepthPlanes> depth;
     if (reach > 0) depth.emplace(*indexed.tree, rule, grid, reach);
@@ -480,7 +481,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
                  depth ? &*depth : nullptr);
   });
   r.samples = report.plane_nodes * (to - from);
-  if (whole) detail::warn_structure_porosity(design, report.porosity(), r);
+  if (whole) detail::warn_porosity(design, report.porosity(), r);
   job.finish();
   return report;
 }

@@ -157,9 +157,20 @@ ScalarVolume unit_volume(std::array<int, 3> dims) {
   return v;
 }
 
+// The seed's forms place the box at the origin: the first cell's centre half a cell in.
+Vec3 default_origin(const std::array<double, 3>& spacing) {
+  return {0.5 * spacing[0], 0.5 * spacing[1], 0.5 * spacing[2]};
+}
+
 void set_size(ScalarVolume& v, const std::array<double, 3>& size) {
   for (int a = 0; a < 3; ++a) v.spacing[a] = size[a] / v.dims[a];
-  v.origin = {0.5 * v.spacing[0], 0.5 * v.spacing[1], 0.5 * v.spacing[2]};
+  v.origin = default_origin(v.spacing);
+}
+
+// Whether the seed's forms need an "origin" to say where `v` sits (a field from a CT or a mesh
+// keeps its place; one the seed's way sits at the origin).
+bool placed(const ScalarVolume& v) {
+  return v.has_physical_size() && !(v.origin == default_origin(v.spacing));
 }
 
 // ---- the seed's forms ---------------------------------------------------------------------
@@ -171,6 +182,8 @@ VolumeFile parse_field_text(std::string_view data, const std::string& source) {
   std::uint64_t at = 0, number = 0;
   std::optional<std::array<int, 3>> dims;
   std::optional<std::array<double, 3>> size;
+  std::optional<Vec3> origin;
+  std::uint64_t origin_line = 0;
   std::vector<double>& values = f.volume.values;
   std::uint64_t expected = 0, last_line = 0;
   while (const std::optional<Line> line = next_line(data, at, number)) {
@@ -194,6 +207,16 @@ VolumeFile parse_field_text(std::string_view data, const std::string& source) {
           if (!((*size)[a] > 0) || !std::isfinite((*size)[a]))
             fail_at_line(source, line->number, "a size must be a positive length in mm");
         }
+      } else if (w[0] == "origin") {
+        if (w.size() != 4)
+          fail_at_line(source, line->number, "'origin' takes the first cell's centre, x y z in mm");
+        double o[3];
+        for (int a = 0; a < 3; ++a) {
+          o[a] = parse_number(w[a + 1], source, line->number);
+          if (!std::isfinite(o[a])) fail_at_line(source, line->number, "an origin must be finite");
+        }
+        origin = Vec3{o[0], o[1], o[2]};
+        origin_line = line->number;
       } else if (w[0] == "sign") {
         if (w.size() != 2) fail_at_line(source, line->number, "'sign' takes one word");
         try {
@@ -237,12 +260,18 @@ VolumeFile parse_field_text(std::string_view data, const std::string& source) {
   f.volume.values = std::move(v);
   f.volume.sign = sign;
   if (size) set_size(f.volume, *size);
+  if (origin) {
+    if (!size)
+      fail_at_line(source, origin_line, "'origin' needs a 'size' (a unitless field has none)");
+    f.volume.origin = *origin;
+  }
   return f;
 }
 
 VolumeFile parse_field_binary(std::string_view data, const std::string& source) {
-  constexpr std::size_t kHeader = 4 + 2 + 1 + 1 + 12 + 24;
-  if (data.size() < kHeader) fail_at_byte(source, data.size(), "the header is cut short");
+  // Version 1: magic, version, type, sign, counts, size; version 2 adds the origin.
+  constexpr std::size_t kHeader1 = 4 + 2 + 1 + 1 + 12 + 24;
+  if (data.size() < kHeader1) fail_at_byte(source, data.size(), "the header is cut short");
   auto u16 = [&](std::size_t at) {
     std::uint16_t x;
     std::memcpy(&x, data.data() + at, 2);
@@ -253,7 +282,11 @@ VolumeFile parse_field_binary(std::string_view data, const std::string& source) 
     std::memcpy(&x, data.data() + at, 4);
     return x;
   };
-  if (u16(4) != 1) fail_at_byte(source, 4, "this tpmsfill reads TDFB version 1");
+  const std::uint16_t version = u16(4);
+  if (version != 1 && version != 2)
+    fail_at_byte(source, 4, "this tpmsfill reads TDFB versions 1 and 2");
+  const std::size_t kHeader = kHeader1 + (version == 2 ? 24 : 0);
+  if (data.size() < kHeader) fail_at_byte(source, data.size(), "the header is cut short");
   const auto type = static_cast<unsigned char>(data[6]), sign = static_cast<unsigned char>(data[7]);
   if (type > 1) fail_at_byte(source, 6, "unknown value type " + std::to_string(type));
   if (sign > 2) fail_at_byte(source, 7, "unknown sign " + std::to_string(sign));
@@ -287,6 +320,15 @@ VolumeFile parse_field_binary(std::string_view data, const std::string& source) 
     if (!(size[0] > 0 && size[1] > 0 && size[2] > 0))
       fail_at_byte(source, 20, "the size must be given on all three axes or none");
     set_size(f.volume, size);
+  }
+  if (version == 2) {
+    if (!f.volume.has_physical_size())
+      fail_at_byte(source, kHeader1, "an origin needs a size (a unitless field has none)");
+    double o[3];
+    std::memcpy(o, data.data() + kHeader1, 24);
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(o[a])) fail_at_byte(source, kHeader1 + 8 * a, "an origin must be finite");
+    f.volume.origin = {o[0], o[1], o[2]};
   }
   return f;
 }
@@ -887,6 +929,9 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& v, Volu
     if (v.has_physical_size())
       out += "size " + number_text(size[0]) + " " + number_text(size[1]) + " " +
              number_text(size[2]) + "\n";
+    if (placed(v))
+      out += "origin " + number_text(v.origin.x) + " " + number_text(v.origin.y) + " " +
+             number_text(v.origin.z) + "\n";
     out += "sign " + std::string(field_sign_name(v.sign)) + "\n";
     out += std::to_string(v.dims[0]) + " " + std::to_string(v.dims[1]) + " " +
            std::to_string(v.dims[2]) + "\n";
@@ -908,7 +953,7 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& v, Volu
     }
     if (format == VolumeFormat::FieldBinary) {
       out = std::string(kBinaryMagic);
-      const std::uint16_t version = 1;
+      const std::uint16_t version = placed(v) ? 2 : 1;  // 1 where it adds nothing
       out.append(reinterpret_cast<const char*>(&version), 2);
       out.push_back(f64 ? 1 : 0);
       out.push_back(static_cast<char>(v.sign == FieldSign::Unknown  ? 0
@@ -920,6 +965,9 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& v, Volu
       }
       for (double s : v.has_physical_size() ? size : std::array<double, 3>{})
         out.append(reinterpret_cast<const char*>(&s), 8);
+      if (version == 2)
+        for (const double o : {v.origin.x, v.origin.y, v.origin.z})
+          out.append(reinterpret_cast<const char*>(&o), 8);
     } else {
       out = "NRRD0004\n# written by tpmsfill\ntype: " + std::string(f64 ? "double" : "float") +
             "\ndimension: 3\nsizes: " + std::to_string(v.dims[0]) + " " +

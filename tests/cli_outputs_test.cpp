@@ -3,7 +3,9 @@
 // report says what ran on what (units, input hash, command line, version).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <tpmsfill/io.hpp>
 
 #include "detail/inflate.hpp"
@@ -239,4 +241,103 @@ TEST(CliOutputs, MinWallTurnsMeasuresOnAndTheReportHoldsTheCheck) {
   EXPECT_FALSE(report["measures"]["wall_thickness"]["smallest"].empty());
   EXPECT_EQ(
       run("fill '" + in.string() + "' '" + (dir / "p.stl").string() + "' --min-wall -1", &out), 2);
+}
+
+// The issue's own case: a 10 x 20 x 30 mm box with a corner where a printer bed puts it fills
+// valid with every default, to each format (it used to fail validation: vertices rounded onto
+// grid nodes). Far out with a fine voxel, STL is refused before any work with what to do.
+TEST(CliOutputs, PartsAwayFromTheOriginFillWithDefaults) {
+  const auto dir = test::scratch_dir();
+  for (const Vec3 corner : {Vec3{150, 150, 0}, Vec3{0, 0, 1000}, Vec3{-1000, 20, 0}}) {
+    write_mesh(dir / "box.off", test::make_box(corner, corner + Vec3{10, 20, 30}));
+    for (const char* out_name : {"o.stl", "o.ply"}) {
+      std::string out;
+      ASSERT_EQ(run("fill " + (dir / "box.off").string() + " " + (dir / out_name).string() +
+                        " --cell 5 --voxel 0.25 --quiet",
+                    &out),
+                0)
+          << out;
+      ASSERT_EQ(run("check " + (dir / out_name).string(), &out), 0) << out;
+    }
+  }
+  write_mesh(dir / "far.off", test::make_box({1e5, 0, 0}, {1e5 + 1, 1, 1}));
+  std::string out;
+  EXPECT_EQ(run("fill " + (dir / "far.off").string() + " " + (dir / "far.stl").string() +
+                    " --cell 0.4 --voxel 0.01 --quiet",
+                &out),
+            2);
+  EXPECT_TRUE(has(out, "move the part nearer the origin")) << out;
+  EXPECT_TRUE(has(out, "write PLY, OBJ or OFF, which hold doubles")) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "far.stl"));
+  // The same to PLY holds the coordinates: it fills.
+  EXPECT_EQ(run("fill " + (dir / "far.off").string() + " " + (dir / "far.ply").string() +
+                    " --cell 0.4 --voxel 0.01 --quiet",
+                &out),
+            0)
+      << out;
+}
+
+// Before any work: the forecast (one JSON object for scripts; a line on stderr for jobs of 5 s
+// or more), and a job past the limits refused unless --yes. The forecast is near what ran.
+TEST(CliOutputs, PreflightForecastsAndRefusesHugeJobs) {
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "box.off", test::make_box({0, 0, 0}, {10, 10, 10}));
+  std::string out;
+  ASSERT_EQ(run("fill " + (dir / "box.off").string() + " " + (dir / "o.stl").string() +
+                    " --cell 2 --voxel 0.1 --progress json",
+                &out),
+            0)
+      << out;
+  const std::size_t at = out.find("{\"preflight\"");
+  ASSERT_NE(at, std::string::npos) << out;
+  const auto f = nlohmann::json::parse(out.substr(at, out.find('\n', at) - at))["preflight"];
+  EXPECT_EQ(f["samples"].get<double>(), 105.0 * 105 * 105);  // 101 nodes + 2 pads a side
+  const double triangles = static_cast<double>(read_mesh(dir / "o.stl").triangles.size());
+  EXPECT_NEAR(f["triangles"].get<double>() / triangles, 1.0, 0.3) << out;
+  EXPECT_NEAR(f["bytes"].get<double>(), 84 + 50 * f["triangles"].get<double>(), 1) << out;
+  EXPECT_LT(f["seconds"][0].get<double>(), f["seconds"][1].get<double>());
+  // 10 x 20 x 30 mm at 0.005 mm: 5e10 samples streamed by slabs within the memory budget, but
+  // a 60 GB STL and hours of work: refused at once, nothing written.
+  write_mesh(dir / "big.off", test::make_box({0, 0, 0}, {10, 20, 30}));
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(run("fill " + (dir / "big.off").string() + " " + (dir / "big.stl").string() +
+                    " --voxel 0.005",
+                &out),
+            2);
+  EXPECT_LT(test::seconds_since(t0), 20.0) << "refused before any work";
+  EXPECT_TRUE(has(out, "the job would write about")) << out;
+  EXPECT_TRUE(has(out, "--yes runs it as it is")) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "big.stl"));
+}
+
+// Off a terminal, --progress json gives one JSON object a line: every stage's start at least.
+TEST(CliOutputs, ProgressAsJsonLinesForScripts) {
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "ball.off", test::make_sphere({0, 0, 0}, 6, 3));
+  std::string out;
+  ASSERT_EQ(run("fill " + (dir / "ball.off").string() + " " + (dir / "o.stl").string() +
+                    " --cell 2 --voxel 0.2 --progress json",
+                &out),
+            0)
+      << out;
+  std::size_t objects = 0;
+  std::istringstream lines_in(out);
+  for (std::string line; std::getline(lines_in, line);)
+    if (!line.empty() && line[0] == '{') {
+      const auto j = nlohmann::json::parse(line);
+      if (j.contains("preflight")) continue;
+      EXPECT_TRUE(j.contains("stage") && j.contains("percent") && j.contains("overall")) << line;
+      ++objects;
+    }
+  EXPECT_GE(objects, 5u) << out;
+  // --progress none (and --quiet) print none; a wrong mode is refused in one sentence.
+  ASSERT_EQ(run("fill " + (dir / "ball.off").string() + " " + (dir / "o.stl").string() +
+                    " --cell 2 --voxel 0.2 --progress none",
+                &out),
+            0);
+  EXPECT_FALSE(has(out, "\"stage\"")) << out;
+  EXPECT_EQ(run("fill " + (dir / "ball.off").string() + " " + (dir / "o.stl").string() +
+                    " --progress loud",
+                &out),
+            2);
 }

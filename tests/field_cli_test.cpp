@@ -70,6 +70,22 @@ TEST(FieldCli, FitInfoMeshAndFill) {
   const double volume = test::signed_volume(solid);
   EXPECT_NEAR(1 - volume / (12.0 * 12 * 12), 0.6, 0.01) << out;
   EXPECT_NE(out.find("smaller"), std::string::npos) << out;
+  // The storage line says which file is the larger, whichever it is (a coarse mesh is smaller
+  // than its ITDF; it once printed "1x smaller" for an ITDF 1.8 times the STL).
+  for (const char* voxel : {"0.2", "2"}) {
+    ASSERT_EQ(run("field mesh " + (dir / "s.itdf").string() + " " + (dir / "c.stl").string() +
+                      " --voxel " + voxel + " --porosity 0.6",
+                  &out),
+              0)
+        << out;
+    const bool itdf_larger =
+        std::filesystem::file_size(dir / "s.itdf") > std::filesystem::file_size(dir / "c.stl");
+    EXPECT_NE(out.find(itdf_larger ? "x larger" : "x smaller"), std::string::npos) << out;
+  }
+  // fit writes ITDF only: a mesh's name for it is refused before any work.
+  EXPECT_EQ(run("field fit " + field.string() + " " + (dir / "fit.stl").string(), &out), 2);
+  EXPECT_NE(out.find("named .itdf"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "fit.stl"));
 
   // To 3MF: validated as lib3mf's micrometres hold it, so the package reads back valid.
   ASSERT_EQ(run("field mesh " + (dir / "s.itdf").string() + " " + (dir / "s.3mf").string() +

@@ -155,3 +155,41 @@ TEST(FillWarnings, ReportSaysHowTheJobRan) {
   EXPECT_TRUE(has(text, "grading      porosity 0.5 to 0.8 along z")) << text;
   EXPECT_TRUE(has(text, "read as cm scaled by 0.5: 5 mm per unit")) << text;
 }
+
+// With a skin, --porosity is the part's, skin included: the lattice is solved more porous so
+// the whole comes out as asked (a 0.5 mm skin on a 6 mm plate used to give 54 % for 70 %).
+// Where the skin alone is too much, the warning gives both numbers and the part gets the most
+// porous lattice.
+TEST(FillWarnings, PorosityWithASkinIsThePartsOrWarned) {
+  const TriangleSoup plate = test::make_box({0, 0, 0}, {30, 24, 6});
+  for (const double skin : {0.3, 0.5}) {
+    for (const bool slabs : {false, true}) {
+      FillOptions o = test::gyroid_options(3, 0.15);
+      o.design.porosity = 0.7;
+      o.skin = skin;
+      if (slabs) o.slab_planes = 9;
+      const FillResult r = fill(plate, o);
+      EXPECT_NEAR(r.report.porosity(), 0.7, 0.03)
+          << "skin " << skin << (slabs ? " in slabs" : "") << "\n"
+          << all_warnings(r.report);
+      EXPECT_GT(r.report.unclipped_porosity, 0.7) << "the lattice is solved more porous";
+      EXPECT_FALSE(has(all_warnings(r.report), "porosity")) << all_warnings(r.report);
+      EXPECT_EQ(*r.report.porosity_target, 0.7);
+      // The echo fixes the level it solved, so the recipe reruns the job exactly.
+      EXPECT_FALSE(r.resolved.design.porosity);
+      EXPECT_EQ(fill(plate, r.resolved).report.lattice_volume(), r.report.lattice_volume());
+    }
+  }
+  // 1 mm and 2.5 mm skins are 43 % and 85 % of the plate: 70 % cannot be reached.
+  for (const double skin : {1.0, 2.5}) {
+    FillOptions o = test::gyroid_options(3, 0.15);
+    o.design.porosity = 0.7;
+    o.skin = skin;
+    const FillResult r = fill(plate, o);
+    const std::string w = all_warnings(r.report);
+    EXPECT_TRUE(has(w, "of the part's volume: with it the part can be at most")) << w;
+    EXPECT_TRUE(has(w, "not the 70.0 % asked")) << w;
+    const double core = (30 - 2 * skin) * (24 - 2 * skin) * (6 - 2 * skin) / (30.0 * 24 * 6);
+    EXPECT_NEAR(r.report.porosity(), 0.97 * core, 0.03) << w;
+  }
+}

@@ -230,3 +230,25 @@ TEST(IoMalformed, SizeLimit) {
   test::write_file(file, kTriangleObj + "f 1 2 3\n");
   EXPECT_THROW(read_mesh(file, {.max_bytes = 10}), InputError);
 }
+
+// A file of another kind under a mesh's name is named for what it is, not read as a broken
+// STL ("header declares 4124962155 triangles" was what a PNG named .stl got).
+TEST(IoMalformed, OtherKindsOfFileAreNamed) {
+  std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
+  png.resize(300, '\x01');
+  expect_parse_error(png, "picture.stl", "this is a PNG image, not a mesh");
+  expect_parse_error(png, "picture.stl", "byte 0");
+  std::string jpeg("\xFF\xD8\xFF\xE0", 4);
+  jpeg.resize(200, '\x02');
+  expect_parse_error(jpeg, "photo.obj", "a JPEG image");
+  expect_parse_error("%PDF-1.7\n%\xE2\xE3\xCF\xD3\n", "drawing.ply", "a PDF document");
+  // A binary STL whose 80-byte header happens to start with the PNG signature is still an STL.
+  std::string stl = png.substr(0, 8);
+  stl.resize(80, ' ');
+  const std::uint32_t one = 1;
+  stl.append(reinterpret_cast<const char*>(&one), 4);
+  const float facet[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+  stl.append(reinterpret_cast<const char*>(facet), sizeof facet);
+  stl.append(2, '\0');
+  EXPECT_EQ(parse_mesh(stl, "odd-header.stl").soup.triangles.size(), 1u);
+}

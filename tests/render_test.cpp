@@ -429,3 +429,34 @@ TEST(FillPreview, WritesAPictureThatDecodesBesideTheMesh) {
 }
 
 }  // namespace
+
+// The picture is framed on the mesh's outline, not on its box's projected corners: in the
+// default three-quarter view a long bar and a ball reach the margin on both sides of the
+// longer axis and leave the same border on both sides of the other (25 to 45 % of the frame
+// used to stay empty).
+TEST(Render, ObliqueViewsFrameTheOutline) {
+  for (const TriangleSoup& mesh :
+       {test::make_box({0, 0, 0}, {60, 8, 8}), test::make_sphere({5, -3, 2}, 10, 4),
+        test::make_torus(10, 3, 64, 32)}) {
+    RenderOptions o;
+    o.width = 400;
+    const Image image = render_mesh(mesh, o);
+    const Rgb bg = image.pixel(0, 0);
+    int min_x = image.width, max_x = -1, min_y = image.height, max_y = -1;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        if (!(image.pixel(x, y) == bg)) {
+          min_x = std::min(min_x, x), max_x = std::max(max_x, x);
+          min_y = std::min(min_y, y), max_y = std::max(max_y, y);
+        }
+    const int margin = 16;  // 4 % of 400
+    const bool wide = image.width >= image.height;
+    const int used = wide ? max_x - min_x + 1 : max_y - min_y + 1;
+    EXPECT_NEAR(used, 400 - 2 * margin, 3) << "the longer side spans the frame";
+    EXPECT_NEAR(min_x, image.width - 1 - max_x, 2) << "centred across";
+    EXPECT_NEAR(min_y, image.height - 1 - max_y, 2) << "centred up and down";
+    const int other = wide ? max_y - min_y + 1 : max_x - min_x + 1;
+    EXPECT_NEAR(other, (wide ? image.height : image.width) - 2 * margin, 3)
+        << "the shorter side is cut to fit";
+  }
+}

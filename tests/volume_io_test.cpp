@@ -140,6 +140,32 @@ TEST(VolumeIo, EveryWriterReadsBackBitForBitWhenExact) {
   }
 }
 
+// A field that sits away from the seed's box at the origin (from a CT whose first centre is at
+// (0, 0, 0), or a mesh at 150 mm) keeps its place in every form: the seed's forms used to move
+// it by half a cell, or to the origin.
+TEST(VolumeIo, PlacedFieldsKeepTheirPlace) {
+  const auto dir = scratch_dir();
+  for (const Vec3 origin : {Vec3{0, 0, 0}, Vec3{150.25, -80.125, 1000.5}}) {
+    ScalarVolume v = awkward_volume(FieldSign::Signed);
+    v.origin = origin;
+    for (const char* name : {"p.tdf", "p.tdfb", "p.nrrd"}) {
+      write_volume(dir / name, v, VolumeFormat::Auto, true);
+      const VolumeFile back = read_volume_file(dir / name);
+      EXPECT_EQ(back.volume.origin, origin) << name;
+      EXPECT_TRUE(same_bits(back.volume.values, v.values)) << name;
+    }
+    EXPECT_EQ(read_file(dir / "p.tdfb")[4], 2) << "an origin needs version 2";
+  }
+  // At the seed's own place nothing is added: version 1, no origin line, as before.
+  const ScalarVolume seed = awkward_volume(FieldSign::Signed);
+  write_volume(dir / "s.tdfb", seed);
+  write_volume(dir / "s.tdf", seed);
+  EXPECT_EQ(read_file(dir / "s.tdfb")[4], 1);
+  EXPECT_EQ(read_file(dir / "s.tdf").find("origin"), std::string::npos);
+  // An origin without a size has nothing to place.
+  EXPECT_THROW(parse_volume("tpmsfill-field 1\norigin 1 2 3\n1 1 1\n0.5\n", "o.tdf"), ParseError);
+}
+
 TEST(VolumeIo, TheUnitCubeStaysUnitless) {
   ScalarVolume v;
   v.dims = {2, 1, 1};
@@ -328,9 +354,13 @@ TEST(VolumeIo, BinaryFormDamageNamesItsByte) {
                  "byte 48", "value 1 is not finite");
   EXPECT_REFUSED(tdfb(1, 0, {1, 1, 1}, {}, bytes_of<double>({HUGE_VAL})), "inf.tdfb", "byte 44",
                  "not finite");
-  std::string v2 = tdfb(0, 0, {2, 1, 1}, {}, two);
+  std::string v3 = tdfb(0, 0, {2, 1, 1}, {}, two);
+  v3[4] = 3;
+  EXPECT_REFUSED(v3, "v3.tdfb", "byte 4", "versions 1 and 2");
+  // Version 2 holds an origin after the size: one without a size has nothing to place.
+  std::string v2 = tdfb(0, 0, {2, 1, 1}, {}, std::string(24, '\0') + two);
   v2[4] = 2;
-  EXPECT_REFUSED(v2, "v2.tdfb", "byte 4", "version 1");
+  EXPECT_REFUSED(v2, "v2.tdfb", "byte 44", "an origin needs a size");
   const auto start = std::chrono::steady_clock::now();
   EXPECT_REFUSED(tdfb(1, 0, {1u << 20, 1u << 20, 1u << 20}, {}, two), "big.tdfb", "byte 44",
                  "8 bytes of values where the counts need 9223372036854775808");

@@ -10,6 +10,7 @@
 /// faces, overlapping shells and self-intersections get the lattice a person expects.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -28,6 +29,21 @@
 #include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill {
+
+/// What a fill will make and cost, known before any work (forecast_fill, FillOptions::preflight).
+/// The time is a model of the job's own stages (per grid sample: classification, band, compose
+/// and marching cubes; per output triangle: islands, validation and the write; per input
+/// triangle: reading and the tree), fitted to the femur and tube jobs of docs/benchmarks.md §4
+/// on 2 cores and scaled by the cores the job may use; a range, since a machine's speed and a
+/// model's shape move it by up to about 2× either way.
+struct FillForecast {
+  std::uint64_t samples = 0;       ///< grid nodes
+  double triangles = 0;            ///< output triangles expected (within about 30 %)
+  std::uint64_t memory_bytes = 0;  ///< the peak planned (streamed by slabs when over the budget)
+  double seconds_low = 0;          ///< wall time, the quick end of the range
+  double seconds_high = 0;         ///< the slow end
+  double seconds() const { return std::sqrt(seconds_low * seconds_high); }  ///< the middle
+};
 
 struct FillOptions {
   /// The unit the model's coordinates are in (and a further scale): fill() works, and its
@@ -83,6 +99,11 @@ struct FillOptions {
   /// grid.
   int slab_planes = 0;
   Progress* progress = nullptr;
+  /// Called once the options, the design's review and the memory plan have passed, before any
+  /// work, with the job's forecast: to show it, or to refuse the job (whatever it throws ends
+  /// the job, nothing written). The command line refuses outputs over 2 GB or jobs over an
+  /// hour unless told --yes.
+  std::function<void(const FillForecast&)> preflight = {};
 };
 
 struct FillResult {
@@ -178,6 +199,12 @@ FillResult fill_parts(const TriangleSoup& model, const FillOptions& options,
 FillResult fill_parts_to_file(const TriangleSoup& model, const FillOptions& options, int count,
                               const std::function<FillPart()>& next_part,
                               const std::filesystem::path& path, const WriteOptions& write = {});
+
+/// The forecast of fill_to_file(model, options, ...) on the cores TBB may use, without
+/// allocating anything (beyond a copy in millimetres when the units are not): what
+/// FillOptions::preflight is given, for callers that want it before calling fill.
+/// @throws InputError  bad units
+FillForecast forecast_fill(const TriangleSoup& model, const FillOptions& options);
 
 /// Bytes fill() is estimated to need at most for `model` (in options.units), without
 /// allocating anything (beyond a copy in millimetres when the units are not): the whole grid's

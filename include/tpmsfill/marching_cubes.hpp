@@ -12,7 +12,8 @@
 ///   (the edge parameter is clamped to [1e-4, 1 - 1e-4]); the two coordinates across the edge
 ///   are exactly Grid::coordinate() values. A cube whose surface piece is bounded by five or
 ///   more edge vertices also gets one vertex at their centroid, strictly inside the cube, and
-///   the piece is a fan around it;
+///   the piece is a fan around it. With McOptions::rounding, all of this holds of the grid
+///   and the points as the file holds them (a grid too fine for that is refused);
 /// - the surface meets each cube face only in that face's segments (never a chord lying in a
 ///   face), so triangles of neighbouring cubes meet only along shared edges and vertices;
 /// - triangles are oriented outward: their normals point from the solid (values below the
@@ -24,17 +25,28 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "tpmsfill/field.hpp"
+#include "tpmsfill/io.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
 
+namespace detail {
+class RoundedGrid;
+}
+
 struct McOptions {
   float iso = 0.0f;              ///< iso-value; the solid is where field < iso
   Progress* progress = nullptr;  ///< reports per slab of cells; may cancel
+  /// Points come out as a file with this rounding holds them (rounding_for(format), io.hpp),
+  /// each edge vertex strictly inside its edge and each centroid strictly inside its cube of
+  /// the grid as rounded, so the guarantees below hold for the file wherever the grid sits.
+  /// None: doubles, edge parameters clamped to [1e-4, 1 - 1e-4].
+  CoordinateRounding rounding = CoordinateRounding::None;
 };
 
 /// Extracts the iso-surface of `field`. Points are numbered by layer of grid nodes along z
@@ -104,6 +116,7 @@ class SlabMarchingCubes {
  private:
   Grid grid_;
   McOptions options_;
+  std::shared_ptr<const detail::RoundedGrid> held_;
   int first_ = 0;
   int next_ = 0;
   std::uint64_t dropped_ = 0;

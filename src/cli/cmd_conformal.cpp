@@ -61,10 +61,9 @@ int run_conformal(const ConformalArgs& a) {
   ConformalJobOptions o = job_options(a);
   if (format_from_extension(a.output) == MeshFormat::Auto)
     throw InputError(unknown_mesh_extension(a.output));
-  // STL stores floats, 3MF what lib3mf prints: the mesh validated is the file's.
-  if (const CoordinateRounding r = rounding_for(format_from_extension(a.output));
-      r != CoordinateRounding::None)
-    o.rounding = r;
+  // STL stores floats, 3MF what lib3mf prints, the others doubles: the mesh validated is the
+  // file's.
+  o.rounding = rounding_for(format_from_extension(a.output));
   std::vector<OutputFile> outputs{{"OUT", a.output}};
   if (!a.report.empty()) outputs.push_back({"--report", a.report});
   std::vector<std::filesystem::path> inputs{a.input};

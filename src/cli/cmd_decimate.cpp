@@ -124,10 +124,11 @@ Command add_decimate_command(CLI::App& app) {
       "in one job)\n\n"
       "Exit code 0: written (warnings say when the target was not reached or little was "
       "removed); 2: unreadable or invalid input, or bad arguments (nothing written).");
-  sub->add_option("IN", args->input, "Valid closed mesh: STL, OBJ, PLY or OFF (gzip allowed), mm")
+  sub->add_option("IN", args->input,
+                  "Valid closed mesh: STL, OBJ, PLY or OFF (gzip allowed) or 3MF, mm")
       ->required();
   sub->add_option("OUT", args->output,
-                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off)")
+                  "Output mesh; the extension picks the format (.stl, .obj, .ply, .off, .3mf)")
       ->required();
   sub->add_option("--tolerance", args->tolerance,
                   "Largest distance from OUT to IN, mm (for a lattice: voxel/4 is a good start)")

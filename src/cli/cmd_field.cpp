@@ -25,6 +25,7 @@
 #include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
+#include "detail/file_bytes.hpp"
 
 namespace tpmsfill::cli {
 namespace {
@@ -120,6 +121,14 @@ std::string kib(std::uint64_t bytes) {
   return b;
 }
 
+// "12.3x smaller" or "1.8x larger": `ours` beside `theirs`, said the way round it is.
+std::string size_ratio(std::uint64_t ours, std::uint64_t theirs) {
+  char b[48];
+  const double o = std::max<double>(ours, 1), t = std::max<double>(theirs, 1);
+  std::snprintf(b, sizeof b, o <= t ? "%.1fx smaller" : "%.1fx larger", o <= t ? t / o : o / t);
+  return b;
+}
+
 // The iso-value whose side changes the fit's report counts: --iso, else the structure's first
 // finite threshold.
 double report_iso(const FieldArgs& a, const PorousStructure& s) {
@@ -132,6 +141,10 @@ double report_iso(const FieldArgs& a, const PorousStructure& s) {
 
 int run_fit(const FieldArgs& a) {
   if (a.output.empty()) throw InputError("field fit needs IN and OUT.itdf");
+  if (tpmsfill::detail::lower_extension(a.output) != ".itdf")
+    throw InputError(a.output +
+                     ": field fit writes an ITDF file, named .itdf (to mesh it, run "
+                     "`tpmsfill field mesh OUT.itdf MESH.stl` after the fit)");
   if (a.coefficients.size() == 2)
     throw InputError("--coefficients takes one count, or three (NX NY NZ), not two");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
@@ -210,9 +223,8 @@ int run_fit(const FieldArgs& a) {
     std::printf("iso %-8.4g %.3f %% of the cells changed side (%zu)\n", iso,
                 100 * file.fit->flipped, flips);
     std::printf("structure    %s\n", structure_label(s).c_str());
-    std::printf("size         %s (the grid as float32: %s, %.1fx smaller)\n",
-                kib(bytes.size()).c_str(), kib(4 * v.count()).c_str(),
-                4.0 * v.count() / bytes.size());
+    std::printf("size         %s (the grid as float32: %s, %s)\n", kib(bytes.size()).c_str(),
+                kib(4 * v.count()).c_str(), size_ratio(bytes.size(), 4 * v.count()).c_str());
     std::printf("time         %.2f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
@@ -319,8 +331,8 @@ int run_mesh(const FieldArgs& a) {
     const std::uint64_t itdf = std::filesystem::file_size(a.input),
                         stl = 84 + 50 * r.mesh.triangles.size();
     std::printf("%s -> %s\n%s", a.input.c_str(), a.output.c_str(), to_text(r.report).c_str());
-    std::printf("storage      ITDF %s, binary STL %s: %.0fx smaller\n", kib(itdf).c_str(),
-                kib(stl).c_str(), double(stl) / double(itdf));
+    std::printf("storage      ITDF %s, binary STL %s: %s\n", kib(itdf).c_str(), kib(stl).c_str(),
+                size_ratio(itdf, stl).c_str());
   }
   print_warnings(r.report.warnings);
   return kOk;

@@ -68,7 +68,8 @@ Command add_render_command(CLI::App& app) {
       "  tpmsfill render part.obj banner.png --size 1200 400 --colour 230 159 0\n\n"
       "Exit code 0: written; 2: unreadable input, bad arguments, a name not ending in .png, or "
       "nothing left after --clip (nothing is written).");
-  sub->add_option("IN", args->input, "Mesh: STL, OBJ, PLY or OFF (gzip allowed)")->required();
+  sub->add_option("IN", args->input, "Mesh: STL, OBJ, PLY or OFF (gzip allowed) or 3MF")
+      ->required();
   sub->add_option("OUT.png", args->output, "The picture (PNG, 8-bit RGB)")->required();
   add_picture_options(sub, args->picture, true);
   sub->add_option("--colour,--color", args->colour, "Surface colour R G B, 0 to 255 each")

@@ -20,10 +20,11 @@ int run(int argc, char** argv) {
   CLI::App app{
       "tpmsfill fills triangle meshes with TPMS lattices and proves that what it writes is a "
       "closed 2-manifold.\n"
-      "Reads STL (ASCII or binary), OBJ, PLY and OFF, also gzip-compressed; `field` turns a "
-      "scanned distance field or CT into a porous structure (seed 003); `conformal` grows a "
-      "lattice "
-      "layer that follows a surface (seed 004); `render` draws a mesh to a PNG picture.\n",
+      "Reads and writes STL (ASCII or binary), OBJ, PLY and OFF, also gzip-compressed, and 3MF; "
+      "`field` turns a scanned distance field or CT into a porous structure (seed 003); "
+      "`conformal` grows a lattice layer that follows a surface (seed 004); `material` builds "
+      "heterogeneous solids and slices them (seed 001); `render` draws a mesh to a PNG "
+      "picture.\n",
       "tpmsfill"};
   app.set_version_flag("--version", "tpmsfill " TPMSFILL_VERSION);
   app.require_subcommand(1);
@@ -44,6 +45,22 @@ int run(int argc, char** argv) {
   Command render = add_render_command(app);
   Command material = add_material_command(app);
   Command serve = add_serve_command(app);
+
+  // --progress on every command that shows progress (those that take --quiet), nested ones too.
+  auto add_progress = [](CLI::App* sub) {
+    if (!sub->get_option_no_throw("--quiet")) return;
+    sub->add_option_function<std::string>(
+           "--progress",
+           [](const std::string& name) { progress_mode() = progress_mode_named(name); },
+           "How progress is shown on stderr: auto (a bar on a terminal, else a line every 10 s "
+           "once a job has run 5 s), bar, lines, json (one object a line: stage, percent, "
+           "overall, seconds) or none")
+        ->check(CLI::IsMember({"auto", "bar", "lines", "json", "none"}));
+  };
+  for (CLI::App* sub : app.get_subcommands({})) {
+    add_progress(sub);
+    for (CLI::App* nested : sub->get_subcommands({})) add_progress(nested);
+  }
 
   set_command_line(argc, argv);  // for the reports' provenance
   // Arguments CLI11 cannot place are kept, not thrown, so that they get our own sentence

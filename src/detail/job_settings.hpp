@@ -10,6 +10,7 @@
 #include "tpmsfill/field.hpp"
 #include "tpmsfill/fill.hpp"
 #include "tpmsfill/report.hpp"
+#include "tpmsfill/spatial.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill::detail {
@@ -44,10 +45,20 @@ double depth_reach(const LatticeDesign& design);
 void record_classification(const FillOptions& options, const Occupancy::PlaneCounts& counts,
                            bool any_inside, FillReport& report);
 
-/// A structure's porosity is solved over its whole unit cube; the part sees only what the
-/// model covers of it, which may be mostly void or mostly solid: a warning with the numbers
-/// when the part's porosity `got` is more than 5 points from the target.
-void warn_structure_porosity(const LatticeDesign& design, double got, FillReport& report);
+/// With a skin, `design` (resolved) re-solved so that the part, skin included, has the porosity
+/// asked: the lattice's porosity is p / (1 - s), s the skin's share of the model's volume (a
+/// coarse sample through `tree`, the index of the inside rule); a warning with both numbers
+/// when even the most porous lattice cannot reach it. Before the design is evaluated; the
+/// report's level, thickness and unclipped porosity follow. Nothing without a skin or with a
+/// design that has no one porosity (fill.cpp).
+void solve_porosity_with_skin(const FillOptions& options, const MeshIndex& tree,
+                              LatticeDesign& design, FillReport& report);
+
+/// A warning with the numbers when the part's porosity `got` is more than 5 points from the
+/// one asked: a structure's porosity is solved over its whole unit cube, of which the model may
+/// cover mostly void or mostly solid; a TPMS's over its cell, which a part a few cells across
+/// cuts. Designs without one porosity (graded, blended, custom) are not judged.
+void warn_porosity(const LatticeDesign& design, double got, FillReport& report);
 
 /// Warnings for measured walls and pores below FillOptions::min_wall and min_pore (with the
 /// share of samples, the worst sizes and where they are); nothing without measures.

@@ -111,6 +111,37 @@ bool has_control_bytes(std::string_view data) {
   });
 }
 
+// What a file that is not a mesh most likely is, by its magic bytes ("" when none is known):
+// a PNG saved as .stl is better told as a PNG than as an STL whose count is absurd.
+std::string_view other_file_kind(std::string_view data) {
+  static constexpr std::pair<std::string_view, std::string_view> kMagic[] = {
+      {"\x89PNG\r\n\x1a\n", "a PNG image"},
+      {"\xFF\xD8\xFF", "a JPEG image"},
+      {"GIF87a", "a GIF image"},
+      {"GIF89a", "a GIF image"},
+      {"%PDF-", "a PDF document"},
+      {"\x7F"
+       "ELF",
+       "a program (ELF)"},
+      {std::string_view("II*\0", 4), "a TIFF image"},
+      {std::string_view("MM\0*", 4), "a TIFF image"},
+      {"BZh", "a bzip2 archive"},
+      {"\xFD"
+       "7zXZ",
+       "an xz archive"},
+      {"7z\xBC\xAF\x27\x1C", "a 7-Zip archive"},
+      {"Rar!", "a RAR archive"},
+      {"RIFF", "a RIFF file (WAV, AVI or WebP)"},
+      {"{\"", "a JSON document"},
+      {"<?xml", "an XML document"},
+      {"<!DOCTYPE", "an HTML page"},
+      {"<html", "an HTML page"},
+  };
+  for (const auto& [magic, kind] : kMagic)
+    if (data.starts_with(magic)) return kind;
+  return {};
+}
+
 // Content first; the extension only where the content leaves it open.
 MeshFormat detect(std::string_view data, const std::string& source) {
   std::string_view text = data;
@@ -121,6 +152,10 @@ MeshFormat detect(std::string_view data, const std::string& source) {
   const std::string_view word = first_word(data);
   if (is_off_keyword(word)) return MeshFormat::Off;
   if (is_exact_binary_stl(data)) return MeshFormat::StlBinary;  // read_stl tells "solid" text
+  if (const std::string_view kind = other_file_kind(data); !kind.empty())
+    detail::fail_at_byte(source, 0,
+                         "this is " + std::string(kind) +
+                             ", not a mesh (tpmsfill reads STL, OBJ, PLY, OFF and 3MF)");
   std::string lower(word);
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
