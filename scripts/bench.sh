@@ -61,8 +61,8 @@
 #     forecast (triangles, seconds) against what ran on the femur and the tube of section 4
 #  memory:
 # 27. fill's memory estimate against the measured peak (whole process, /usr/bin/time) on every
-#     mesh of ../shared/meshes and libcgal-demo's larger meshes at three voxels (cell = longest
-#     side / 15; voxel = cell / 10, / 20, / 30), then the same jobs under --memory at half their
+#     mesh of ../shared/meshes and three of libcgal-demo's at three voxels (cell = longest side
+#     / 15; voxel = cell / 10, / 15, / 20), then the same jobs under --memory at half their
 #     whole-grid estimate (slabs): the peak must stay under the budget
 #  decimate-cgal:
 # 19. `tpmsfill decimate IN OUT --tolerance D/500` (D: the bounding box's diagonal) on every mesh
@@ -975,6 +975,23 @@ print(f"| {name} | {f['samples']:,} | {f['triangles']:,.0f} | {out:,} | {f['tria
       f"{f['seconds'][0]:.2g} to {f['seconds'][1]:.2g} | {wall} |")
 PY
   done
+  echo
+  echo "slice's preflight against the run (the same inputs, --layer 0.1, ASCII CLI):"
+  echo
+  echo "| case | layers | points forecast | points out | ratio | MB forecast | MB out | seconds forecast | wall s |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---|---:|"
+  for c in femur35 tube; do
+    timed ./build/tpmsfill slice "$tmp/$c.stl" "$tmp/out.cli" --layer 0.1 --cell 2 --voxel 0.1 \
+      --progress json --report "$tmp/r.json" 2>"$tmp/err.txt" >/dev/null
+    python3 - "$c" "$tmp/err.txt" "$tmp/r.json" "$wall" "$(stat -c %s "$tmp/out.cli")" <<'PY'
+import json, sys
+name, err, report, wall, size = sys.argv[1:6]
+f = next(json.loads(l)["preflight"] for l in open(err) if l.startswith('{"preflight"'))
+r = json.load(open(report))["slice"]
+print(f"| {name} | {f['layers']} | {f['points']:,.0f} | {r['points']:,} | {f['points'] / r['points']:.2f} | "
+      f"{f['bytes'] / 1e6:.1f} | {int(size) / 1e6:.1f} | {f['seconds'][0]:.2g} to {f['seconds'][1]:.2g} | {wall} |")
+PY
+  done
 fi
 
 if [[ "$section" == all || "$section" == memory ]]; then
@@ -992,7 +1009,7 @@ if [[ "$section" == all || "$section" == memory ]]; then
     [[ -f "$f" ]] || continue
     ./build/tpmsfill check --no-self-intersections --json "$f" >"$tmp/c.json" 2>/dev/null || true
     L=$(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(max(b["max"][i]-b["min"][i] for i in range(3)))' "$tmp/c.json" 2>/dev/null) || continue
-    for div in 10 20 30; do
+    for div in 10 15 20; do
       cell=$(python3 -c "print($L / 15)"); voxel=$(python3 -c "print($L / 15 / $div)")
       for budget in none half; do
         flags=()

@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "detail/field_planes.hpp"
@@ -46,8 +47,12 @@ constexpr double kBytesPerNode = 8.0;
 constexpr double kBytesPerFullFieldNode = 4.0;
 using detail::kBytesPerInputTriangle;
 using detail::kFixedBytes;
-// Bytes per output triangle: indices, half a vertex, validation's edge table and buckets.
-constexpr double kBytesPerOutputTriangle = 110.0;
+// Bytes per output triangle: indices, half a vertex, validation's edge table and buckets
+// (121-144 measured on a dragon at 39 and 11 million triangles, docs/benchmarks.md §27).
+constexpr double kBytesPerOutputTriangle = 155.0;
+// Bytes per triangle while the field is held: marching cubes' mesh and the islands' labels and
+// components (56 measured).
+constexpr double kBytesPerMeshedTriangle = 60.0;
 
 // What the estimates know of the model (mm): its box, triangles, and the volume and area its
 // lattice's surface scales with.
@@ -58,42 +63,81 @@ struct ModelSize {
   double area = 0;    ///< of its surface (a scan's overlapping shells count twice: more is safe)
 };
 
-// The soup's size. Its signed volume is the enclosed volume for a closed, outward mesh; for a
-// scan with holes or flipped faces it may be anything, so a quarter of the box is the least
-// assumed, and the box the most.
+// The soup's size. Its signed volume is the enclosed volume for a closed, consistently
+// oriented mesh, the same about any reference point. Holes and flipped faces make it depend on
+// the point (by the volume of the cones from it over the holes, or twice over the flipped
+// faces), so the difference between two references, the box's opposite corners, bounds how far
+// it may be off: the volume is taken as the larger of the two plus that difference, at most
+// the box. A dragon with two small holes keeps its own volume; a rounded block with 397 of its
+// 840 faces flipped is taken as its box (it fills 85 % of it; the quarter of the box assumed
+// before left its estimate below its peak), and a closed femur is no longer taken as the
+// quarter of its box it does not fill (15 %: its lattice looked 1.6 times larger).
 ModelSize model_size(const TriangleSoup& model) {
   ModelSize m{bounding_box(model), model.triangles.size()};
-  double six_v = 0, twice_a = 0;
+  const Vec3 low = m.bounds.min, high = m.bounds.max;
+  double six_v_low = 0, six_v_high = 0, twice_a = 0;
   for (const Triangle& t : model.triangles) {
     const Vec3 a = model.points[t[0]], b = model.points[t[1]], c = model.points[t[2]];
-    six_v += dot(a, cross(b, c));
+    six_v_low += dot(a - low, cross(b - low, c - low));
+    six_v_high += dot(a - high, cross(b - high, c - high));
     twice_a += norm(cross(b - a, c - a));
   }
   if (model.triangles.empty()) return m;
   const Vec3 s = m.bounds.size();
   const double box = s.x * s.y * s.z;
-  m.volume = std::clamp(std::fabs(six_v) / 6, 0.25 * box, box);
+  const double off = std::fabs(six_v_low - six_v_high);
+  m.volume = std::fmin((std::fmax(std::fabs(six_v_low), std::fabs(six_v_high)) + off) / 6, box);
   m.area = 0.5 * twice_a;
   return m;
 }
 
-// Output triangles expected: lattice area ≈ 3.1/T per unit volume (gyroid; the others are
-// close), plus the clipped boundary at most the model's surface; marching cubes makes about
-// 2.6 triangles per a².
-double output_triangles(const ModelSize& m, const FillOptions& o) {
+// A TPMS's surface area per unit volume times its cell size, at porosities near a half, as
+// measured in a 20 mm cube of 2 mm cells (docs/benchmarks.md §27): network, then sheet (two
+// walls, a little less than twice the network's).
+double area_per_volume(const TpmsOptions& t) {
+  static constexpr double kNetwork[] = {3.1, 2.2, 3.8, 3.6, 3.3, 4.8, 6.1, 5.2};
+  static constexpr double kSheet[] = {5.5, 4.3, 6.6, 6.2, 6.1, 7.6, 8.3, 8.1};
+  const auto type = static_cast<std::size_t>(t.type);
+  return (t.style == TpmsStyle::Sheet ? kSheet : kNetwork)[type] /
+         std::fmin(t.cell.x, std::fmin(t.cell.y, t.cell.z));
+}
+
+// How output_triangles reads: the count to expect (the preflight), or a bound on it (memory).
+enum class Count { Expected, Bound };
+
+// The output's area: the lattice's (area_per_volume of the densest layer, blends and cell
+// grading included, over the model's volume) plus the model's surface where cut cells meet it
+// (about half of it on a thick part, all of it on thin walls cut from both sides: a shark of
+// mechanical holes and a thin block made 1.2 to 1.6 times the half's count). Expected: half
+// the surface; Bound: all of it.
+double output_area(const ModelSize& m, const FillOptions& o, Count count) {
+  double density = area_per_volume(o.design);
+  for (const Blend& b : o.design.blends) density = std::fmax(density, area_per_volume(b.tpms));
+  // Cells graded smaller than the base cell pack more surface: the smallest counts.
+  for (const Grading& g : o.design.grading)
+    if (g.what == Graded::Cell && std::fmin(g.ramp.start, g.ramp.end) > 0)
+      density *= std::fmax(1.0, o.design.cell.x / std::fmin(g.ramp.start, g.ramp.end));
+  return density * m.volume + (count == Count::Bound ? 1.0 : 0.5) * m.area;
+}
+
+// Output triangles: the output's area over a², times marching cubes' triangles per a² of
+// surface (with its centroid fans 3.3 to 4.6, measured over the eight types, network and sheet,
+// a = T/40 to T/5; 4.3 on a dragon at T/5): 4.0 expected, 4.3 for the bound, so the memory
+// estimate bounds the peak.
+double output_triangles(const ModelSize& m, const FillOptions& o, Count count = Count::Bound) {
   const double a = o.grid.voxel_size;
-  const double cell = std::fmin(o.design.cell.x, std::fmin(o.design.cell.y, o.design.cell.z));
-  return 2.6 * (3.1 / cell * m.volume + m.area) / (a * a);
+  return (count == Count::Bound ? 4.3 : 4.0) * output_area(m, o, count) / (a * a);
 }
 
 // The peak of a job whose field stages hold `field_bytes`: the input and its tree throughout;
-// then the larger of the field stages (with marching cubes' mesh and islands' components, 40
-// bytes a triangle) and validation (the mesh and its tables, kBytesPerOutputTriangle), since
+// then the larger of the field stages (with marching cubes' mesh and islands' components,
+// kBytesPerMeshedTriangle) and validation (the mesh and its tables, kBytesPerOutputTriangle), since
 // the field is gone before validation starts.
 double peak_bytes(const ModelSize& m, const FillOptions& o, double field_bytes) {
   const double out = output_triangles(m, o);
   return static_cast<double>(m.triangles) * kBytesPerInputTriangle +
-         std::fmax(field_bytes + 40 * out, kBytesPerOutputTriangle * out) + kFixedBytes;
+         std::fmax(field_bytes + kBytesPerMeshedTriangle * out, kBytesPerOutputTriangle * out) +
+         kFixedBytes;
 }
 
 double estimate_bytes(const ModelSize& m, const FillOptions& o) {
@@ -343,7 +387,7 @@ std::vector<bool> main_bodies(const detail::ComponentFacts& comps, const Grid& g
 FillForecast forecast(const ModelSize& m, const FillOptions& o, const detail::MemoryPlan& plan) {
   FillForecast f;
   f.samples = grid_node_count(m.bounds, o.grid);
-  f.triangles = output_triangles(m, o);
+  f.triangles = output_triangles(m, o, Count::Expected);
   f.memory_bytes = plan.bytes;
   // Seconds on 2 cores (docs/benchmarks.md §4: femur 6.4 M samples, 0.65 M triangles out,
   // 0.85 s; tube 34 M samples, 3.5 M out, 4.7 M in, 9-11 s), scaled by the cores.
@@ -351,11 +395,7 @@ FillForecast forecast(const ModelSize& m, const FillOptions& o, const detail::Me
   const double on_two =
       45e-9 * samples + 1.3e-6 * f.triangles + 0.5e-6 * static_cast<double>(m.triangles) +
       (o.full_field ? 0.8e-6 * samples : 0.0) + (o.measure ? 60e-9 * samples : 0.0);
-  const auto cores = static_cast<double>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-  const double middle = on_two * 2.0 / std::max(cores, 1.0);
-  f.seconds_low = 0.5 * middle;
-  f.seconds_high = 2.0 * middle;
+  std::tie(f.seconds_low, f.seconds_high) = detail::seconds_range(on_two);
   return f;
 }
 
@@ -859,6 +899,17 @@ std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions&
   const ModelSize m =
       model_size(options.units.factor() != 1 ? to_millimetres(model, options.units) : model);
   return plan_memory(m, options, resolve_design(options.design, m.bounds), false).bytes;
+}
+
+std::pair<double, double> detail::seconds_range(double on_two) {
+  const auto cores = static_cast<double>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const double middle = on_two * 2.0 / std::max(cores, 1.0);
+  return {0.5 * middle, 2.0 * middle};
+}
+
+double detail::expected_output_area(const TriangleSoup& model, const FillOptions& options) {
+  return output_area(model_size(model), options, Count::Expected);
 }
 
 FillForecast forecast_fill(const TriangleSoup& model, const FillOptions& options) {

@@ -243,6 +243,10 @@ long long pixels_over(double extent, double pixel) {
   return n < 1 ? 1 : (n > 1e15 ? static_cast<long long>(1e15) : static_cast<long long>(n));
 }
 
+// A mask's pixels off the contours deflate to about this share of a byte each (runs of white
+// or black: femur and tube masks at 0.05 mm, docs/benchmarks.md §26).
+constexpr double kPngPixelShare = 0.01;
+
 bool has_plane(const Field& f) {
   return f.grid.dims[0] >= 2 && f.grid.dims[1] >= 2 && f.grid.dims[2] == 1 &&
          f.values.size() == f.grid.node_count() && f.grid.spacing > 0;
@@ -379,6 +383,20 @@ LayerFormat layer_format_from_name(std::string_view name) {
 
 bool writes_folder(LayerFormat format) {
   return format == LayerFormat::SvgLayers || format == LayerFormat::PngLayers;
+}
+
+CoordinateRounding layer_rounding(LayerFormat format) {
+  switch (format) {
+    case LayerFormat::CliBinary:
+      return CoordinateRounding::Float;
+    case LayerFormat::Cli:
+    case LayerFormat::Svg:
+    case LayerFormat::SvgLayers:
+      return CoordinateRounding::SixDecimals;
+    case LayerFormat::PngLayers:
+      return CoordinateRounding::None;
+  }
+  return CoordinateRounding::None;
 }
 
 struct LayerFileWriter::Impl {
@@ -524,6 +542,27 @@ void LayerFileWriter::finish() {
 
 const std::vector<std::filesystem::path>& LayerFileWriter::files() const {
   return impl_->files;
+}
+
+double layer_file_bytes(const LayerFileOptions& o, double points, double material_triangles) {
+  const Box3& b = o.bounds;
+  const auto layers = static_cast<double>(o.layer_count);
+  if (o.format == LayerFormat::PngLayers) {
+    const double pixels = static_cast<double>(pixels_over(b.max.x - b.min.x, o.pixel)) *
+                          static_cast<double>(pixels_over(b.max.y - b.min.y, o.pixel));
+    const double channels = o.material_colour ? 3 : 1;
+    return layers * (100 + channels * kPngPixelShare * pixels) + channels * points;
+  }
+  if (o.format == LayerFormat::CliBinary) return 200 + 8 * layers + 8 * points;
+  // Six decimals after the integer digits and the sign: a point is two numbers and two
+  // separators, an SVG triangle three points and its colour.
+  const double reach = std::fmax(std::fmax(std::fabs(b.min.x), std::fabs(b.max.x)),
+                                 std::fmax(std::fabs(b.min.y), std::fabs(b.max.y)));
+  const double digits = std::floor(std::log10(std::fmax(reach, 1.0))) + 1 + 7 +
+                        (b.min.x < 0 || b.min.y < 0 ? 0.5 : 0.0);
+  const double point = 2 * digits + 2;
+  const bool svg = o.format == LayerFormat::Svg || o.format == LayerFormat::SvgLayers;
+  return 300 + 60 * layers + points * point + (svg ? material_triangles * (67 + 3 * point) : 0);
 }
 
 }  // namespace tpmsfill

@@ -10,12 +10,14 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "detail/field_planes.hpp"
 #include "detail/fill_job.hpp"
 #include "detail/job_progress.hpp"
 #include "detail/job_settings.hpp"
+#include "detail/rounded_grid.hpp"
 #include "detail/stage_progress.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
@@ -35,14 +37,20 @@ namespace {
 constexpr double kDelta = 1e-4;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+// The preflight's model of a slice's time on 2 cores: per plane node of each layer (its slab's
+// inside test and band distances), per contour point (tracing and the exact check).
+constexpr double kSliceSecondsPerSample = 80e-9;
+constexpr double kSliceSecondsPerPoint = 2e-6;
+
 // One plane's marching squares. Square (i, j) has corners c0 (i, j), c1 (i+1, j),
 // c2 (i+1, j+1), c3 (i, j+1), counter-clockwise; edge e of the square joins corner e to corner
 // e+1. Walking a square's border counter-clockwise, the solid is left at an "exit" edge and
 // entered at an "entry" edge; a segment from an exit to an entry has the solid on its left.
 class Tracer {
  public:
-  explicit Tracer(const Field& plane)
+  Tracer(const Field& plane, const detail::RoundedGrid& held)
       : g_(plane.grid),
+        held_(held),
         v_(plane.values.data()),
         nx_(static_cast<std::size_t>(g_.dims[0])),
         ny_(static_cast<std::size_t>(g_.dims[1])),
@@ -68,9 +76,12 @@ class Tracer {
     const double v0 = v_[n0], v1 = v_[n1];
     const double t = std::clamp(-v0 / (v1 - v0), kDelta, 1 - kDelta);
     const int at[2] = {static_cast<int>(ei), static_cast<int>(ej)};
-    double p[2] = {g_.coordinate(0, at[0]), g_.coordinate(1, at[1])};
-    const double c1 = g_.coordinate(axis, at[axis] + 1);
-    p[axis] = p[axis] + t * (c1 - p[axis]);
+    const double c0 = g_.coordinate(axis, at[axis]), c1 = g_.coordinate(axis, at[axis] + 1);
+    // As the file holds it: the other coordinate on its held node line, this one strictly
+    // inside the held edge (detail::RoundedGrid), so contours stay simple once written.
+    double p[2];
+    p[1 - axis] = held_.node(1 - axis, at[1 - axis]);
+    p[axis] = held_.inside_edge(axis, at[axis], c0 + t * (c1 - c0));
     id = static_cast<std::uint32_t>(points_.size());
     points_.push_back({p[0], p[1]});
     next_.push_back(kNone);
@@ -129,6 +140,7 @@ class Tracer {
   }
 
   const Grid& g_;
+  const detail::RoundedGrid& held_;
   const float* v_;
   std::size_t nx_, ny_;
   std::vector<std::uint32_t> edge_vertex_;
@@ -136,14 +148,16 @@ class Tracer {
   std::vector<std::uint32_t> next_;
 };
 
-// Layer m's centre height: its bottom start + m·L plus half a layer.
-double layer_centre(double start, double L, std::uint64_t m) {
-  return start + (static_cast<double>(m) + 0.5) * L;
+// The plane's x and y as a file holds them (its z is no contour's coordinate).
+detail::RoundedGrid held_plane(const Grid& grid, CoordinateRounding rounding) {
+  Grid plane = grid;
+  plane.dims[2] = 1;
+  plane.origin.z = 0;
+  return {plane, rounding, detail::HeldFile::Layers};
 }
 
-}  // namespace
-
-std::vector<Contour> trace_contours(const Field& plane) {
+// trace_contours with its checks done and the held grid made once for every layer.
+std::vector<Contour> trace_plane(const Field& plane, const detail::RoundedGrid& held) {
   const Grid& g = plane.grid;
   if (g.dims[2] != 1 || g.dims[0] < 2 || g.dims[1] < 2 || plane.values.size() != g.node_count())
     throw InputError("trace_contours: the field is not one plane of at least 2 x 2 nodes");
@@ -156,7 +170,18 @@ std::vector<Contour> trace_contours(const Field& plane) {
     for (std::size_t i : {std::size_t{0}, nx - 1})
       if (!(plane.values[i + nx * j] > 0))
         throw InputError("trace_contours: a node on the plane's border is not outside");
-  return Tracer(plane).trace();
+  return Tracer(plane, held).trace();
+}
+
+// Layer m's centre height: its bottom start + m·L plus half a layer.
+double layer_centre(double start, double L, std::uint64_t m) {
+  return start + (static_cast<double>(m) + 0.5) * L;
+}
+
+}  // namespace
+
+std::vector<Contour> trace_contours(const Field& plane, CoordinateRounding rounding) {
+  return trace_plane(plane, held_plane(plane.grid, rounding));
 }
 
 void require_valid(const SliceOptions& options) {
@@ -376,7 +401,9 @@ void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double
 // The layers, a few at once (each parallel inside too), handed to the sink in order.
 void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start, double L,
                   std::uint64_t from, std::uint64_t to, bool whole, SliceReport& report,
-                  const LayerSink& sink, Progress* progress, DepthPlanes* depth) {
+                  const LayerSink& sink, Progress* progress, DepthPlanes* depth,
+                  CoordinateRounding rounding) {
+  const detail::RoundedGrid held = held_plane(grid, rounding);
   Occupancy::PlaneCounts totals;
   bool any_inside = false;
   const std::size_t at_once = detail::slabs_at_once();
@@ -395,7 +422,7 @@ void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start
       layer.z = layer_centre(start, L, layer.index);
       planes[b] = detail::sample_planes(job, layer_plane(grid, layer.z));
       layer.field = std::move(planes[b].phi);
-      layer.contours = trace_contours(layer.field);
+      layer.contours = trace_plane(layer.field, held);
       for (const Contour& c : layer.contours) layer.area += c.area;
     });
     for (std::size_t b = 0; b < n; ++b) {
@@ -444,6 +471,9 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
       r.warnings.push_back(std::move(w));
   });
   r.grid = grid;
+  // A grid finer than the layer file's coordinates where the part sits cannot be written
+  // simple: refused now, before any work.
+  held_plane(grid, slice_options.rounding);
   // Depth ramps read fill's grid planes around each layer (DepthPlanes), so the layer's own
   // slab needs only the band's reach.
   const double reach = detail::depth_reach(design);
@@ -462,6 +492,15 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   require_budget(options, report, detail::slabs_at_once(),
                  reach > 0 ? DepthPlanes::planes_held(reach, grid.spacing) : 0,
                  model.triangles.size());
+  if (slice_options.preflight) {
+    SliceForecast f{.layers = count, .samples = report.plane_nodes * count};
+    f.points = detail::expected_output_area(model, report.resolved) / (L * grid.spacing);
+    // Seconds on 2 cores (docs/benchmarks.md §26: the femur and the tube of §4 sliced).
+    std::tie(f.seconds_low, f.seconds_high) = detail::seconds_range(
+        kSliceSecondsPerSample * static_cast<double>(f.samples) + kSliceSecondsPerPoint * f.points +
+        1e-6 * static_cast<double>(model.triangles.size()));
+    slice_options.preflight(f);
+  }
 
   // Auto: the input as it is, unless a row of some layer's slab finds it open or inside out.
   detail::IndexedModel indexed;
@@ -478,7 +517,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
     detail::FieldPlanes field{*indexed.tree, rule, options, design, halo};
     if (depth) field.depth = [&](const Mask& inside) { return depth->depth(inside); };
     slice_layers(field, grid, start, L, from, to, whole, report, sink, job.get(),
-                 depth ? &*depth : nullptr);
+                 depth ? &*depth : nullptr, slice_options.rounding);
   });
   r.samples = report.plane_nodes * (to - from);
   if (whole) detail::warn_porosity(design, report.porosity(), r);

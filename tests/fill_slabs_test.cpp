@@ -133,28 +133,34 @@ TEST(FillSlabs, IslandsAndCavitiesAreJudgedAsOnTheWholeGrid) {
 }
 
 TEST(FillSlabs, AJobOverTheBudgetGoesInSlabsOnItsOwn) {
-  // A coarse lattice on a fine grid: the grid, not the output, is most of the memory.
+  // Validation holds the whole mesh, so a job written to a file goes in slabs and streams its
+  // output when the whole grid and mesh would not fit: the same bytes within the budget.
   const TriangleSoup ball = test::make_sphere({0, 0, 0}, 6, 4);
-  FillOptions o = test::gyroid_options(6, 0.05);
-  const FillResult whole = fill(ball, o);
+  FillOptions o = test::gyroid_options(3, 0.1);
+  const auto dir = test::scratch_dir();
+  const FillResult whole = fill_to_file(ball, o, dir / "whole.stl");
   ASSERT_EQ(whole.report.slab_planes, 0);
-  // A budget below the whole grid's estimate by a quarter of its 8 bytes a node.
-  o.memory_budget = whole.report.estimated_memory_bytes - whole.report.samples * 2;
-  const FillResult slabs = fill(ball, o);
+  // A budget between the whole job's forecast and that of the thinnest slabs.
+  FillOptions thin = o;
+  thin.slab_planes = 4;
+  const std::uint64_t least = forecast_fill(ball, thin).memory_bytes;
+  ASSERT_LT(least, whole.report.estimated_memory_bytes);
+  o.memory_budget = (least + whole.report.estimated_memory_bytes) / 2;
+  const FillResult slabs = fill_to_file(ball, o, dir / "slabs.stl");
   EXPECT_GT(slabs.report.slab_planes, 3);
   EXPECT_LT(slabs.report.slab_planes, whole.report.grid.dims[2]);
   EXPECT_LE(slabs.report.estimated_memory_bytes, o.memory_budget);
-  EXPECT_TRUE(slabs.mesh.points == whole.mesh.points);
-  EXPECT_TRUE(slabs.mesh.triangles == whole.mesh.triangles);
+  EXPECT_EQ(test::read_file(dir / "slabs.stl"), test::read_file(dir / "whole.stl"));
   // --measure needs the whole grid: refused with the numbers, not silently dropped.
   o.measure = true;
   try {
-    fill(ball, o);
+    fill_to_file(ball, o, dir / "measured.stl");
     FAIL() << "no ResourceError";
   } catch (const ResourceError& e) {
     EXPECT_NE(std::string(e.what()).find("--measure needs the whole grid"), std::string::npos)
         << e.what();
   }
+  EXPECT_FALSE(std::filesystem::exists(dir / "measured.stl"));
 }
 
 TEST(FillParts, ThreePartsJoinIntoTheWholeGridsMesh) {

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <tpmsfill/error.hpp>
@@ -450,3 +451,66 @@ TEST(LayerFiles, BadOptionsAreRefusedBeforeAnythingIsWritten) {
 }
 
 }  // namespace
+
+// --- Parts where printers put them ----------------------------------------------------------
+
+// A sliced part anywhere on a bed (and far beyond: 10 m), at fine voxels, reads back from
+// ASCII CLI (six decimals), binary CLI (floats) and SVG with contours that neither cross nor
+// touch, as the file holds them, and no point repeated; or the job is refused before any work.
+TEST(LayerFiles, SlicesAnywhereReadBackAsSimpleContours) {
+  const auto dir = test::scratch_dir();
+  int written = 0, refused = 0;
+  for (const double offset : {0.0, 150.0, 1000.0, -1000.0, 1e4, 1e5}) {
+    const TriangleSoup ball = test::make_sphere({offset, offset + 7, 3}, 1.5, 3);
+    for (const double voxel : {0.05, 0.01, 0.005}) {
+      for (const LayerFormat format : {LayerFormat::Cli, LayerFormat::CliBinary}) {
+        const auto path = dir / "part.cli";
+        FillOptions fill = test::gyroid_options(1, voxel);
+        const Box3 box = bounding_box(ball);
+        LayerFileOptions files{.format = format, .bounds = box, .layer = 0.2};
+        files.layer_count = layer_count(box, {.layer = 0.2});
+        try {
+          std::optional<LayerFileWriter> writer;
+          slice(ball, fill, {.layer = 0.2, .rounding = layer_rounding(format)},
+                [&](const Layer& layer) {
+                  if (!writer) writer.emplace(path, files);
+                  writer->add(layer);
+                });
+          writer->finish();
+        } catch (const InputError& e) {
+          ++refused;
+          EXPECT_NE(
+              std::string(e.what()).find("or write ASCII CLI or SVG, which hold six decimals"),
+              std::string::npos)
+              << e.what();
+          continue;
+        }
+        ++written;
+        const std::string bytes = test::read_file(path);
+        const CliFile f =
+            format == LayerFormat::Cli ? parse_cli_ascii(bytes) : parse_cli_binary(bytes);
+        ASSERT_EQ(f.layers.size(), files.layer_count);
+        std::size_t points = 0;
+        for (const CliLayer& layer : f.layers) {
+          std::vector<Contour> contours;
+          for (const CliPolyline& p : layer.polylines) {
+            ASSERT_GE(p.points.size(), 4u);
+            EXPECT_TRUE(p.points.front().x == p.points.back().x &&
+                        p.points.front().y == p.points.back().y);
+            contours.push_back(contour({p.points.begin(), p.points.end() - 1}));
+            for (std::size_t k = 0; k + 1 < p.points.size(); ++k)
+              ASSERT_FALSE(p.points[k].x == p.points[k + 1].x && p.points[k].y == p.points[k + 1].y)
+                  << "a point repeated at offset " << offset << ", voxel " << voxel;
+            points += p.points.size();
+          }
+          EXPECT_EQ(count_contour_defects(contours, voxel), 0u)
+              << "offset " << offset << ", voxel " << voxel << ", " << layer_format_name(format)
+              << ", layer at z = " << layer.z;
+        }
+        EXPECT_GT(points, 0u);
+      }
+    }
+  }
+  EXPECT_GT(written, 20);
+  EXPECT_GT(refused, 0);  // floats at 100 m hold a coordinate every 0.008 mm
+}

@@ -201,6 +201,36 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   EXPECT_NE(out.find("byte"), std::string::npos) << out;
 }
 
+// A material slice's preflight slices a few layers first and forecasts the stack from them:
+// near what the whole slice makes, and a stack past the limits refused before any file.
+TEST(MaterialCli, SlicePreflightForecastsTheStack) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path tets = dir / "blob.vtk", model = dir / "blob.tsm";
+  write_tet_mesh(tets, test::make_tet_grid({0, 0, 0}, {20, 10, 10}, {6, 3, 3}, 0.1));
+  std::string out;
+  ASSERT_EQ(material_fit(tets, model, "--material x 0 1", &out), 0) << out;
+  const fs::path svg = dir / "blob.svg";
+  std::string command = TPMSFILL_CLI;
+  command.append(" material slice ").append(quoted(model)).append(" ");
+  ASSERT_EQ(test::run_command(command + quoted(svg) + " --layer 0.1 --progress json", &out), 0)
+      << out;
+  const std::size_t at = out.find("{\"preflight\"");
+  ASSERT_NE(at, std::string::npos) << out;
+  const auto f = nlohmann::json::parse(out.substr(at, out.find('\n', at) - at))["preflight"];
+  ASSERT_EQ(test::run_command(command + quoted(svg) + " --layer 0.1 --json", &out), 0) << out;
+  EXPECT_EQ(f["layers"], json_of(out)["layers"]);
+  EXPECT_NEAR(f["triangles"].get<double>() / json_of(out)["triangles"].get<double>(), 1.0, 0.3);
+  const double bytes = static_cast<double>(fs::file_size(svg));
+  EXPECT_NEAR(f["bytes"].get<double>() / bytes, 1.0, 0.3) << out;
+  EXPECT_LT(f["seconds"][0].get<double>(), f["seconds"][1].get<double>());
+  // 0.1 µm layers: a hundred thousand of them, and gigabytes of SVG.
+  const fs::path huge = dir / "huge.svg";
+  EXPECT_EQ(test::run_command(command + quoted(huge) + " --layer 0.0001", &out), 2);
+  EXPECT_NE(out.find("the job would write about"), std::string::npos) << out;
+  EXPECT_NE(out.find("--yes runs it as it is"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(huge));
+}
+
 TEST(MaterialCli, FillGradedByTheModelsMaterial) {
   // A box whose material rises with z: grading the porosity by the fitted material is grading
   // it along z (the material's range over the box is the box's height), and the report's recipe

@@ -460,3 +460,34 @@ TEST(Render, ObliqueViewsFrameTheOutline) {
         << "the shorter side is cut to fit";
   }
 }
+
+// The picture's legend says what check's text says: an open mesh turned inside out is flipped
+// "once its holes are capped" (check cannot call an open mesh inside out, and the picture
+// marked all its faces flipped without saying why), and holes that open only where
+// non-manifold edges are split are said to be so ("0 border edges, 6 holes" read as a
+// contradiction).
+TEST(CheckPicture, LegendSaysWhyFacesAreFlippedAndWhereHolesAre) {
+  const TriangleSoup open_inward = test::flip(test::make_box_with_hole({0, 0, 0}, {10, 10, 10}));
+  const MeshCheck c = check_mesh(open_inward);
+  ASSERT_FALSE(c.closed());
+  ASSERT_FALSE(c.outward);
+  std::string legend;
+  for (const LegendEntry& e : mark_defects(open_inward, c, {}).legend) legend += e.text + "\n";
+  EXPECT_NE(legend.find("flipped triangles: 10 (1 piece facing inward once its holes are capped)"),
+            std::string::npos)
+      << legend;
+  // assimp's 3DSMaxExport.STL: closed, 16 non-manifold edges, 6 holes once they are split.
+  const std::filesystem::path max_export =
+      std::filesystem::path(TPMSFILL_ASSIMP_MODELS) / "STL" / "3DSMaxExport.STL";
+  if (!std::filesystem::exists(max_export)) GTEST_SKIP() << max_export << ": assimp-testmodels";
+  const TriangleSoup split = read_mesh(max_export);
+  const MeshCheck t = check_mesh(split);
+  ASSERT_TRUE(t.closed());
+  ASSERT_GT(t.holes, 0u);
+  legend.clear();
+  for (const LegendEntry& e : mark_defects(split, t, {}).legend) legend += e.text + "\n";
+  EXPECT_NE(legend.find("border edges: 0; " + std::to_string(t.holes) +
+                        " holes once its non-manifold edges are split"),
+            std::string::npos)
+      << legend;
+}

@@ -104,6 +104,9 @@ enum class CoordinateRounding {
   /// until it stands still, so writing a rounded point again changes nothing. Up to one
   /// micrometre off below 16 mm, 8 micrometres at 100 mm (docs/formats.md).
   ThreeMf,
+  /// Fixed point with six decimals, read back as the nearest double: the layer files' text
+  /// (ASCII CLI, SVG; layer_files.hpp).
+  SixDecimals,
 };
 
 /// The rounding a format needs (Float for both STLs, ThreeMf for 3MF, None for the others).

@@ -17,6 +17,7 @@
 #include <string>
 #include <string_view>
 
+#include "tpmsfill/io.hpp"
 #include "tpmsfill/slice.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -36,6 +37,9 @@ std::string_view layer_format_name(LayerFormat format);
 LayerFormat layer_format_from_name(std::string_view name);
 /// Whether the format writes a folder of files (one per layer) rather than one file.
 bool writes_folder(LayerFormat format);
+/// How the format holds a contour's points (SliceOptions::rounding): binary CLI as floats,
+/// ASCII CLI and SVG as six decimals; PNG masks hold pixels, not points (None).
+CoordinateRounding layer_rounding(LayerFormat format);
 
 struct LayerFileOptions {
   LayerFormat format = LayerFormat::Cli;
@@ -53,6 +57,14 @@ struct LayerFileOptions {
 /// Writes layers to `path` (a file, or for the folder formats an existing empty folder) as
 /// they come, lowest first. Folder formats name files layer_NNNNN.svg / .png (five digits or
 /// more, the layer's index).
+/// The bytes a stack of options.layer_count layers with `points` contour points in all (and
+/// `material_triangles` drawn, seed 001's sections) takes in options.format: a forecast, for a
+/// preflight. The text formats from their numbers' widths over options.bounds, binary CLI
+/// exactly but for its header; PNG masks from their pixels, which deflate to about a byte per
+/// pixel the contours cross and a hundredth of one for the rest.
+double layer_file_bytes(const LayerFileOptions& options, double points,
+                        double material_triangles = 0);
+
 class LayerFileWriter {
  public:
   /// @throws InputError  bad options (pixel <= 0, an image over 2^15 pixels a side, empty

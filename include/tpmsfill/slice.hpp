@@ -80,6 +80,18 @@ struct Layer {
   MaterialSection material = {};  ///< seed 001's sections: drawn with their material
 };
 
+/// What a slice will make and cost, forecast before any work (SliceOptions::preflight), for
+/// the whole stack (a share split among processes forecasts the same). Contour points are the
+/// output's area (fill's forecast: the lattice's area per volume over the model's volume, half
+/// the model's surface) over layer × voxel: each layer cuts the surface in lines of π/4 of its
+/// area per mm of height, and marching squares puts 4/π points per voxel along a line.
+struct SliceForecast {
+  std::uint64_t layers = 0;
+  std::uint64_t samples = 0;  ///< plane nodes × layers
+  double points = 0;          ///< contour points expected (within about 30 %)
+  double seconds_low = 0, seconds_high = 0;
+};
+
 struct SliceOptions {
   double layer = 0.05;  ///< layer thickness L, mm (> 0)
   /// Height of the first layer's bottom, mm; unset: the model's lowest point. Layers are
@@ -92,6 +104,14 @@ struct SliceOptions {
   std::function<bool(bool)> any_unbalanced = {};
   /// Stages "review", "spatial", ..., then "slice" per layer; unset: the FillOptions' progress.
   Progress* progress = nullptr;
+  /// The contours' points as the layer file will hold them (layer_rounding): each placed
+  /// strictly inside its grid edge as rounded, so the contours checked are the ones written
+  /// and stay simple and disjoint wherever the part sits. A grid finer than four of the
+  /// format's steps where the part reaches is refused before any work.
+  CoordinateRounding rounding = CoordinateRounding::None;
+  /// Called once the design is reviewed and the memory budget checked, before any work, with
+  /// the forecast: to show it, or to refuse the job (whatever it throws ends the job).
+  std::function<void(const SliceForecast&)> preflight = {};
 };
 
 /// One layer's figures, kept for every layer (the report's index).
@@ -150,9 +170,12 @@ void require_valid(const SliceOptions& options);
 std::uint64_t layer_count(const Box3& model, const SliceOptions& options);
 
 /// Contours of φ < 0 on one plane (grid.dims[2] == 1) by marching squares, oriented as above.
-/// Nodes on the plane's border must be positive (outside) for every contour to close.
-/// @throws InputError  the field is not one plane, or a border node is not positive
-std::vector<Contour> trace_contours(const Field& plane);
+/// Nodes on the plane's border must be positive (outside) for every contour to close. Points
+/// are as a file with `rounding` holds them (SliceOptions::rounding).
+/// @throws InputError  the field is not one plane, a border node is not positive, or the grid
+///                     is finer than `rounding` holds where it reaches
+std::vector<Contour> trace_contours(const Field& plane,
+                                    CoordinateRounding rounding = CoordinateRounding::None);
 
 /// Exact check of a plane's contours: no two segments cross, touch or overlap except
 /// consecutive ones at their shared point, and no contour turns back on itself.

@@ -26,6 +26,7 @@
 #include "cli/job_flags.hpp"
 #include "cli/memory_policy.hpp"
 #include "cli/picture_flags.hpp"
+#include "cli/preflight.hpp"
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
@@ -44,51 +45,6 @@ struct FillArgs {
   double min_wall = 0, min_pore = 0;
   double decimate = 0;  ///< --decimate TOL, mm (0: off)
 };
-
-// Past these a job asks for --yes: an output few tools open (a 7 GB STL), or one that holds
-// the machine for hours. Both are forecast before any work.
-constexpr double kOutputLimitBytes = 2e9;
-constexpr double kTimeLimitSeconds = 3600;
-
-std::string bytes_text(double bytes) {
-  char b[32];
-  if (bytes < 1e6)
-    std::snprintf(b, sizeof b, "%.0f kB", bytes / 1e3);
-  else if (bytes < 1e9)
-    std::snprintf(b, sizeof b, "%.0f MB", bytes / 1e6);
-  else
-    std::snprintf(b, sizeof b, "%.1f GB", bytes / 1e9);
-  return b;
-}
-
-std::string seconds_text(double s) {
-  char b[32];
-  if (s < 60)
-    std::snprintf(b, sizeof b, "%.2g s", s);
-  else if (s < 3600)
-    std::snprintf(b, sizeof b, "%.0f min", s / 60);
-  else
-    std::snprintf(b, sizeof b, "%.1f h", s / 3600);
-  return b;
-}
-
-std::string count_text(double n) {
-  char b[32];
-  if (n < 1e4)
-    std::snprintf(b, sizeof b, "%.0f", n);
-  else if (n < 1e6)
-    std::snprintf(b, sizeof b, "%.0f k", n / 1e3);
-  else if (n < 1e9)
-    std::snprintf(b, sizeof b, "%.3g M", n / 1e6);
-  else
-    std::snprintf(b, sizeof b, "%.3g G", n / 1e9);
-  return b;
-}
-
-// Jobs whose forecast reaches these get the preflight line (smaller ones finish before it
-// would be read): a slow end of 5 s, or an output of 100 MB.
-constexpr double kPreflightSeconds = 5;
-constexpr double kPreflightBytes = 1e8;
 
 // Bytes a mesh of `triangles` takes in `format`, about two points a triangle for the indexed
 // formats: binary STL exactly, the text formats and PLY within about 20 %, 3MF roughly.
@@ -112,52 +68,23 @@ double mesh_file_bytes(MeshFormat format, double triangles) {
 }
 
 // fill's preflight (FillOptions::preflight): once the design has passed its review and the
-// memory plan is made, before any work, what the job will make and cost on stderr (one JSON
-// object with --progress json; else a line for jobs worth it), and past the limits a refusal
-// with what would bring the job under them, unless --yes.
+// memory plan is made, before any work (cli/preflight.hpp).
 std::function<void(const FillForecast&)> preflight(const FillArgs& args,
                                                    TerminalProgress* progress) {
   return [&args, progress](const FillForecast& f) {
     const MeshFormat format = format_from_extension(args.output);
-    const double bytes = mesh_file_bytes(format, f.triangles);
-    if (progress && rank() == 0) {
-      progress->clear();
-      if (progress_mode() == ProgressMode::Json) {
-        nlohmann::ordered_json j;
-        j["preflight"] = {{"samples", f.samples},
-                          {"triangles", std::round(f.triangles)},
-                          {"bytes", std::round(bytes)},
-                          {"format", format_name(format)},
-                          {"seconds", {f.seconds_low, f.seconds_high}},
-                          {"memory_bytes", f.memory_bytes}};
-        std::fprintf(stderr, "%s\n", j.dump().c_str());
-      } else if (f.seconds_high >= kPreflightSeconds || bytes >= kPreflightBytes) {
-        std::fprintf(stderr,
-                     "tpmsfill: preflight: %s samples, about %s triangles (%s of %s), %s to %s, "
-                     "about %s of memory\n",
-                     count_text(static_cast<double>(f.samples)).c_str(),
-                     count_text(f.triangles).c_str(), bytes_text(bytes).c_str(),
-                     std::string(format_name(format)).c_str(), seconds_text(f.seconds_low).c_str(),
-                     seconds_text(f.seconds_high).c_str(),
-                     bytes_text(static_cast<double>(f.memory_bytes)).c_str());
-      }
-      std::fflush(stderr);
-    }
-    if (args.yes) return;
-    std::string over;
-    if (bytes > kOutputLimitBytes)
-      over = "write about " + bytes_text(bytes) + " (over the " + bytes_text(kOutputLimitBytes) +
-             " limit)";
-    if (f.seconds() > kTimeLimitSeconds)
-      over += (over.empty() ? "" : " and ") + std::string("take about ") +
-              seconds_text(f.seconds()) + " (over the " + seconds_text(kTimeLimitSeconds) +
-              " limit)";
-    if (!over.empty())
-      throw InputError("the job would " + over + ": " + count_text(f.triangles) +
-                       " triangles from " + count_text(static_cast<double>(f.samples)) +
-                       " samples; a larger --voxel or --cell makes it smaller (the triangles "
-                       "fall with the square of the voxel), --decimate lighter, and --yes runs "
-                       "it as it is");
+    Preflight p{.samples = f.samples,
+                .made = "about " + count_text(f.triangles) + " triangles",
+                .made_json = {{"triangles", std::round(f.triangles)}},
+                .bytes = mesh_file_bytes(format, f.triangles),
+                .format = std::string(format_name(format)),
+                .seconds_low = f.seconds_low,
+                .seconds_high = f.seconds_high,
+                .memory_bytes = f.memory_bytes,
+                .smaller =
+                    "a larger --voxel or --cell (the triangles fall with the square of "
+                    "the voxel), or --decimate"};
+    run_preflight(p, args.yes, progress);
   };
 }
 

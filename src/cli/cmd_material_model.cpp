@@ -21,6 +21,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/preflight.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
 #include "detail/parallel.hpp"
@@ -36,7 +37,7 @@ struct ModelArgs {
   std::optional<std::string> format;
   std::vector<double> values;
   int bins = 10, initial_level = 1, max_level = 8;
-  bool json = false, quiet = false, colour = false;
+  bool json = false, quiet = false, colour = false, yes = false;
 };
 
 std::pair<double, double> material_range(const SolidSpline& s) {
@@ -63,6 +64,49 @@ struct ItemProgress {
   }
 };
 
+// The preflight of a material slice: a few layers spread over the stack sliced first forecast
+// the rest (a solid's sections change little from one layer to the next, and a section's
+// octree is the work), so a stack of thousands of layers is known before it starts.
+void preflight_material_slice(const ModelArgs& a, const SolidSpline& spline, double start,
+                              const LayerFileOptions& files, const SolidSliceOptions& options,
+                              TerminalProgress* progress) {
+  const std::uint64_t count = files.layer_count, probes = 6;
+  if (count <= 2 * probes) return;  // as quick as its forecast
+  std::vector<double> points(probes), triangles(probes);
+  const auto t = std::chrono::steady_clock::now();
+  tpmsfill::detail::parallel_for(probes, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      // Spread by the golden ratio, not at simple fractions of the stack: the layers on the
+      // octree's cell faces (halves, quarters) are slower and carry more triangles.
+      const double place = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(k), 1.0);
+      const auto index = std::min(count - 1, static_cast<std::uint64_t>(place * double(count)));
+      const SolidSection s =
+          slice_solid(spline, start + a.layer * (static_cast<double>(index) + 0.5), options);
+      for (const Contour& c : s.contours) points[k] += static_cast<double>(c.points.size());
+      triangles[k] = static_cast<double>(s.mesh.triangles.size());
+    }
+  });
+  const double per_layer = seconds_since(t) / probes, scale = double(count) / probes;
+  double all_points = 0, all_triangles = 0;
+  for (std::size_t k = 0; k < probes; ++k)
+    all_points += scale * points[k], all_triangles += scale * triangles[k];
+  const double seconds = per_layer * static_cast<double>(count);
+  run_preflight(
+      {.made = count_text(static_cast<double>(count)) + " layers of about " +
+               count_text(all_points) + " contour points and " + count_text(all_triangles) +
+               " triangles",
+       .made_json = {{"layers", count},
+                     {"points", std::round(all_points)},
+                     {"triangles", std::round(all_triangles)}},
+       .bytes = layer_file_bytes(files, all_points, all_triangles),
+       .format = std::string(layer_format_name(files.format)),
+       .seconds_low = 0.5 * seconds,
+       .seconds_high = 2 * seconds,
+       .smaller = "a larger --layer or --tau" +
+                  std::string(files.format == LayerFormat::PngLayers ? " or --pixel" : "")},
+      a.yes, progress);
+}
+
 int run_material_slice(const ModelArgs& a) {
   const LayerFormat format = layer_format_for(a.output, a.format);
   if (a.colour && format != LayerFormat::PngLayers)
@@ -84,6 +128,10 @@ int run_material_slice(const ModelArgs& a) {
                                .pixel = a.pixel,
                                .material_colour = a.colour,
                                .label = fs::path(a.input).stem().string()};
+  const SolidSliceOptions options{
+      .tau = tau, .initial_level = a.initial_level, .max_level = a.max_level};
+  ItemProgress progress(a.quiet, "material slice");
+  preflight_material_slice(a, spline, start, files, options, progress.terminal.get());
   std::optional<StagedFolder> staged_folder;
   StagedOutputs staged;
   if (folder) staged_folder.emplace(a.output);
@@ -91,9 +139,6 @@ int run_material_slice(const ModelArgs& a) {
   LayerFileWriter writer(target, files);
   nlohmann::ordered_json layers = nlohmann::ordered_json::array();
   std::size_t triangles = 0, flipped = 0;
-  ItemProgress progress(a.quiet, "material slice");
-  const SolidSliceOptions options{
-      .tau = tau, .initial_level = a.initial_level, .max_level = a.max_level};
   // Layers are independent: a batch at a time in parallel, written in order.
   const std::uint64_t batch = 16;
   for (std::uint64_t first = 0; first < count; first += batch) {
@@ -285,6 +330,9 @@ std::function<std::optional<int>()> add_material_model_commands(CLI::App* materi
                   "at, instead of grey = material for a printer");
   slice->add_option("--bins", args->bins, "Material histogram bins per layer (default 10)")
       ->check(CLI::Range(1, 1000));
+  slice->add_flag("--yes", args->yes,
+                  "Run a job the preflight forecasts past its limits (files over 2 GB, or over "
+                  "an hour); the preflight slices six layers spread over the stack first");
   add_octree_options(slice, *args);
   CLI::App* iso = material->add_subcommand(
       "iso", "The surfaces of equal material of a fitted model (.tsm), as one mesh");

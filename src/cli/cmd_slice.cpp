@@ -23,6 +23,7 @@
 #include "cli/job_files.hpp"
 #include "cli/job_flags.hpp"
 #include "cli/memory_policy.hpp"
+#include "cli/preflight.hpp"
 #include "cli/ranks.hpp"
 #include "cli/split_jobs.hpp"
 #include "cli/terminal_progress.hpp"
@@ -40,7 +41,7 @@ struct SliceArgs {
   double layer = 0;
   std::optional<double> start, pixel;
   std::optional<std::string> format;
-  bool binary = false, quiet = false;
+  bool binary = false, quiet = false, yes = false;
   int threads = 0;
 };
 
@@ -89,6 +90,7 @@ int run_slice(SliceArgs a) {
   options.progress = progress.get();
   SliceOptions so = slice_options;
   so.progress = progress.get();
+  so.rounding = layer_rounding(format);
 
   const MeshFile file = read_mesh_file(a.input);
   print_warnings(file.warnings);
@@ -111,6 +113,19 @@ int run_slice(SliceArgs a) {
   if (folder && root) staged_folder.emplace(a.output);
   const fs::path target = broadcast(
       !root ? std::string() : (folder ? staged_folder->path() : staged.stage(a.output)).string());
+  so.preflight = [&](const SliceForecast& f) {
+    run_preflight({.samples = f.samples,
+                   .made = count_text(static_cast<double>(f.layers)) + " layers of about " +
+                           count_text(f.points) + " contour points",
+                   .made_json = {{"layers", f.layers}, {"points", std::round(f.points)}},
+                   .bytes = layer_file_bytes(files, f.points),
+                   .format = std::string(layer_format_name(format)),
+                   .seconds_low = f.seconds_low,
+                   .seconds_high = f.seconds_high,
+                   .smaller = "a larger --voxel or --layer" +
+                              std::string(format == LayerFormat::PngLayers ? " or --pixel" : "")},
+                  a.yes, progress.get());
+  };
   std::optional<LayerFileWriter> writer;
   if (root || folder) writer.emplace(target, files);
   std::optional<SliceReport> on_ranks = slice_on_ranks(
@@ -188,6 +203,9 @@ Command add_slice_command(CLI::App& app) {
   add_job_options(sub, args->job);
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   add_threads_option(sub, args->threads);
+  sub->add_flag("--yes", args->yes,
+                "Run a job the preflight forecasts past its limits (files over 2 GB, or over "
+                "an hour)");
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_slice(*args); };
 }

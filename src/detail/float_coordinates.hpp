@@ -1,7 +1,11 @@
 /// @file float_coordinates.hpp
 /// @brief Points rounded to float before a mesh is validated, so that formats storing floats
-/// (binary STL, PLY) hold exactly the mesh that was validated: fill and repair both do it.
+/// (binary STL, PLY) hold exactly the mesh that was validated: fill and repair both do it; and
+/// as the layer files' six decimals hold them.
 #pragma once
+
+#include <array>
+#include <charconv>
 
 #include "tpmsfill/types.hpp"
 
@@ -13,6 +17,16 @@ namespace tpmsfill::detail {
 inline double float_value(double c) {
   volatile float f = static_cast<float>(c);
   return f;
+}
+
+/// `c` as six decimals of fixed point (std::to_chars, as the layer files print it) read back.
+inline double six_decimals_value(double c) {
+  std::array<char, 400> text;  // the longest double in fixed notation, with room to spare
+  const auto printed =
+      std::to_chars(text.data(), text.data() + text.size(), c, std::chars_format::fixed, 6);
+  double read = c;
+  std::from_chars(text.data(), printed.ptr, read);
+  return read;
 }
 
 /// `p` with each coordinate rounded to the nearest float.

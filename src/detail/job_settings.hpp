@@ -4,6 +4,8 @@
 /// against the model's box, the band's width and the field source the model clips.
 #pragma once
 
+#include <utility>
+
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/compose.hpp"
 #include "tpmsfill/design.hpp"
@@ -18,7 +20,7 @@ namespace tpmsfill::detail {
 /// Memory estimates' shared terms: per input triangle the soup (three points, STL-style), the
 /// tree's copy and nodes; and a fixed allowance for the process and its libraries.
 inline constexpr double kBytesPerInputTriangle = 260.0;
-inline constexpr double kFixedBytes = 64.0 * 1024 * 1024;
+inline constexpr double kFixedBytes = 40.0 * 1024 * 1024;
 
 /// A size in memory refusals, in --memory's binary units: "6.1 GiB", "150 MiB", bytes below
 /// 1 MiB (a budget of "1" is "1 byte", not "1e-09 GB"). (fill.cpp)
@@ -59,6 +61,15 @@ void solve_porosity_with_skin(const FillOptions& options, const MeshIndex& tree,
 /// cover mostly void or mostly solid; a TPMS's over its cell, which a part a few cells across
 /// cuts. Designs without one porosity (graded, blended, custom) are not judged.
 void warn_porosity(const LatticeDesign& design, double got, FillReport& report);
+
+/// The output's surface area (mm²) fill's forecast expects of `model` (in mm): the lattice's
+/// area per volume over the model's volume plus half the model's surface (fill.cpp).
+double expected_output_area(const TriangleSoup& model, const FillOptions& options);
+
+/// A forecast's wall time: `on_two`, seconds on the 2 cores its model was measured on, scaled
+/// by the cores TBB may use, as a range from half to twice that (a machine's speed and a
+/// model's shape move it by up to about 2x either way).
+std::pair<double, double> seconds_range(double on_two);
 
 /// Warnings for measured walls and pores below FillOptions::min_wall and min_pore (with the
 /// share of samples, the worst sizes and where they are); nothing without measures.

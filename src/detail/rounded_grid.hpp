@@ -1,7 +1,8 @@
 /// @file rounded_grid.hpp
-/// @brief Where a grid's nodes lie once a file holds them (STL: floats; 3MF: lib3mf's
-/// micrometres), and where the marching-cubes vertex of each grid edge may go so that, as the
-/// file holds it, it stays strictly inside its edge.
+/// @brief Where a grid's nodes lie once a file holds them (STL, binary CLI: floats; 3MF:
+/// lib3mf's micrometres; ASCII CLI, SVG: six decimals), and where the marching-cubes (or
+/// marching-squares) vertex of each grid edge may go so that, as the file holds it, it stays
+/// strictly inside its edge.
 ///
 /// Why this is enough for a valid file: rounding gives a node coordinate the same value
 /// wherever it appears, so the held nodes form a rectilinear grid again, and a marching-cubes
@@ -31,6 +32,8 @@ inline double held(CoordinateRounding rounding, double x) {
       return float_value(x);
     case CoordinateRounding::ThreeMf:
       return io::three_mf_rounded(static_cast<float>(x));
+    case CoordinateRounding::SixDecimals:
+      return six_decimals_value(x);
   }
   return x;
 }
@@ -43,16 +46,20 @@ double held_step(CoordinateRounding rounding, double magnitude);
 /// four held steps, so rounding moves a vertex by at most an eighth of a voxel.
 double finest_held_voxel(CoordinateRounding rounding, double magnitude);
 
+/// What the held coordinates are written into, for the refusal's advice.
+enum class HeldFile { Mesh, Layers };
+
 /// @throws InputError  the file's coordinates are too coarse where `grid` reaches for its
 ///                     voxel (finest_held_voxel): one sentence with the distance, the step,
-///                     the voxel that would do and the formats that hold doubles
-void require_held_grid(const Grid& grid, CoordinateRounding rounding);
+///                     the voxel that would do and the formats that hold finer coordinates
+void require_held_grid(const Grid& grid, CoordinateRounding rounding,
+                       HeldFile file = HeldFile::Mesh);
 
 /// A grid's nodes and edge interiors as a file with `rounding` holds them.
 class RoundedGrid {
  public:
   /// @throws InputError  as require_held_grid
-  RoundedGrid(const Grid& grid, CoordinateRounding rounding);
+  RoundedGrid(const Grid& grid, CoordinateRounding rounding, HeldFile file = HeldFile::Mesh);
 
   /// `x` (on edge `i` along `axis`, between nodes i and i + 1) as the file holds it, moved to
   /// the nearest held value strictly inside the edge where rounding took it to a node or

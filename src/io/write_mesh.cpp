@@ -660,6 +660,9 @@ Vec3 round_coordinates(CoordinateRounding rounding, Vec3 p) {
       return {io::three_mf_rounded(static_cast<float>(p.x)),
               io::three_mf_rounded(static_cast<float>(p.y)),
               io::three_mf_rounded(static_cast<float>(p.z))};
+    case CoordinateRounding::SixDecimals:
+      return {detail::six_decimals_value(p.x), detail::six_decimals_value(p.y),
+              detail::six_decimals_value(p.z)};
   }
   return p;
 }
