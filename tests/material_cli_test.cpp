@@ -12,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tpmsfill/check.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/tet_mesh.hpp>
 
@@ -229,6 +230,40 @@ TEST(MaterialCli, SlicePreflightForecastsTheStack) {
   EXPECT_NE(out.find("the job would write about"), std::string::npos) << out;
   EXPECT_NE(out.find("--yes runs it as it is"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(huge));
+}
+
+// Iso-material surfaces of a model anywhere: the report's degenerate triangles are the
+// written file's (as its format holds the coordinates), and any the rounding made are warned
+// about; PLY holds doubles and makes none.
+TEST(MaterialCli, IsoSurfacesReportWhatTheirFileHolds) {
+  const fs::path dir = test::scratch_dir();
+  for (const double offset : {0.0, 1e5}) {
+    TetMesh blob = test::make_tet_grid({0, 0, 0}, {20, 10, 10}, {6, 3, 3}, 0.1);
+    for (Vec3& p : blob.points) p = p + Vec3{offset, offset, 0};
+    const fs::path tets = dir / "blob.vtk", model = dir / "blob.tsm";
+    write_tet_mesh(tets, blob);
+    std::string out;
+    ASSERT_EQ(material_fit(tets, model, "--material x 0 1", &out), 0) << out;
+    for (const char* name : {"iso.stl", "iso.ply"}) {
+      std::string command = TPMSFILL_CLI;
+      command.append(" material iso ").append(quoted(model)).append(" ");
+      ASSERT_EQ(test::run_command(command + quoted(dir / name) + " --values 0.3 0.6 --json", &out),
+                0)
+          << out;
+      const std::size_t at = out.find('{');
+      ASSERT_NE(at, std::string::npos) << out;
+      const auto reported = nlohmann::json::parse(out.substr(at, out.rfind('}') - at + 1));
+      const MeshCheck written = check_mesh(read_mesh(dir / name), {.self_intersections = false});
+      EXPECT_EQ(reported["degenerate_triangles"].get<std::uint64_t>(), written.degenerate_triangles)
+          << name << " at " << offset;
+      if (std::string(name) == "iso.ply") {
+        EXPECT_EQ(written.degenerate_triangles, 0u) << offset;
+      }
+      if (written.degenerate_triangles > 0) {
+        EXPECT_NE(out.find("hold doubles"), std::string::npos) << out;
+      }
+    }
+  }
 }
 
 TEST(MaterialCli, FillGradedByTheModelsMaterial) {
