@@ -1015,7 +1015,7 @@ PY
     for type in gyroid primitive diamond iwp neovius frd lidinoid splitp; do
       sheet=(); [[ $style == sheet ]] && sheet=(--sheet)
       ./build/tpmsfill fill "$tmp/cube.off" "$tmp/m.stl" --quiet --lattice "$type" "${sheet[@]}" \
-        --cell 2 --voxel 0.1 --report "$tmp/m.json"
+        --cell 2 --voxel 0.1 --report "$tmp/m.json" 2>/dev/null
       python3 - "$type" "$style" "$tmp/m.json" <<'PY'
 import json, sys
 name, style, report = sys.argv[1:4]
@@ -1049,7 +1049,7 @@ PY
         timed timeout 900 ./build/tpmsfill fill "$f" "$tmp/m.stl" --quiet --yes --cell "$cell" \
           --voxel "$voxel" --report "$tmp/m.json" "${flags[@]}" 2>"$tmp/err.txt"
         if [[ $code != 0 ]]; then
-          echo "| $(basename "$f") | $voxel | $budget | exit $code: $(head -c 100 "$tmp/err.txt" | tr '\n|' '  ') |"
+          echo "| $(basename "$f") | $(printf %.4g "$voxel") | $budget | refused (exit $code): $(head -c 120 "$tmp/err.txt" | tr '\n|' '  ') |"
           break
         fi
         python3 - "$(basename "$f")" "$voxel" "$budget" "$kb" "$tmp/m.json" "${flags[1]:-0}" <<'PY'
