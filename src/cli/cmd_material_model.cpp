@@ -270,8 +270,12 @@ int run_material_iso(const ModelArgs& a) {
   // what to do when the rounding made any.
   const MeshCheck exact = check_mesh(all, {.self_intersections = false});
   const MeshFormat format = format_from_extension(a.output);
-  round_coordinates(rounding_for(format), all);
-  const MeshCheck held = check_mesh(all, {.self_intersections = false});
+  MeshCheck held = exact;
+  if (const CoordinateRounding rounding = rounding_for(format);
+      rounding != CoordinateRounding::None) {
+    round_coordinates(rounding, all);
+    held = check_mesh(all, {.self_intersections = false});
+  }
   if (held.degenerate_triangles > exact.degenerate_triangles) {
     const Box3& b = held.bbox;
     const double reach = std::max({std::fabs(b.min.x), std::fabs(b.min.y), std::fabs(b.min.z),
