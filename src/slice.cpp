@@ -402,8 +402,7 @@ void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double
 void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start, double L,
                   std::uint64_t from, std::uint64_t to, bool whole, SliceReport& report,
                   const LayerSink& sink, Progress* progress, DepthPlanes* depth,
-                  CoordinateRounding rounding) {
-  const detail::RoundedGrid held = held_plane(grid, rounding);
+                  const detail::RoundedGrid& held) {
   Occupancy::PlaneCounts totals;
   bool any_inside = false;
   const std::size_t at_once = detail::slabs_at_once();
@@ -473,7 +472,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   r.grid = grid;
   // A grid finer than the layer file's coordinates where the part sits cannot be written
   // simple: refused now, before any work.
-  held_plane(grid, slice_options.rounding);
+  const detail::RoundedGrid held = held_plane(grid, slice_options.rounding);
   // Depth ramps read fill's grid planes around each layer (DepthPlanes), so the layer's own
   // slab needs only the band's reach.
   const double reach = detail::depth_reach(design);
@@ -517,7 +516,7 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
     detail::FieldPlanes field{*indexed.tree, rule, options, design, halo};
     if (depth) field.depth = [&](const Mask& inside) { return depth->depth(inside); };
     slice_layers(field, grid, start, L, from, to, whole, report, sink, job.get(),
-                 depth ? &*depth : nullptr, slice_options.rounding);
+                 depth ? &*depth : nullptr, held);
   });
   r.samples = report.plane_nodes * (to - from);
   if (whole) detail::warn_porosity(design, report.porosity(), r);

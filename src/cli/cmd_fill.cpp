@@ -300,9 +300,7 @@ Command add_fill_command(CLI::App& app) {
                   "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "
                   "middle of its box, seen from the three-quarter view of `tpmsfill render`");
   add_threads_option(sub, args->threads);
-  sub->add_flag("--yes", args->yes,
-                "Run a job the preflight forecasts past its limits (an output over 2 GB, or over "
-                "an hour); without it such a job is refused before any work");
+  add_yes_flag(sub, args->yes);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_fill(*args); };
 }

@@ -339,7 +339,9 @@ std::function<std::optional<int>()> add_material_model_commands(CLI::App* materi
       "marching cubes at one level gives the filled section, its vertices mapped through G and "
       "M (docs/method.md, seed 001 step 11). Formats: .cli (contours), .svg (triangles coloured "
       "by material), or --format svg-layers|png with a folder (PNG: grey = material, 0 empty). "
-      "The report gives each layer's area, triangles and material histogram (--bins).\n\n"
+      "The report gives each layer's area, triangles and material histogram (--bins). Before "
+      "a stack of more than 12 layers, six layers spread over it are sliced first to forecast "
+      "its size and time (the preflight; --yes runs a job past its limits).\n\n"
       "Examples:\n"
       "  tpmsfill material slice femur.tsm femur.svg --layer 0.5\n"
       "  tpmsfill material slice femur.tsm layers/ --layer 0.1 --format png --pixel 0.05\n"
@@ -355,9 +357,7 @@ std::function<std::optional<int>()> add_material_model_commands(CLI::App* materi
                   "at, instead of grey = material for a printer");
   slice->add_option("--bins", args->bins, "Material histogram bins per layer (default 10)")
       ->check(CLI::Range(1, 1000));
-  slice->add_flag("--yes", args->yes,
-                  "Run a job the preflight forecasts past its limits (files over 2 GB, or over "
-                  "an hour); the preflight slices six layers spread over the stack first");
+  add_yes_flag(slice, args->yes);
   add_octree_options(slice, *args);
   CLI::App* iso = material->add_subcommand(
       "iso", "The surfaces of equal material of a fitted model (.tsm), as one mesh");

@@ -203,9 +203,7 @@ Command add_slice_command(CLI::App& app) {
   add_job_options(sub, args->job);
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   add_threads_option(sub, args->threads);
-  sub->add_flag("--yes", args->yes,
-                "Run a job the preflight forecasts past its limits (files over 2 GB, or over "
-                "an hour)");
+  add_yes_flag(sub, args->yes);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   return [args] { return run_slice(*args); };
 }

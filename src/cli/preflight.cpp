@@ -43,6 +43,12 @@ std::string seconds_text(double s) {
   return b;
 }
 
+void add_yes_flag(CLI::App* sub, bool& yes) {
+  sub->add_flag("--yes", yes,
+                "Run a job the preflight forecasts past its limits (an output over 2 GB, or over "
+                "an hour); without it such a job is refused before any work");
+}
+
 void run_preflight(const Preflight& p, bool yes, TerminalProgress* progress) {
   if (progress && rank() == 0) {
     progress->clear();

@@ -4,6 +4,7 @@
 // that says what would bring it under them, unless --yes.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -35,6 +36,9 @@ struct Preflight {
 /// `progress` is cleared first; nothing is printed without one (--quiet).
 /// @throws InputError  past a limit without `yes`
 void run_preflight(const Preflight& p, bool yes, TerminalProgress* progress);
+
+/// `--yes` on `sub`: run a job the preflight forecasts past its limits.
+void add_yes_flag(CLI::App* sub, bool& yes);
 
 /// "648 k", "33.8 MB", "7.48 GB": three digits and an SI prefix.
 std::string si_text(double value, const char* unit);
