@@ -64,6 +64,10 @@
 #     mesh of ../shared/meshes and three of libcgal-demo's at three voxels (cell = longest side
 #     / 15; voxel = cell / 10, / 15, / 20), then the same jobs under --memory at half their
 #     whole-grid estimate (slabs): the peak must stay under the budget
+#  slow-clients:
+# 28. `tpmsfill serve` while N clients (0, 70, 200) each trickle a header byte every 200 ms and
+#     never finish: the seconds GET /v1/health takes (20 requests), and when the slow ones are
+#     let go
 #  decimate-cgal:
 # 19. `tpmsfill decimate IN OUT --tolerance D/500` (D: the bounding box's diagonal) on every mesh
 #     of libcgal-demo's data/meshes that `tpmsfill check` calls valid, each output checked
@@ -73,7 +77,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade|placement|memory)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -1067,3 +1071,71 @@ PY
     done
   done
 fi
+
+if [[ "$section" == all || "$section" == slow-clients ]]; then
+  echo
+  echo "## 28. the service under slow clients"
+  echo
+  echo "| slow clients | health: median s | health: max s | slow clients let go after s |"
+  echo "|---:|---:|---:|---:|"
+  for n in 0 70 200; do
+    mkdir -p "$tmp/serve-$n"
+    printf 'bench-token-0123456789\n' >"$tmp/serve-$n/token"
+    chmod 600 "$tmp/serve-$n/token"
+    ./build/tpmsfill serve --listen 127.0.0.1:0 --data "$tmp/serve-$n" \
+      --token-file "$tmp/serve-$n/token" >"$tmp/serve-$n/out.txt" 2>&1 &
+    server=$!
+    for _ in $(seq 100); do grep -q "listening on" "$tmp/serve-$n/out.txt" && break; sleep 0.1; done
+    port=$(sed -n 's|^listening on http://127.0.0.1:\([0-9]*\)$|\1|p' "$tmp/serve-$n/out.txt")
+    python3 - "$port" "$n" <<'PY'
+import socket, statistics, sys, threading, time, urllib.request
+port, n = int(sys.argv[1]), int(sys.argv[2])
+slow = []
+for _ in range(n):
+    s = socket.create_connection(("127.0.0.1", port))
+    s.setblocking(False)
+    slow.append(s)
+head = b"GET /v1/health HTTP/1.1\r\nHost: x\r\nX-Slow: "
+start = time.monotonic()
+closed_at = {}
+done = False
+def trickle():
+    i = 0
+    while not done:
+        for k, s in enumerate(slow):
+            if k in closed_at:
+                continue
+            try:
+                s.send(head[i:i + 1] if i < len(head) else b"x")
+            except OSError:
+                closed_at[k] = time.monotonic() - start
+            try:
+                if s.recv(512) == b"":
+                    closed_at[k] = time.monotonic() - start
+            except BlockingIOError:
+                pass
+            except OSError:
+                closed_at[k] = time.monotonic() - start
+        i += 1
+        time.sleep(0.2)
+t = threading.Thread(target=trickle)
+t.start()
+time.sleep(1)
+times = []
+for _ in range(20):
+    t0 = time.monotonic()
+    urllib.request.urlopen(f"http://127.0.0.1:{port}/v1/health", timeout=120).read()
+    times.append(time.monotonic() - t0)
+    time.sleep(0.2)
+while n and len(closed_at) < n and time.monotonic() - start < 40:
+    time.sleep(0.2)
+done = True
+t.join()
+let_go = f"{max(closed_at.values()):.1f}" if closed_at else "-"
+print(f"| {n} | {statistics.median(times):.4f} | {max(times):.4f} | {let_go} |")
+PY
+    kill "$server"
+    wait "$server" 2>/dev/null || true
+  done
+fi
+

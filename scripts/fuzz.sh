@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Fuzzes the mesh readers, the recipe reader, the field/ITDF readers, the tet-mesh readers and the
-# solid spline model reader (.tsm) with libFuzzer + ASan + UBSan, one run each.
+# Fuzzes the mesh readers (3MF included), the recipe reader, the field/ITDF readers, the tet-mesh
+# readers, the solid spline model reader (.tsm), the point-cloud reader and the service's job
+# options with libFuzzer + ASan + UBSan, one run each.
 #   scripts/fuzz.sh [seconds per reader]        (default 120)
 # Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
 set -euo pipefail
@@ -19,7 +20,7 @@ fi
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTPMSFILL_FUZZ=ON -DTPMSFILL_BUILD_TESTS=OFF -DTPMSFILL_BUILD_EXAMPLES=OFF
 cmake --build "$build" --target read_mesh_fuzz read_recipe_fuzz read_volume_fuzz read_tet_mesh_fuzz \
-  read_solid_model_fuzz
+  read_solid_model_fuzz read_points_fuzz service_options_fuzz
 fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 
 # Seed corpus: one small valid file per format, written here, plus assimp's test models when
@@ -181,4 +182,28 @@ if [ -x "$root/build/tpmsfill" ] && [ -f "$root/build/examples/example_box.stl" 
   rm -f "$tets"
 fi
 fuzz model "$build/tests/fuzz/read_solid_model_fuzz" 16384
+# Point clouds: XYZ text (comments, commas, extra columns), a PLY's vertices, gzipped XYZ.
+mkdir -p "$seeds/points"
+printf '# x y z\n0 0 0\n1,0,0\n0 1 0 0 0 1\n0\t0\t1\n' >"$seeds/points/a.xyz"
+printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 1 1\n' >"$seeds/points/b.ply"
+gzip -c "$seeds/points/a.xyz" >"$seeds/points/c.xyz.gz"
+fuzz points "$build/tests/fuzz/read_points_fuzz" 65536
+# The service's job options: a byte for the kind (check, repair, fill, slice, material-fit,
+# material-slice, material-iso), then the JSON; seeded with each kind's documented options.
+mkdir -p "$seeds/options"
+python3 - "$seeds/options" "$root/docs/recipes" <<'PY'
+import glob, sys
+d, recipes = sys.argv[1:3]
+def put(name, kind, text): open(f"{d}/{name}", "wb").write(bytes([kind]) + text.encode())
+put("check", 0, '{"units": "mm", "self_intersections": false}')
+put("repair", 1, '{"alpha": 0.5, "tolerance": 0.01}')
+put("slice", 3, '{"layer": 0.1, "format": "svg", "recipe": {"voxel": 0.2}}')
+put("material-slice", 5, '{"layer": 0.5, "format": "svg"}')
+put("material-iso", 6, '{"level": 0.5}')
+for i, f in enumerate(sorted(glob.glob(f"{recipes}/*.json"))[:8]):
+    put(f"fill{i}", 2, open(f).read())
+PY
+# What earlier runs found, kept as seeds so that each stays fixed.
+cp "$root"/tests/fuzz/regressions/options-* "$seeds/options/" 2>/dev/null || true
+fuzz options "$build/tests/fuzz/service_options_fuzz" 16384
 exit $status

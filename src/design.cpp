@@ -243,6 +243,9 @@ void require_valid(const LatticeDesign& d) {
   }
   bool network = d.style == TpmsStyle::Network && !d.custom,
        sheet = d.style == TpmsStyle::Sheet && !d.custom;
+  if (d.blends.size() > kMaxBlends)
+    throw InputError(std::to_string(d.blends.size()) + " blends: at most " +
+                     std::to_string(kMaxBlends) + " (the limit)");
   for (const Blend& b : d.blends) {
     require_valid(b.tpms);
     (b.tpms.style == TpmsStyle::Network ? network : sheet) = true;

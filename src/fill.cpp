@@ -108,9 +108,10 @@ enum class Count { Expected, Bound };
 
 // The output's area: the lattice's (area_per_volume of the densest layer, blends and cell
 // grading included, over the model's volume) plus the model's surface where cut cells meet it
-// (about half of it on a thick part, all of it on thin walls cut from both sides: a shark of
-// mechanical holes and a thin block made 1.2 to 1.6 times the half's count). Expected: half
-// the surface; Bound: all of it.
+// (about half of it on a thick part, its solid fraction 1 - porosity: 0.15 to 0.64 measured
+// over 22 meshes at the gyroid network's 0.5, docs/benchmarks.md §27). Expected: half the
+// surface; Bound: all of it, since a shark of mechanical holes at 0.7 of it made 1.10 times
+// the count (its thin walls carry more lattice than their volume's share).
 double output_area(const ModelSize& m, const FillOptions& o, Count count) {
   double density = area_per_volume(o.design);
   for (const Blend& b : o.design.blends) density = std::fmax(density, area_per_volume(b.tpms));

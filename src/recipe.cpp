@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "detail/file_bytes.hpp"
+#include "detail/json_depth.hpp"
 #include "detail/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/itdf.hpp"
@@ -116,7 +118,8 @@ class Reader {
     for (auto it = value_.begin(); it != value_.end(); ++it)
       if (std::find(used_.begin(), used_.end(), it.key()) == used_.end()) {
         std::string known;
-        for (const std::string& k : used_) known += (known.empty() ? "" : ", ") + k;
+        for (auto k = used_.begin(); k != used_.end(); ++k)
+          if (std::find(used_.begin(), k, *k) == k) known += (known.empty() ? "" : ", ") + *k;
         fail(it.key(), "unknown key (known here: " + known + ")");
       }
   }
@@ -226,6 +229,13 @@ json tpms_json(const TpmsOptions& o, bool full) {
 FillOptions read_recipe(std::string_view text, const std::string& source,
                         const FillOptions& defaults) {
   json root;
+  if (const auto byte = detail::json_too_deep(text)) {
+    std::uint64_t line = 1;
+    for (std::size_t i = 0; i < *byte; ++i) line += text[i] == '\n';
+    detail::fail_at_line(source, line,
+                         "JSON nested more than " + std::to_string(detail::kMaxJsonDepth) +
+                             " levels deep (the limit)");
+  }
   try {
     root = json::parse(text.begin(), text.end());
   } catch (const json::exception& e) {
@@ -240,6 +250,8 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   r.number("voxel", o.grid.voxel_size);
   r.integer("padding", o.grid.padding);
   r.integer("band", o.band.width);
+  if (!(o.band.width >= 1 && o.band.width <= 64))  // as --band
+    throw InputError(source + ": band: must be 1 to 64 voxels");
   r.number("skin", o.skin);
   r.boolean("skin_windows", o.skin_windows);
   r.name("inside", o.inside, inside_from_name);
@@ -334,12 +346,8 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
 }
 
 FillOptions read_recipe_file(const std::string& path, const FillOptions& defaults) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open the recipe");
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw IoError(path + ": cannot read the recipe");
-  return read_recipe(bytes.str(), path, defaults);
+  // A recipe is a page of JSON: 16 MiB is far beyond any, and a FIFO or a device is refused.
+  return read_recipe(detail::read_file_bytes(path, std::uint64_t{16} << 20), path, defaults);
 }
 
 std::string recipe_json(const FillOptions& o) {

@@ -343,7 +343,16 @@ MeshMetadata lattice_metadata(const FillReport& r, MeshMetadata given) {
                    : std::string("; NOT valid")) +
         ".";
   }
-  given.attachments.emplace_back("Metadata/tpmsfill-report.json", to_json(r));
+  // Without the seconds and the peak memory, which differ from run to run: the same job
+  // writes the same bytes (docs/formats.md).
+  json report = json::parse(to_json(r));
+  report.erase("total_seconds");
+  report.erase("peak_memory_mb");
+  for (json& stage : report["stages"]) {
+    stage.erase("seconds");
+    stage.erase("peak_memory_mb");
+  }
+  given.attachments.emplace_back("Metadata/tpmsfill-report.json", report.dump(2) + "\n");
   return given;
 }
 

@@ -7,11 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "detail/file_bytes.hpp"
-#include "detail/inflate.hpp"
 #include "detail/parallel.hpp"
-#include "detail/parse_errors.hpp"
-#include "io/formats.hpp"
 #include "tpmsfill/classify.hpp"
 #include "tpmsfill/clean.hpp"
 #include "tpmsfill/distance.hpp"
@@ -195,29 +191,6 @@ class PointTree {
   std::vector<Vec3> points_;
 };
 
-std::vector<Vec3> parse_xyz(std::string_view data, const std::string& source) {
-  std::vector<Vec3> points;
-  std::uint64_t line = 0;
-  for (std::size_t at = 0; at < data.size();) {
-    const std::size_t eol = std::min(data.find('\n', at), data.size());
-    std::string text(data.substr(at, eol - at));
-    at = eol + 1;
-    ++line;
-    if (const std::size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
-    for (char& ch : text)
-      if (ch == ',' || ch == ';' || ch == '\t' || ch == '\r') ch = ' ';
-    if (text.find_first_not_of(' ') == std::string::npos) continue;
-    double xyz[3];
-    int used = 0;
-    if (std::sscanf(text.c_str(), "%lf %lf %lf%n", &xyz[0], &xyz[1], &xyz[2], &used) != 3)
-      detail::fail_at_line(source, line, "expected three coordinates x y z");
-    if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
-      detail::fail_at_line(source, line, "a coordinate is not finite");
-    points.push_back({xyz[0], xyz[1], xyz[2]});
-  }
-  return points;
-}
-
 }  // namespace
 
 ScalarVolume field_from_mesh(const TriangleSoup& mesh, const ScannedFieldOptions& o) {
@@ -294,24 +267,6 @@ ScalarVolume field_from_ct(const ScalarVolume& ct, double iso, bool solid_below)
   for (std::size_t n = 0; n < v.values.size(); ++n)
     v.values[n] = solid[n] ? -(std::sqrt(to_empty[n]) - 0.5 * h) : std::sqrt(to_solid[n]) - 0.5 * h;
   return v;
-}
-
-std::vector<Vec3> read_points(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::string bytes = detail::read_file_bytes(path, std::uint64_t{4} << 30);
-  if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
-      static_cast<unsigned char>(bytes[1]) == 0x8b)
-    bytes = detail::inflate_bytes(bytes, name, std::uint64_t{4} << 30);
-  std::vector<Vec3> points;
-  if (bytes.rfind("ply", 0) == 0) {
-    MeshFile mesh;
-    io::read_ply(bytes, name, mesh);
-    points = std::move(mesh.soup.points);
-  } else {
-    points = parse_xyz(bytes, name);
-  }
-  if (points.empty()) throw InputError(name + " holds no points");
-  return points;
 }
 
 }  // namespace tpmsfill

@@ -513,15 +513,21 @@ TEST(Recipe, RoundTripsEverySetting) {
   EXPECT_EQ(*back.design.grading.at(0).ramp.to, 9.0);
 }
 
+namespace {
+
+// What read_recipe says of `text` (named r.json): its error, or "no error".
+std::string message(const std::string& text) {
+  try {
+    read_recipe(text, "r.json");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
 TEST(Recipe, ErrorsSayWhere) {
-  auto message = [](const std::string& text) {
-    try {
-      read_recipe(text, "r.json");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   EXPECT_EQ(message("{\n  \"voxel\": 0.1,\n  \"lattice\": {\"tpye\": \"gyroid\"}\n}")
                 .rfind("r.json: lattice.tpye: unknown key", 0),
             0u);
@@ -536,6 +542,32 @@ TEST(Recipe, ErrorsSayWhere) {
   // The types recipe.hpp promises: where in the file for malformed JSON, which key otherwise.
   EXPECT_THROW(read_recipe("{\"skin\": }", "r.json"), ParseError);
   EXPECT_THROW(read_recipe("{\"skni\": 1}", "r.json"), InputError);
+}
+
+// Issue 37: limits a recipe from a stranger meets, the same as the command line's.
+TEST(Recipe, HostileRecipesMeetTheLimits) {
+  // Nested 30,000 deep: refused on its text, before a parser or a dump recurses into it; the
+  // line where it passes the limit.
+  EXPECT_EQ(message("{\n\"lattice\":\n" + std::string(30000, '[') + std::string(30000, ']') + "}"),
+            "r.json:3: JSON nested more than 64 levels deep (the limit)");
+  EXPECT_EQ(message("{\"a\": \"" + std::string(100, '[') + "\"}").find("nested"),
+            std::string::npos);  // brackets in a string are text
+  // "band": 1e9 was accepted where --band refuses past 64.
+  EXPECT_EQ(message("{\"band\": 1000000000}"), "r.json: band: must be 1 to 64 voxels");
+  EXPECT_EQ(message("{\"band\": 0}"), "r.json: band: must be 1 to 64 voxels");
+  // 100,000 blends ran for minutes: at most kMaxBlends.
+  std::string blends = "{\"blends\": [";
+  for (std::size_t i = 0; i <= kMaxBlends; ++i)
+    blends += std::string(i ? "," : "") +
+              R"({"region": {"shape": "sphere", "point": [0, 0, 0], "size": 1}})";
+  EXPECT_NE(message(blends + "]}").find("65 blends: at most 64 (the limit)"), std::string::npos);
+  // The known keys are each named once ("grading, grading, blends, blends" before).
+  const std::string unknown = message("{\"colour\": 1}");
+  for (const std::string key : {"grading", "blends", "voxel"}) {
+    const std::size_t first = unknown.find(key);
+    ASSERT_NE(first, std::string::npos) << unknown;
+    EXPECT_EQ(unknown.find(key, first + 1), std::string::npos) << unknown;
+  }
 }
 
 TEST(Recipe, ResolvedOptionsRecipeReproducesTheJob) {

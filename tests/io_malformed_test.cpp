@@ -1,6 +1,8 @@
 // Every class of malformed input: the right exception type, and a message with the location.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
+#include <chrono>
 #include <cstring>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
@@ -251,4 +253,43 @@ TEST(IoMalformed, OtherKindsOfFileAreNamed) {
   stl.append(reinterpret_cast<const char*>(facet), sizeof facet);
   stl.append(2, '\0');
   EXPECT_EQ(parse_mesh(stl, "odd-header.stl").soup.triangles.size(), 1u);
+}
+
+// Issue 37: a gzipped STL of zeros declares 0 triangles in its first 84 bytes: inflating stops
+// there (1 GiB of zeros peaked at 2.1 GB before the reader said a word). A text STL declares
+// nothing and is read as before.
+TEST(IoMalformed, GzippedStlStopsAtTheSizeItsHeaderDeclares) {
+  const auto gz = [](const std::string& in) { return test::gzip(in, 1); };
+  const std::string packed = gz(std::string(std::size_t{64} << 20, '\0'));
+  ASSERT_LT(packed.size(), 1u << 20);
+  const auto start = std::chrono::steady_clock::now();
+  expect_input_error(packed, "bomb.stl.gz", "more than 84 bytes, the size its header declares");
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+  // A binary STL of one triangle followed by junk is refused the same way; the triangle alone
+  // reads.
+  std::string stl = binary_stl_header(1);
+  const float facet[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+  stl.append(reinterpret_cast<const char*>(facet), sizeof facet);
+  stl.append(2, '\0');
+  EXPECT_EQ(parse_mesh(gz(stl), "one.stl.gz").soup.triangles.size(), 1u);
+  expect_input_error(gz(stl + std::string(1000, 'x')), "one.stl.gz", "more than 134 bytes");
+  const std::string text =
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+      "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+  EXPECT_EQ(parse_mesh(gz(text), "t.stl.gz").soup.triangles.size(), 1u);
+}
+
+// Issue 37: `mkfifo p.stl; tpmsfill check p.stl` waited forever for a writer.
+TEST(IoMalformed, FifosAndOtherNonRegularFilesAreRefused) {
+  const auto dir = test::scratch_dir();
+  ASSERT_EQ(mkfifo((dir / "p.stl").c_str(), 0600), 0);
+  try {
+    read_mesh(dir / "p.stl");
+    ADD_FAILURE() << "read";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("it is a FIFO, and only regular files are read"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(read_mesh("/dev/zero"), IoError);
 }

@@ -3,11 +3,15 @@
 // with a job queued and one running, and 50 jobs at once.
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <zip.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +39,7 @@ class Service {
   explicit Service(const fs::path& data, const std::vector<std::string>& extra = {}) : data_(data) {
     fs::create_directories(data);
     test::write_file(data / "token.txt", kToken + "\n");
+    fs::permissions(data / "token.txt", fs::perms::owner_read | fs::perms::owner_write);
     std::vector<std::string> args = {
         TPMSFILL_CLI, "serve",       "--listen",     "127.0.0.1:0",
         "--data",     data.string(), "--token-file", (data / "token.txt").string()};
@@ -73,6 +78,7 @@ class Service {
     pid_ = 0;
   }
   pid_t pid() const { return pid_; }
+  int port() const { return port_; }
 
   httplib::Client client(bool with_token = true) const {
     httplib::Client c("127.0.0.1", port_);
@@ -202,6 +208,9 @@ TEST(Service, BadRequestsAreRefusedWithTheSentence) {
   refused("check", R"({"colour": 1})", "unknown key 'colour'");
   refused("check", R"({"units": "furlong"})", "furlong");
   refused("check", "{not json", "not valid JSON");
+  // A number past a double's range (service_options_fuzz's first finding: an uncaught
+  // nlohmann out_of_range; tests/fuzz/regressions/options-number-out-of-range).
+  refused("check", R"({"units": 77777E777777777})", "a number out of range");
   refused("repair", R"({"alpha": -1})", "alpha: must be above 0");
   refused("slice", R"({"format": "cli"})", "layer");
   refused("slice", R"({"layer": 0.1, "format": "dxf"})", "format");
@@ -224,6 +233,142 @@ TEST(Service, BadRequestsAreRefusedWithTheSentence) {
   auto nowhere = service.client().Get("/v1/nowhere");
   EXPECT_EQ(nowhere->status, 404);
   EXPECT_NE(nowhere->body.find("no endpoint GET /v1/nowhere"), std::string::npos) << nowhere->body;
+}
+
+// Issue 37: requests that killed or misled the service. Options nested 30,000 deep (60 KB)
+// overflowed a request thread's stack and took the server down; now a 400 and health answers.
+// "bearer" is the scheme too (RFC 7235); a job's files are its user's only and its report
+// names no server path; a staged file a killed command left behind is swept at the start.
+TEST(Service, HostileRequestsAreRefusedAndTheServiceStands) {
+  const fs::path dir = test::scratch_dir();
+  const fs::path data = dir / "data";
+  const std::string box = stl_bytes(dir, test::make_box({0, 0, 0}, {1, 1, 1}));
+  std::string id;
+  {
+    Service service(data);
+    const std::string deep = std::string(30000, '[') + std::string(30000, ']');
+    const std::string deep_object =
+        "{\"recipe\": " + std::string(30000, '[') + std::string(30000, ']') + "}";
+    for (const auto& [kind, options] :
+         {std::pair{"check", std::string("{\"units\": " + deep + "}")},
+          std::pair{"slice", deep_object},
+          std::pair{"fill", std::string("{\"lattice\": " + deep + "}")}}) {
+      auto res = service.submit(kind, box, options);
+      ASSERT_TRUE(res) << kind << ": the service died";
+      EXPECT_EQ(res->status, 400) << kind;
+      EXPECT_NE(res->body.find("nested more than 64 levels"), std::string::npos) << res->body;
+    }
+    // 7,000 blends sat in review until they were killed: refused at the request.
+    std::string blends = R"({"blends": [)";
+    for (int i = 0; i < 7000; ++i)
+      blends +=
+          std::string(i ? "," : "") +
+          R"({"lattice": {"type": "diamond"}, "region": {"shape": "sphere", "point": [0,0,0], "size": 1}})";
+    blends += "]}";
+    auto res = service.submit("fill", box, blends);
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 400);
+    EXPECT_NE(res->body.find("at most 64"), std::string::npos) << res->body;
+    auto health = service.client(false).Get("/v1/health");
+    ASSERT_TRUE(health);
+    EXPECT_EQ(health->status, 200);
+
+    auto c = service.client(false);
+    const httplib::Headers bearer = {{"Authorization", "bearer " + kToken}};
+    id = id_of(c.Post(
+        "/v1/check", bearer,
+        httplib::MultipartFormDataItems{{"mesh", box, "part.stl", "application/octet-stream"}}));
+    const Json j = service.wait(id);
+    ASSERT_EQ(j["state"], "done") << j.dump();
+    EXPECT_EQ(j.dump().find(fs::absolute(data).string()), std::string::npos) << j.dump();
+    EXPECT_EQ(j.dump().find(data.string()), std::string::npos) << j.dump();
+    for (const auto& entry : fs::recursive_directory_iterator(data / "jobs" / id))
+      EXPECT_EQ(entry.status().permissions() & (fs::perms::group_all | fs::perms::others_all),
+                fs::perms::none)
+          << entry.path();
+  }
+  // A command killed mid-write (with the server) leaves its staged file: swept at the start.
+  const fs::path left = data / "jobs" / id / ".result.stl.staged-99999-0";
+  test::write_file(left, "partial");
+  Service again(data);
+  EXPECT_FALSE(fs::exists(left));
+  EXPECT_TRUE(fs::exists(data / "jobs" / id / "job.json"));
+}
+
+// Issue 37: 70 clients sending a header byte a second held every request thread (each byte
+// restarted the idle timeout) and /v1/health took 43 s. Now a connection's headers are read by
+// one event loop and are due within 10 s of its first byte: with 200 such clients hanging on,
+// health answers in under a second, and each slow client is let go by its deadline.
+TEST(Service, SlowClientsDoNotStarveTheService) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data");
+  std::vector<int> slow;
+  const auto connect_one = [&] {
+    const int s = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(service.port()));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+      close(s);
+      return -1;
+    }
+    return s;
+  };
+  for (int k = 0; k < 200; ++k)
+    if (const int s = connect_one(); s >= 0) slow.push_back(s);
+  ASSERT_EQ(slow.size(), 200u);
+  const std::string head = "GET /v1/health HTTP/1.1\r\nHost: x\r\nX-Slow: ";
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<bool> done{false};
+  std::thread trickle([&] {  // a byte a client every 200 ms, never the blank line
+    for (std::size_t i = 0; !done; ++i) {
+      for (const int s : slow) {
+        const char c = i < head.size() ? head[i] : 'x';
+        send(s, &c, 1, MSG_NOSIGNAL | MSG_DONTWAIT);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  });
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  for (int k = 0; k < 3; ++k) {
+    const auto asked = std::chrono::steady_clock::now();
+    auto health = service.client(false).Get("/v1/health");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+    ASSERT_TRUE(health);
+    EXPECT_EQ(health->status, 200);
+    EXPECT_LT(seconds, 1.0);
+  }
+  // Past the 10 s header deadline every slow client has been let go: a read finds the end
+  // (after a 408 where the server could still send one), not silence.
+  std::this_thread::sleep_for(std::chrono::seconds(11) -
+                              (std::chrono::steady_clock::now() - start));
+  done = true;
+  trickle.join();
+  int closed = 0;
+  for (const int s : slow) {
+    pollfd p{s, POLLIN, 0};
+    char buffer[512];
+    while (poll(&p, 1, 100) > 0 && recv(s, buffer, sizeof buffer, MSG_DONTWAIT) > 0) {
+    }
+    if (poll(&p, 1, 0) > 0 && recv(s, buffer, sizeof buffer, MSG_DONTWAIT) == 0) ++closed;
+    close(s);
+  }
+  EXPECT_EQ(closed, 200);
+}
+
+// Issue 37: a time per job that the operator sets (--job-timeout), the same for every kind.
+TEST(Service, AJobPastItsTimeIsStopped) {
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data", {"--job-timeout", "1"});
+  const std::string ball = stl_bytes(dir, test::make_sphere({0, 0, 0}, 15, 4));
+  const std::string id = id_of(service.submit("fill", ball, kSlowFill));
+  const Json j = service.wait(id);
+  EXPECT_EQ(j["state"], "failed") << j.dump();
+  EXPECT_EQ(j["error"], "stopped: it ran past the service's 1 s a job (serve --job-timeout)")
+      << j.dump();
+  EXPECT_NE(service.get_result(id)->status, 200);
 }
 
 TEST(Service, UploadsOverTheLimitAreRefusedAndNotKept) {

@@ -86,6 +86,8 @@ std::vector<std::filesystem::path> files_in(const std::filesystem::path& dir,
                                             std::uintmax_t max_bytes);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 std::string read_file(const std::filesystem::path& path);
+/// `bytes` as one gzip member (zlib, deflate `level`).
+std::string gzip(const std::string& bytes, int level = 6);
 
 /// fill's defaults with a gyroid network of cubic cells `cell` mm and a grid of `voxel` mm.
 FillOptions gyroid_options(double cell, double voxel);

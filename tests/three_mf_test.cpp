@@ -3,16 +3,22 @@
 // reads as a slicer would; broken packages are refused with a sentence.
 #include <Model/COM/NMR_DLLInterfaces.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <zip.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "detail/inflate.hpp"
+#include "io/three_mf.hpp"
 #include "test_util.hpp"
 #include "tpmsfill/check.hpp"
 #include "tpmsfill/error.hpp"
@@ -184,6 +190,11 @@ TEST(ThreeMf, FilledLatticeIsOneValidObjectWithItsMetadata) {
   ASSERT_TRUE(v.self_intersecting_pairs.has_value());
   EXPECT_EQ(*v.self_intersecting_pairs, 0u);
   EXPECT_NEAR(v.volume, r.report.lattice_volume(), 1e-9 * r.report.lattice_volume());
+  // The same job writes the same bytes: the attached report holds no seconds or peak memory.
+  fs::create_directories(dir / "again");
+  fill_to_file(test::make_sphere({0.3, 0.1, -0.2}, 5, 4), test::gyroid_options(2.5, 0.2),
+               dir / "again" / "ball.3mf");
+  EXPECT_TRUE(test::read_file(dir / "ball.3mf") == test::read_file(dir / "again" / "ball.3mf"));
 }
 
 TEST(ThreeMf, RepairedMessyMeshStaysValidThroughThePackage) {
@@ -324,6 +335,192 @@ TEST(ThreeMf, GzippedPackageIsUnwrappedFirst) {
   EXPECT_TRUE(back.gzip);
   EXPECT_EQ(back.format, MeshFormat::ThreeMf);
   EXPECT_EQ(back.soup.triangles, mesh.triangles);
+}
+
+TEST(ThreeMf, ComponentsThatFanOutAreRefusedAtTheInstanceLimit) {
+  // Components 8 wide and 12 deep place 8^12 tetrahedra from a package of a few KB: refused
+  // once the limit's worth is placed (a second or so), not after days.
+  NMR::PLib3MFModel* raw = nullptr;
+  ASSERT_EQ(NMR::lib3mf_createmodel(&raw), LIB3MF_OK);
+  const Handle model(raw);
+  std::vector<Handle> owned;
+  owned.emplace_back(add_tetrahedron(raw, NMR::MODELOBJECTTYPE_MODEL));
+  for (int level = 0; level < 12; ++level) {
+    NMR::PLib3MFModelComponentsObject* group = nullptr;
+    ASSERT_EQ(NMR::lib3mf_model_addcomponentsobject(raw, &group), LIB3MF_OK);
+    for (int k = 0; k < 8; ++k) {
+      NMR::PLib3MFModelComponent* component = nullptr;
+      NMR::MODELTRANSFORM shift = transform(1, {k * 2.0, 0, 0});
+      ASSERT_EQ(
+          NMR::lib3mf_componentsobject_addcomponent(group, owned.back().get(), &shift, &component),
+          LIB3MF_OK);
+      NMR::lib3mf_release(component);
+    }
+    owned.emplace_back(group);
+  }
+  NMR::PLib3MFModelBuildItem* item = nullptr;
+  ASSERT_EQ(NMR::lib3mf_model_addbuilditem(raw, owned.back().get(), nullptr, &item), LIB3MF_OK);
+  NMR::lib3mf_release(item);
+  const fs::path path = test::scratch_dir() / "fan.3mf";
+  write_model(raw, path);
+  EXPECT_LT(fs::file_size(path), 8192u);
+  try {
+    read_mesh(path);
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("places more than " +
+                                         std::to_string(io::kMax3mfInstances) + " objects"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(ThreeMf, TransformsThatAreNotFiniteAreRefused) {
+  // A build item and a component whose transforms hold NaN (lib3mf reads "nan"; it refuses
+  // "inf" itself): refused with the sentence every reader gives non-finite numbers, before
+  // any point reaches a check or a fill.
+  const fs::path dir = test::scratch_dir();
+  for (const float bad :
+       {std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::quiet_NaN()}) {
+    for (const bool component : {false, true}) {
+      NMR::PLib3MFModel* raw = nullptr;
+      ASSERT_EQ(NMR::lib3mf_createmodel(&raw), LIB3MF_OK);
+      const Handle model(raw);
+      const Handle tet(add_tetrahedron(raw, NMR::MODELOBJECTTYPE_MODEL));
+      NMR::MODELTRANSFORM t = transform(1, {0, 0, 0});
+      t.m_fFields[1][3] = bad;
+      NMR::PLib3MFModelBuildItem* item = nullptr;
+      if (component) {
+        NMR::PLib3MFModelComponentsObject* group = nullptr;
+        ASSERT_EQ(NMR::lib3mf_model_addcomponentsobject(raw, &group), LIB3MF_OK);
+        const Handle owned_group(group);
+        NMR::PLib3MFModelComponent* c = nullptr;
+        ASSERT_EQ(NMR::lib3mf_componentsobject_addcomponent(group, tet.get(), &t, &c), LIB3MF_OK);
+        NMR::lib3mf_release(c);
+        ASSERT_EQ(NMR::lib3mf_model_addbuilditem(raw, group, nullptr, &item), LIB3MF_OK);
+      } else {
+        ASSERT_EQ(NMR::lib3mf_model_addbuilditem(raw, tet.get(), &t, &item), LIB3MF_OK);
+      }
+      NMR::lib3mf_release(item);
+      const fs::path path = dir / "bad.3mf";
+      write_model(raw, path);
+      try {
+        read_mesh(path);
+        ADD_FAILURE() << "no exception: " << bad << " " << component;
+      } catch (const ParseError& e) {
+        EXPECT_NE(std::string(e.what()).find("transform holds a value that is not a finite"),
+                  std::string::npos)
+            << e.what();
+      }
+    }
+  }
+}
+
+TEST(ThreeMf, AFullDiskIsAnErrorAndLeavesNoFiles) {
+  // Writes past a file size limit fail as on a full disk (EFBIG, SIGXFSZ ignored): lib3mf's
+  // writer threw from its destructor and aborted the process. Now: an IoError naming the
+  // output, and neither the output nor a temporary left in the folder.
+  const fs::path dir = test::scratch_dir() / "small";
+  fs::create_directories(dir);
+  const TriangleSoup sphere = rounded(test::make_sphere({0, 0, 0}, 10, 5));
+  struct rlimit before {};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto old_handler = signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = before;
+  small.rlim_cur = 16384;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string what;
+  try {
+    write_mesh(dir / "out.3mf", sphere);
+  } catch (const IoError& e) {
+    what = e.what();
+  } catch (const std::exception& e) {
+    what = std::string("wrong type: ") + e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &before);
+  signal(SIGXFSZ, old_handler);
+  EXPECT_NE(what.find("cannot write " + (dir / "out.3mf").string()), std::string::npos) << what;
+  EXPECT_TRUE(fs::is_empty(dir)) << fs::directory_iterator(dir)->path();
+}
+
+// A package of one model part, zipped here with its content types and relationships.
+std::string zip_package(const std::string& model);
+
+// A package written by hand: `items` build items placing one tetrahedron.
+std::string package_with_items(int items) {
+  std::string model =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" "
+      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources><object "
+      "id=\"1\" type=\"model\"><mesh><vertices><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" "
+      "y=\"0\" z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/><vertex x=\"0\" y=\"0\" "
+      "z=\"1\"/></vertices><triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\"/><triangle v1=\"0\" "
+      "v2=\"1\" v3=\"3\"/><triangle v1=\"1\" v2=\"2\" v3=\"3\"/><triangle v1=\"0\" v2=\"3\" "
+      "v3=\"2\"/></triangles></mesh></object></resources><build>";
+  for (int i = 0; i < items; ++i)
+    model +=
+        "<item objectid=\"1\" transform=\"1 0 0 0 1 0 0 0 1 " + std::to_string(2 * i) + " 0 0\"/>";
+  model += "</build></model>\n";
+  return zip_package(model);
+}
+
+TEST(ThreeMf, CyclicComponentsEndInARefusal) {
+  // An object whose components are itself, twice: counted once each (the count neither
+  // recurses forever nor doubles 64 times), then lib3mf refuses the cycle.
+  const std::string model =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" "
+      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources><object "
+      "id=\"2\" type=\"model\"><components><component objectid=\"2\"/><component "
+      "objectid=\"2\"/></components></object></resources><build><item "
+      "objectid=\"2\"/></build></model>\n";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(parse_mesh(zip_package(model), "cycle.3mf"), Error);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+}
+
+std::string zip_package(const std::string& model) {
+  const std::string types =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default "
+      "Extension=\"rels\" "
+      "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+      "<Default Extension=\"model\" "
+      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>";
+  const std::string rels =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship "
+      "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
+      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>";
+  const fs::path path = test::scratch_dir() / "package.3mf";
+  int error = 0;
+  zip_t* z = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+  EXPECT_NE(z, nullptr);
+  for (const auto& [name, text] :
+       {std::pair<const char*, const std::string*>{"[Content_Types].xml", &types},
+        {"_rels/.rels", &rels},
+        {"3D/3dmodel.model", &model}}) {
+    zip_source_t* source = zip_source_buffer(z, text->data(), text->size(), 0);
+    EXPECT_GE(zip_file_add(z, name, source, ZIP_FL_OVERWRITE), 0);
+  }
+  EXPECT_EQ(zip_close(z), 0);
+  return test::read_file(path);
+}
+
+TEST(ThreeMf, ManyBuildItemsAreCountedBeforeLib3mfReadsThem) {
+  // lib3mf's reading is quadratic in build items (32,768 took 17.7 s): past kMax3mfBuildItems
+  // the package is refused from a count of its model part, in well under a second; a package
+  // of 100 items reads as 100 tetrahedra.
+  const std::string few = package_with_items(100);
+  EXPECT_EQ(parse_mesh(few, "few.3mf").soup.triangles.size(), 400u);
+  const std::string many = package_with_items(static_cast<int>(io::kMax3mfBuildItems) + 1);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    parse_mesh(many, "many.3mf");
+    ADD_FAILURE() << "read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds more than 10000 build items"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // must refuse, with the line or byte offset and the problem named. volume_test.cpp holds the
 // first tests and the fit of the real CT; these cover the contract form by form.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -34,20 +35,6 @@ std::string bytes_of(const std::vector<T>& values, bool big = false) {
     if (big) std::reverse(b, b + sizeof(T));
     out.append(b, sizeof(T));
   }
-  return out;
-}
-
-std::string gzip(const std::string& s) {
-  std::string out(compressBound(s.size()) + 64, '\0');
-  z_stream z{};
-  deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY);
-  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(s.data()));
-  z.avail_in = static_cast<uInt>(s.size());
-  z.next_out = reinterpret_cast<Bytef*>(out.data());
-  z.avail_out = static_cast<uInt>(out.size());
-  deflate(&z, Z_FINISH);
-  out.resize(out.size() - z.avail_out);
-  deflateEnd(&z);
   return out;
 }
 
@@ -487,6 +474,46 @@ TEST(VolumeIo, NrrdDetachedData) {
   EXPECT_REFUSED(head + "data file: v.raw\n", "v.nhdr", "line 5", "cannot be followed");
   write_file(dir / "l.nhdr", head + "data file: LIST\nv.raw\n");
   EXPECT_THROW(read_volume_file(dir / "l.nhdr"), ParseError);
+}
+
+// Issue 37: gzip bombs. An NRRD or MetaImage whose header declares 256 bytes of data and whose
+// gzip holds 64 MiB of zeros is refused once the data passes 256 bytes, not after the whole
+// inflation (1 GiB of zeros peaked at 2.1 GB and then read exit 0); detached data that is a
+// FIFO is refused instead of waited on.
+TEST(VolumeIo, CompressedDataStopsAtTheSizeItsHeaderDeclares) {
+  const std::string zeros = gzip(std::string(std::size_t{64} << 20, '\0'));
+  ASSERT_LT(zeros.size(), 1u << 20);
+  const std::string nrrd = kNrrd3 + "type: uint8\nsizes: 16 4 4\nencoding: gzip\n\n" + zeros;
+  const std::string mha =
+      "ObjectType = Image\nNDims = 3\nDimSize = 16 4 4\nElementType = MET_UCHAR\n"
+      "CompressedData = True\nElementDataFile = LOCAL\n" +
+      zeros;
+  for (const auto& [bytes, name] : {std::pair{nrrd, "bomb.nrrd"}, std::pair{mha, "bomb.mha"}}) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      parse_volume(bytes, name);
+      ADD_FAILURE() << name << " was read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("more than 256 bytes, the size its header declares"),
+                std::string::npos)
+          << e.what();
+    }
+    // Stopped at the first inflated chunk: far below the 64 MiB's inflation.
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2)) << name;
+  }
+}
+
+TEST(VolumeIo, DataFilesThatAreNotRegularFilesAreRefused) {
+  const auto dir = scratch_dir();
+  ASSERT_EQ(mkfifo((dir / "pipe.raw").c_str(), 0600), 0);
+  write_file(dir / "f.nhdr", kNrrd3 + "type: float\nsizes: 2 1 1\ndata file: pipe.raw\n");
+  try {
+    read_volume_file(dir / "f.nhdr");
+    ADD_FAILURE() << "read";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("it is a FIFO"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_volume_file(dir / "pipe.raw"), IoError);
 }
 
 TEST(VolumeIo, NrrdDamageNamesItsLineOrByte) {

@@ -119,6 +119,10 @@ struct Blend {
   double peak = 0.5;  ///< Beta: where μ grows fastest, 0 < peak < 1 (0.5 is smoothstep)
 };
 
+/// The most blends a design may hold: each is evaluated at every sample, so 100,000 of them ran
+/// for minutes before a single voxel was meshed.
+inline constexpr std::size_t kMaxBlends = 64;
+
 /// A base TPMS (the TpmsOptions part) with grading and blends, or a caller's field in its place.
 struct LatticeDesign : TpmsOptions {
   std::vector<Grading> grading = {};  ///< at most one per Graded quantity

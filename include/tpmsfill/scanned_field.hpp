@@ -16,6 +16,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "tpmsfill/progress.hpp"
@@ -51,5 +53,9 @@ ScalarVolume field_from_ct(const ScalarVolume& ct, double iso, bool solid_below 
 /// (x y z per line, further columns such as normals ignored, '#' comments); gzip allowed.
 /// @throws IoError, ParseError (line or byte), InputError (no point)
 std::vector<Vec3> read_points(const std::filesystem::path& path);
+
+/// read_points of bytes already in memory; `name` is for messages.
+/// @throws ParseError (line or byte), InputError (no point, or over 4 GiB inflated)
+std::vector<Vec3> parse_points(std::string_view bytes, const std::string& name);
 
 }  // namespace tpmsfill

@@ -22,6 +22,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
+#include "cli/printable.hpp"
 #include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
@@ -265,7 +266,8 @@ int run_info(const FieldArgs& a) {
           100 * file.fit->flipped, file.fit->iso);
     std::printf("porosity     %.4f of the unit cube\n",
                 1 - porous_solid_share(s, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1}));
-    if (!file.provenance.empty()) std::printf("provenance   %s\n", file.provenance.c_str());
+    if (!file.provenance.empty())
+      std::printf("provenance   %s\n", printable(file.provenance).c_str());
     return kOk;
   }
   const VolumeFile file = read_volume_file(a.input);

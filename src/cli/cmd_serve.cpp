@@ -30,6 +30,7 @@ struct ServeArgs {
   std::string max_upload = "512M";
   std::string memory;
   double keep_hours = 24;
+  double job_timeout = 3600;
 };
 
 // The token from --token-file (its first line), or DATA/token, made with 128 random bits
@@ -59,11 +60,21 @@ std::string find_token(const ServeArgs& a) {
   while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
   if (token.size() < 16)
     throw InputError(file.string() + ": the token must be at least 16 characters long");
+  std::error_code ec;
+  const fs::perms mode = fs::status(file, ec).permissions();
+  if (!ec && (mode & (fs::perms::group_read | fs::perms::others_read)) != fs::perms::none)
+    std::fprintf(stderr,
+                 "tpmsfill: warning: %s is readable by other users, who could then submit jobs "
+                 "(chmod 600 it)\n",
+                 file.string().c_str());
   std::printf("token: %s\n", fs::absolute(file).string().c_str());
   return token;
 }
 
 int run_serve(const ServeArgs& a) {
+  // Jobs hold other people's parts: everything the service and its commands write is
+  // readable by its own user only.
+  umask(077);
   service::ServeOptions o;
   const std::size_t colon = a.listen.rfind(':');
   if (colon == std::string::npos || colon == 0)
@@ -91,6 +102,7 @@ int run_serve(const ServeArgs& a) {
          (bare ? " (a size without K, M or G is bytes: did you mean " + a.memory + "M?)" : "")});
   }
   o.keep = std::chrono::seconds(static_cast<long>(a.keep_hours * 3600));
+  o.job_timeout = std::chrono::seconds(static_cast<long>(a.job_timeout));
   char self[PATH_MAX];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
   if (n <= 0) throw IoError("cannot find the tpmsfill program to run jobs with");
@@ -126,6 +138,10 @@ Command add_serve_command(CLI::App& app) {
   sub->add_option("--keep-hours", args->keep_hours,
                   "Finished jobs are deleted this many hours after they end (default 24)")
       ->check(between(0.01, 1e5, "0.01 to 100000"));
+  sub->add_option("--job-timeout", args->job_timeout,
+                  "Seconds a job may run; one past it is stopped and fails with that number "
+                  "(default 3600; 0: no limit)")
+      ->check(between(0, 1e7, "0 to 10000000"));
   sub->footer(
       "Endpoints, fields and status codes: docs/service.md. Stop with Ctrl-C (SIGINT) or "
       "SIGTERM; jobs that were running run again at the next start.\n"

@@ -11,6 +11,7 @@
 #include <system_error>
 #include <tpmsfill/error.hpp>
 
+#include "cli/printable.hpp"
 #include "detail/file_bytes.hpp"
 
 namespace tpmsfill::cli {
@@ -82,6 +83,7 @@ fs::path StagedOutputs::stage(const fs::path& target) {
   name += std::to_string(staged_.size());
   const fs::path temp = folder_of(target) / name;
   staged_.emplace_back(temp, target);
+  interrupt_.emplace_back(temp, detail::RemovedOnInterrupt::Kind::File);
   return temp;
 }
 
@@ -116,6 +118,7 @@ void StagedOutputs::commit() {
   for (const auto& [backup, target] : moved)
     if (!backup.empty()) fs::remove(backup, ec);
   staged_.clear();
+  interrupt_.clear();
 }
 
 std::string sha256_of_file(const fs::path& path) {
@@ -181,7 +184,8 @@ void record_provenance(FillReport& report, const std::string& input) {
 }
 
 void print_warnings(const std::vector<std::string>& warnings) {
-  for (const std::string& w : warnings) std::fprintf(stderr, "tpmsfill: warning: %s\n", w.c_str());
+  for (const std::string& w : warnings)
+    std::fprintf(stderr, "tpmsfill: warning: %s\n", printable(w).c_str());
 }
 
 StagedFolder::StagedFolder(std::filesystem::path target) : target_(std::move(target)) {
@@ -201,6 +205,7 @@ StagedFolder::StagedFolder(std::filesystem::path target) : target_(std::move(tar
   fs::remove_all(temp_, ec);
   if (!fs::create_directory(temp_, ec))
     throw IoError(temp_.string() + ": cannot create the folder (" + ec.message() + ")");
+  interrupt_ = detail::RemovedOnInterrupt(temp_, detail::RemovedOnInterrupt::Kind::Folder);
 }
 
 StagedFolder::~StagedFolder() {
@@ -219,6 +224,7 @@ void StagedFolder::commit() {
     throw IoError(target_.string() + ": cannot put the layers in place");
   }
   temp_.clear();
+  interrupt_.release();
   if (existed) fs::remove_all(old, ec);
 }
 

@@ -7,9 +7,11 @@
 #include <optional>
 #include <string>
 #include <tpmsfill/layer_files.hpp>
+
 #include <tpmsfill/report.hpp>
 #include <utility>
 #include <vector>
+#include "detail/interrupt_cleanup.hpp"
 
 namespace tpmsfill::cli {
 
@@ -48,6 +50,7 @@ class StagedOutputs {
 
  private:
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;  // temp, target
+  std::vector<detail::RemovedOnInterrupt> interrupt_;  // the temps, removed on SIGINT/SIGTERM
 };
 
 /// A folder of layers, written under a temporary name beside its target and renamed onto it
@@ -68,6 +71,7 @@ class StagedFolder {
 
  private:
   std::filesystem::path target_, temp_;
+  detail::RemovedOnInterrupt interrupt_;
 };
 
 /// SHA-256 of a file's bytes as stored, lower-case hex.

@@ -9,9 +9,11 @@
 #include "cli/commands.hpp"
 #include "cli/job_files.hpp"
 #include "cli/memory_policy.hpp"
+#include "cli/printable.hpp"
 #include "cli/ranks.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/usage_errors.hpp"
+#include "detail/interrupt_cleanup.hpp"
 
 namespace {
 
@@ -117,16 +119,18 @@ int run(int argc, char** argv) {
         return serve();
     return kBadInput;
   } catch (const tpmsfill::ValidationError& e) {
-    std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());
+    std::fprintf(stderr, "tpmsfill: error: %s\n", tpmsfill::cli::printable(e.what()).c_str());
     return kNotValid;
   } catch (const tpmsfill::Error& e) {
-    std::fprintf(stderr, "tpmsfill: error: %s\n", e.what());
+    // Errors quote files (names, lib3mf's reasons, a recipe's keys): escapes shown, not run.
+    std::fprintf(stderr, "tpmsfill: error: %s\n", tpmsfill::cli::printable(e.what()).c_str());
     return kBadInput;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "tpmsfill: error: out of memory\n");
     return kInternal;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "tpmsfill: internal error: %s\n", e.what());
+    std::fprintf(stderr, "tpmsfill: internal error: %s\n",
+                 tpmsfill::cli::printable(e.what()).c_str());
     return kInternal;
   }
 }
@@ -136,6 +140,8 @@ int run(int argc, char** argv) {
 // Under mpirun every rank runs the command; an error on one stops them all.
 int main(int argc, char** argv) {
   tpmsfill::cli::keep_freed_memory();
+  // Ctrl-C, SIGTERM or a closed terminal during a write: the staged outputs are removed.
+  tpmsfill::detail::remove_registered_paths_on_signals();
   // A job `tpmsfill serve` runs is cancelled by SIGTERM: the next progress report answers
   // false and the command stops there, writing nothing (the service kills one that never
   // reports after a grace period).

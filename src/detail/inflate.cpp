@@ -11,12 +11,25 @@
 
 namespace tpmsfill::detail {
 
-std::string inflate_bytes(std::string_view data, const std::string& source,
-                          std::uint64_t max_bytes) {
+std::string inflate_bytes(std::string_view data, const std::string& source, std::uint64_t max_bytes,
+                          const DeclaredSize& declared) {
   z_stream z{};
   if (inflateInit2(&z, 15 + 32) != Z_OK) throw Error(source + ": cannot start zlib");
   const std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
   std::string out;
+  // A single gzip member's last four bytes hold its size modulo 2^32: room for that much
+  // (within the limit) spares the string's doublings, which held twice the data at the end.
+  if (data.size() >= 18 && static_cast<unsigned char>(data[0]) == 0x1f &&
+      static_cast<unsigned char>(data[1]) == 0x8b) {
+    const auto* tail = reinterpret_cast<const unsigned char*>(data.data() + data.size() - 4);
+    const std::uint64_t size =
+        tail[0] | tail[1] << 8 | tail[2] << 16 | std::uint64_t{tail[3]} << 24;
+    // Deflate expands at most 1032 times: a larger claim is a lie.
+    const std::uint64_t possible = 1032 * static_cast<std::uint64_t>(data.size());
+    out.reserve(static_cast<std::size_t>(std::min({size, max_bytes, possible})));
+  }
+  std::uint64_t limit = max_bytes;
+  bool declared_limit = false, head_read = declared.head == 0;
   std::vector<unsigned char> chunk(std::size_t{1} << 18);
   std::uint64_t consumed = 0;  // input handed to zlib so far
   auto feed = [&] {
@@ -35,9 +48,17 @@ std::string inflate_bytes(std::string_view data, const std::string& source,
       fail_at_byte(source, offset,
                    std::string("corrupt compressed data: ") + (z.msg ? z.msg : "zlib error"));
     out.append(reinterpret_cast<const char*>(chunk.data()), chunk.size() - z.avail_out);
-    if (out.size() > max_bytes)
-      throw InputError(source + " decompresses to more than " + std::to_string(max_bytes) +
-                       " bytes (the limit)");
+    if (!head_read && out.size() >= declared.head) {
+      head_read = true;
+      if (const std::uint64_t total = declared.total(out); total > 0 && total < limit) {
+        limit = total;
+        declared_limit = true;
+      }
+    }
+    if (out.size() > limit)
+      throw InputError(
+          source + " decompresses to more than " + std::to_string(limit) +
+          (declared_limit ? " bytes, the size its header declares" : " bytes (the limit)"));
     if (z.avail_in == 0 && consumed < data.size()) feed();
     if (rc == Z_STREAM_END) {
       // Concatenated gzip members form one stream (gzip(1) and zlib's gzopen agree).

@@ -40,6 +40,25 @@ bool is_exact_binary_stl(std::string_view data) {
   return data.size() == 84 + 50 * std::uint64_t{n};
 }
 
+// What a gzipped STL's first 84 bytes declare: a binary STL holds 84 + 50 n bytes, n its
+// count. Text ("solid ...") declares nothing, and neither does another format's name.
+detail::DeclaredSize binary_stl_size(const std::string& source, MeshFormat format) {
+  const bool stl = format == MeshFormat::StlBinary || format == MeshFormat::StlAscii ||
+                   (format == MeshFormat::Auto &&
+                    detail::lower_extension(std::filesystem::path(source).stem()) == ".stl");
+  if (!stl) return {};
+  return {84, [](std::string_view head) -> std::uint64_t {
+            std::size_t i = 0;
+            while (i < head.size() && std::isspace(static_cast<unsigned char>(head[i]))) ++i;
+            if (head.substr(i).starts_with("solid") || head.starts_with("\xFE\xFF") ||
+                head.starts_with("\xFF\xFE"))
+              return 0;  // text, or text in UTF-16
+            std::uint32_t n = 0;
+            for (int k = 3; k >= 0; --k) n = n << 8 | static_cast<unsigned char>(head[80 + k]);
+            return 84 + 50 * std::uint64_t{n};
+          }};
+}
+
 // UTF-16 with a byte-order mark -> bytes. Mesh files are ASCII, so anything else is refused
 // rather than guessed at.
 std::string from_utf16(std::string_view data, const std::string& source) {
@@ -225,7 +244,8 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
   // size matches its triangle count is never unwrapped.
   if (data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f &&
       static_cast<unsigned char>(data[1]) == 0x8b && !is_exact_binary_stl(data)) {
-    inflated = detail::inflate_bytes(data, source_name, options.max_bytes);
+    inflated = detail::inflate_bytes(data, source_name, options.max_bytes,
+                                     binary_stl_size(source_name, options.format));
     data = inflated;
     mesh.gzip = true;
   }

@@ -11,14 +11,18 @@
 
 #include <Model/COM/NMR_DLLInterfaces.h>
 #include <unistd.h>
+#include <zip.h>
 
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <map>
 #include <memory>
 
 #include "detail/xml_text.hpp"
@@ -85,10 +89,16 @@ Handle new_model(const Check& check) {
 using Affine = std::array<std::array<double, 4>, 3>;
 constexpr Affine kIdentity{{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
 
-Affine to_affine(const NMR::MODELTRANSFORM& t) {
+// lib3mf parses "nan" and "inf" in a transform as floats: refused here, as every reader refuses
+// non-finite coordinates.
+Affine to_affine(const NMR::MODELTRANSFORM& t, const std::string& source, const char* whose) {
   Affine a;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 4; ++j) a[i][j] = t.m_fFields[i][j];
+    for (int j = 0; j < 4; ++j) {
+      if (!std::isfinite(t.m_fFields[i][j]))
+        fail(source, std::string(whose) + "'s transform holds a value that is not a finite number");
+      a[i][j] = t.m_fFields[i][j];
+    }
   return a;
 }
 
@@ -164,7 +174,7 @@ class BuildReader {
       if (has) {
         NMR::MODELTRANSFORM t;
         check_(NMR::lib3mf_builditem_getobjecttransform(item_raw, &t), item_raw, "transform");
-        placement = to_affine(t);
+        placement = to_affine(t, source_, "a build item");
       }
       add_object(object_raw, placement, 0);
     }
@@ -174,8 +184,13 @@ class BuildReader {
 
  private:
   void add_object(NMR::PLib3MFModelObjectResource* object, const Affine& placement, int depth) {
-    // lib3mf refuses cyclic components; the depth bound only guards the stack.
+    // lib3mf refuses cyclic components; the depth bound only guards the stack. The instance
+    // bound stops components that fan out: 8 per level 12 levels deep is 8^12 instances from
+    // a package of 1 KB.
     if (depth > 64) fail(source_, "components nested more than 64 deep");
+    if (++instances_ > kMax3mfInstances)
+      throw InputError(source_ + " places more than " + std::to_string(kMax3mfInstances) +
+                       " objects through its build items and components (the limit)");
     DWORD type = 0;
     check_(NMR::lib3mf_object_gettype(object, &type), object, "read an object's type");
     if (type != NMR::MODELOBJECTTYPE_MODEL && type != NMR::MODELOBJECTTYPE_SOLIDSUPPORT) {
@@ -209,7 +224,7 @@ class BuildReader {
       if (has) {
         NMR::MODELTRANSFORM t;
         check_(NMR::lib3mf_component_gettransform(component_raw, &t), component_raw, "transform");
-        local = to_affine(t);
+        local = to_affine(t, source_, "a component");
       }
       add_object(inner_raw, compose(placement, local), depth + 1);
     }
@@ -255,11 +270,126 @@ class BuildReader {
     mesh_.faces_in_file += nt;
   }
 
+  std::uint64_t instances_ = 0;
   Reading check_;
   const std::string& source_;
   MeshFile& mesh_;
   double scale_;
 };
+
+// An attribute's value in one XML start tag ("" when absent): `name` preceded by white space.
+std::string_view attribute(std::string_view tag, std::string_view name) {
+  for (std::size_t at = tag.find(name); at != std::string_view::npos; at = tag.find(name, at + 1)) {
+    const std::size_t eq = at + name.size();
+    if (at == 0 || !std::isspace(static_cast<unsigned char>(tag[at - 1])) || eq + 1 >= tag.size() ||
+        tag[eq] != '=' || (tag[eq + 1] != '"' && tag[eq + 1] != '\''))
+      continue;
+    const std::size_t close = tag.find(tag[eq + 1], eq + 2);
+    if (close == std::string_view::npos) return {};
+    return tag.substr(eq + 2, close - eq - 2);
+  }
+  return {};
+}
+
+// What a model part says of its structure: each object's components, and the build's items.
+struct PartStructure {
+  std::map<std::string, std::vector<std::string>, std::less<>> components;  // object -> objects
+  std::vector<std::string> items;                                           // their objects
+  std::string object;                                                       // the object being read
+};
+
+// One start tag, "<name ...>": objects, their components and build items noted.
+void note_tag(std::string_view tag, PartStructure& p, const std::string& source) {
+  const auto is = [&](std::string_view name) {
+    return tag.size() > name.size() + 1 && tag.substr(1, name.size()) == name &&
+           (std::isspace(static_cast<unsigned char>(tag[name.size() + 1])) ||
+            tag[name.size() + 1] == '/' || tag[name.size() + 1] == '>');
+  };
+  if (is("object")) {
+    p.object = attribute(tag, "id");
+  } else if (is("component")) {
+    p.components[p.object].emplace_back(attribute(tag, "objectid"));
+  } else if (is("item")) {
+    p.items.emplace_back(attribute(tag, "objectid"));
+    if (p.items.size() > kMax3mfBuildItems)
+      throw InputError(source + " holds more than " + std::to_string(kMax3mfBuildItems) +
+                       " build items (the limit)");
+  }
+}
+
+// Objects placed by the build, components expanded (saturating past the limit): lib3mf's
+// reader walks every instance itself, before any of ours is read.
+std::uint64_t placed_objects(const PartStructure& p) {
+  std::map<std::string_view, std::uint64_t> memo;
+  const std::function<std::uint64_t(std::string_view, int)> count = [&](std::string_view id,
+                                                                        int depth) {
+    const auto parts = p.components.find(id);
+    if (parts == p.components.end() || depth > 64) return std::uint64_t{1};
+    if (const auto known = memo.find(id); known != memo.end()) return known->second;
+    memo[id] = 1;  // while it is counted: a cycle (lib3mf refuses them) counts once, not forever
+    std::uint64_t n = 0;
+    for (const std::string& inner : parts->second)
+      n = std::min(n + count(inner, depth + 1), kMax3mfInstances + 1);
+    memo[id] = n;
+    return n;
+  };
+  std::uint64_t total = 0;
+  for (const std::string& id : p.items)
+    total = std::min(total + count(id, 0), kMax3mfInstances + 1);
+  return total;
+}
+
+// The package's model parts read once before lib3mf reads them, for their structure: lib3mf's
+// reading is quadratic in build items, walks every instance of components that fan out, and
+// would keep inflating a part without end. A package libzip cannot open is left to lib3mf,
+// whose sentence names what is wrong.
+void prescan_package(std::string_view data, const std::string& source) {
+  zip_error_t error;
+  zip_error_init(&error);
+  zip_source_t* buffer = zip_source_buffer_create(data.data(), data.size(), 0, &error);
+  if (buffer == nullptr) return;
+  zip_t* archive = zip_open_from_source(buffer, ZIP_RDONLY, &error);
+  if (archive == nullptr) {
+    zip_source_free(buffer);
+    return;
+  }
+  const std::unique_ptr<zip_t, void (*)(zip_t*)> owned(archive, zip_discard);
+  std::vector<char> chunk(1 << 16);
+  const zip_int64_t entries = zip_get_num_entries(archive, 0);
+  for (zip_int64_t i = 0; i < entries; ++i) {
+    const char* name = zip_get_name(archive, static_cast<zip_uint64_t>(i), 0);
+    if (name == nullptr) continue;
+    const std::string_view part(name);
+    if (part.size() < 6 || part.substr(part.size() - 6) != ".model") continue;
+    zip_file_t* file = zip_fopen_index(archive, static_cast<zip_uint64_t>(i), 0);
+    if (file == nullptr) continue;
+    const std::unique_ptr<zip_file_t, int (*)(zip_file_t*)> open(file, zip_fclose);
+    PartStructure structure;
+    std::string text;  // a start tag cut at a chunk's end, then the next chunk
+    for (;;) {
+      const zip_int64_t n = zip_fread(file, chunk.data(), chunk.size());
+      if (n <= 0) break;
+      text.append(chunk.data(), static_cast<std::size_t>(n));
+      std::size_t done = text.size();
+      for (std::size_t lt = text.find('<'); lt != std::string::npos; lt = text.find('<', lt + 1)) {
+        const std::size_t gt = text.find('>', lt);
+        if (gt == std::string::npos) {
+          done = lt;  // finished with the next chunk
+          break;
+        }
+        const char c = lt + 1 < text.size() ? text[lt + 1] : ' ';
+        if (c == 'o' || c == 'c' || c == 'i')
+          note_tag(std::string_view(text).substr(lt, gt + 1 - lt), structure, source);
+        lt = gt;
+      }
+      // A tag longer than 64 KB is no tag this scan needs: dropped.
+      text.erase(0, text.size() - done > (64 << 10) ? text.size() : done);
+    }
+    if (placed_objects(structure) > kMax3mfInstances)
+      throw InputError(source + " places more than " + std::to_string(kMax3mfInstances) +
+                       " objects through its build items and components (the limit)");
+  }
+}
 
 void add_reader_warnings(NMR::PLib3MFModelReader* reader, const std::string& source,
                          MeshFile& mesh) {
@@ -311,8 +441,12 @@ struct FileStream {
   int error = 0;
 };
 
+// A failed write is recorded and reported as success: lib3mf answers a failure by throwing, and
+// its package writer's destructor then writes again, throws again and terminates the process
+// (a full disk aborted fill). write_3mf throws the recorded error once lib3mf is done.
 std::uint32_t write_callback(unsigned char* data, std::uint32_t bytes, void* user) {
   auto& s = *static_cast<FileStream*>(user);
+  if (s.error != 0) return 0;
   std::size_t done = 0;
   while (done < bytes) {
     const ssize_t n =
@@ -320,7 +454,7 @@ std::uint32_t write_callback(unsigned char* data, std::uint32_t bytes, void* use
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       s.error = n == 0 ? EIO : errno;
-      return 1;
+      return 0;
     }
     done += static_cast<std::size_t>(n);
   }
@@ -337,6 +471,7 @@ std::uint32_t seek_callback(std::uint64_t position, void* user) {
 
 void read_3mf(std::string_view data, const std::string& source, MeshFile& mesh) {
   mesh.format = MeshFormat::ThreeMf;
+  prescan_package(data, source);
   const Reading check{source};
   const Handle model = new_model(check);
   NMR::PLib3MFModelReader* reader_raw = nullptr;

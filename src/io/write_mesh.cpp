@@ -22,6 +22,8 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <span>
@@ -31,6 +33,7 @@
 #include "detail/file_bytes.hpp"
 #include "detail/float_coordinates.hpp"
 #include "detail/index_limits.hpp"
+#include "detail/interrupt_cleanup.hpp"
 #include "detail/parallel.hpp"
 #include "io/number_text.hpp"
 #include "io/three_mf.hpp"
@@ -346,15 +349,35 @@ void copy_all(int from, int to, std::uint64_t size, const std::filesystem::path&
   read_chunks(from, size, target, [&](std::string_view bytes) { write_all(to, bytes, target); });
 }
 
-// A temporary file beside the target (mode 0644) that commit() flushes and renames over it.
+// The process's umask, read without changing it (umask(2) sets as it reads, which races with
+// other threads): Linux shows it in /proc/self/status; 022 where it does not.
+mode_t process_umask() {
+  static const mode_t mask = [] {
+    mode_t m = 022;
+    if (FILE* f = std::fopen("/proc/self/status", "r")) {
+      char line[256];
+      while (std::fgets(line, sizeof line, f))
+        if (std::strncmp(line, "Umask:", 6) == 0)
+          m = static_cast<mode_t>(std::strtoul(line + 6, nullptr, 8));
+      std::fclose(f);
+    }
+    return m;
+  }();
+  return mask;
+}
+
+// A temporary file beside the target (mode 0666 less the umask, as any new file) that
+// commit() flushes and renames over it.
 // Destroyed uncommitted (a failure included), it is closed and removed and the target is
 // untouched.
 class AtomicFile {
  public:
   explicit AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
     fd_ = create_temporary(target_, temp_);
-    // mkstemp creates 0600; a mesh is an ordinary document.
-    if (::fchmod(fd_, 0644) != 0) {
+    interrupt_ = detail::RemovedOnInterrupt(temp_, detail::RemovedOnInterrupt::Kind::File);
+    // mkstemp creates 0600; a mesh is an ordinary document (the service's umask keeps its
+    // jobs' files private).
+    if (::fchmod(fd_, 0666 & ~process_umask()) != 0) {
       const std::string reason = os_error();
       discard();
       throw IoError("cannot write " + target_.string() + ": cannot set permissions: " + reason);
@@ -375,6 +398,7 @@ class AtomicFile {
     std::filesystem::rename(temp_, target_, ec);
     if (ec) throw IoError("cannot write " + target_.string() + ": rename failed: " + ec.message());
     temp_.clear();
+    interrupt_.release();
   }
 
  private:
@@ -387,6 +411,7 @@ class AtomicFile {
   std::filesystem::path target_;
   std::string temp_;  // empty once renamed or removed
   int fd_ = -1;
+  detail::RemovedOnInterrupt interrupt_;
 };
 
 // A gzip stream onto a file descriptor: bytes in, deflated bytes written as its buffer fills.

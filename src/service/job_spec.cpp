@@ -7,6 +7,8 @@
 #include <tpmsfill/recipe.hpp>
 #include <tpmsfill/units.hpp>
 
+#include "detail/json_depth.hpp"
+
 namespace tpmsfill::service {
 namespace {
 
@@ -268,11 +270,17 @@ const char* job_kind_name(JobKind kind) {
 JobOptions job_options(JobKind kind, const std::string& options_json) {
   Json options = Json::object();
   if (!options_json.empty()) {
+    if (const auto byte = detail::json_too_deep(options_json))
+      throw InputError("options: JSON nested more than " + std::to_string(detail::kMaxJsonDepth) +
+                       " levels deep (byte " + std::to_string(*byte) + "; the limit)");
     try {
       options = Json::parse(options_json);
     } catch (const Json::parse_error& e) {
       throw InputError(std::string("options: not valid JSON (byte ") + std::to_string(e.byte) +
                        ")");
+    } catch (const Json::exception&) {
+      // A number past a double's range (found by fuzzing): nlohmann's out_of_range, no byte.
+      throw InputError("options: not valid JSON (a number out of range)");
     }
   }
   if (!options.is_object()) throw InputError("options: must be a JSON object");
@@ -289,8 +297,10 @@ JobOptions job_options(JobKind kind, const std::string& options_json) {
       continue;
     }
     const auto& keys = keys_of(kind);
+    // A structured binding is not captured (clang 14, which builds the fuzzers): by name.
+    const std::string& asked = name;
     const auto key =
-        std::find_if(keys.begin(), keys.end(), [&](const Key& k) { return name == k.name; });
+        std::find_if(keys.begin(), keys.end(), [&](const Key& k) { return asked == k.name; });
     if (key == keys.end())
       throw InputError("options: unknown key '" + name + "' for " + job_kind_name(kind) +
                        " (known: " + key_list(kind) + ")");

@@ -118,6 +118,18 @@ bool is_job_id(const std::string& id) {
          });
 }
 
+void sweep_temporaries(const fs::path& folder) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool staged = name.starts_with('.') && (name.find(".staged-") != std::string::npos ||
+                                                  name.find(".tmp-") != std::string::npos);
+    const bool layers =
+        name.find(".tmp-") != std::string::npos || name.find(".old-") != std::string::npos;
+    if (staged || layers) fs::remove_all(entry.path(), ec);
+  }
+}
+
 JobStore::JobStore(fs::path data, std::chrono::seconds keep) : data_(std::move(data)), keep_(keep) {
   std::error_code ec;
   fs::create_directories(data_ / "jobs", ec);
@@ -130,6 +142,7 @@ JobStore::JobStore(fs::path data, std::chrono::seconds keep) : data_(std::move(d
   for (const auto& entry : fs::directory_iterator(data_ / "jobs")) {
     const std::string id = entry.path().filename().string();
     if (!is_job_id(id)) continue;
+    sweep_temporaries(entry.path());  // a command killed mid-write (or with the server)
     std::ifstream in(entry.path() / "job.json");
     JobRecord job;
     try {

@@ -47,6 +47,11 @@ nlohmann::json record_json(const JobRecord& job);  ///< what GET /v1/jobs/{id} a
 /// never reaches a path).
 bool is_job_id(const std::string& id);
 
+/// Removes what a command killed mid-write leaves in a job's folder: its staged files
+/// (".NAME.staged-PID-N", ".NAME.tmp-XXXXXX") and folders of layers ("NAME.tmp-PID",
+/// "NAME.old-PID"). Run when a job's command ends and on every job at the server's start.
+void sweep_temporaries(const std::filesystem::path& folder);
+
 class JobStore {
  public:
   /// Opens DATA (made if missing) and reads back every job: queued ones queue again; one that

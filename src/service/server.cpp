@@ -6,12 +6,14 @@
 #include <httplib.h>
 #include <poll.h>
 #include <signal.h>
+#include <strings.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
+
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "detail/file_bytes.hpp"
+#include "service/connection_gate.hpp"
 
 #include "service/archive.hpp"
 #include "service/job_spec.hpp"
@@ -157,9 +160,11 @@ class Runner {
 
   void run(const JobRecord& job) {
     const fs::path dir = store_.folder(job.id);
-    const JobPaths paths{(dir / job.input_name).string(),
-                         (dir / command_output_name(job.options)).string(),
-                         (dir / "recipe.json").string(), (dir / "report.json").string()};
+    // The command runs in the job's folder with names relative to it: its report and the
+    // files' provenance name "input.stl", not where the server keeps its data.
+    const std::string dir_path = dir.string();
+    const JobPaths paths{job.input_name, command_output_name(job.options), "recipe.json",
+                         "report.json"};
     std::vector<std::string> args = {options_.program.string()};
     for (std::string& a : job_command(job.kind, job.options, paths, job_memory(options_)))
       args.push_back(std::move(a));
@@ -173,8 +178,6 @@ class Runner {
     std::vector<char*> envp;
     for (std::string& e : env_strings) envp.push_back(e.data());
     envp.push_back(nullptr);
-    const std::string out_path = (dir / "stdout.txt").string();
-    const std::string err_path = (dir / "stderr.txt").string();
 
     const sigset_t stop_set = stop_signals();
     int pipe_fds[2];
@@ -197,8 +200,9 @@ class Runner {
         // The server blocks SIGINT and SIGTERM for its sigwait thread, and a child inherits
         // the mask: the job must see SIGTERM (its cancel).
         sigprocmask(SIG_UNBLOCK, &stop_set, nullptr);
-        const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (chdir(dir_path.c_str()) != 0) _exit(127);
+        const int out = open("stdout.txt", O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        const int err = open("stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0600);
         const int devnull = open("/dev/null", O_RDONLY);
         if (out < 0 || err < 0 || devnull < 0) _exit(127);
         dup2(devnull, 0);
@@ -224,7 +228,7 @@ class Runner {
       finish_failed(job.id, "the server could not start the job (fork failed)");
       return;
     }
-    const std::uint64_t over_memory = read_progress(job.id, pipe_fds[0], pid);
+    const Ending ending = read_progress(job.id, pipe_fds[0], pid);
     close(pipe_fds[0]);
     int status = 0;
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
@@ -237,16 +241,24 @@ class Runner {
       if (stopping_) return;
     }
     wake_.notify_all();
-    finish(job, status, dir, over_memory);
+    sweep_temporaries(dir);  // a command killed for memory or a cancel leaves its staged files
+    finish(job, status, dir, ending);
   }
 
+  // Why the service stopped a command itself: the memory it had reached, or its time ran out.
+  struct Ending {
+    std::uint64_t over_memory = 0;
+    bool timed_out = false;
+  };
+
   // Progress lines from the command ("stage<TAB>fraction<TAB>overall"), until it exits. Its
-  // resident memory is read every 100 ms: past the budget and headroom, it is killed and that
-  // memory returned (0 otherwise).
-  std::uint64_t read_progress(const std::string& id, int fd, pid_t pid) {
+  // resident memory is read every 100 ms: past the budget and headroom it is killed, as it is
+  // past --job-timeout.
+  Ending read_progress(const std::string& id, int fd, pid_t pid) {
     constexpr auto kEvery = std::chrono::milliseconds(100);
     const std::uint64_t limit = job_memory(options_) + kMemoryHeadroom;
-    auto next_reading = std::chrono::steady_clock::now();
+    const auto started = std::chrono::steady_clock::now();
+    auto next_reading = started;
     std::string pending;
     char buffer[4096];
     for (;;) {
@@ -258,13 +270,17 @@ class Runner {
         next_reading = now + kEvery;
         if (const std::uint64_t rss = resident_memory(pid); rss > limit) {
           kill(pid, SIGKILL);
-          return rss;
+          return {rss, false};
+        }
+        if (options_.job_timeout.count() > 0 && now - started > options_.job_timeout) {
+          kill(pid, SIGKILL);
+          return {0, true};
         }
       }
       if (polled == 0) continue;
       const ssize_t n = read(fd, buffer, sizeof buffer);
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return 0;
+      if (n <= 0) return {};
       pending.append(buffer, static_cast<std::size_t>(n));
       std::size_t end;
       std::string last;
@@ -287,7 +303,8 @@ class Runner {
     }
   }
 
-  void finish(const JobRecord& job, int status, const fs::path& dir, std::uint64_t over_memory) {
+  void finish(const JobRecord& job, int status, const fs::path& dir, const Ending& ending) {
+    const std::uint64_t over_memory = ending.over_memory;
     const std::string err = read_text(dir / "stderr.txt");
     std::string sentence, warnings;
     std::istringstream lines(err);
@@ -341,7 +358,10 @@ class Runner {
             r.state = JobState::Failed;
             r.report = report;
             r.error =
-                over_memory > 0
+                ending.timed_out ? "stopped: it ran past the service's " +
+                                       std::to_string(options_.job_timeout.count()) +
+                                       " s a job (serve --job-timeout)"
+                : over_memory > 0
                     ? "stopped: it used " + std::to_string(over_memory >> 20) +
                           " MB, past the service's " + std::to_string(job_memory(options_) >> 20) +
                           " MB a job (serve --memory) and " +
@@ -390,6 +410,8 @@ struct Upload {
     if (!file.empty()) fs::remove(file, ec);
   }
 };
+
+constexpr const char* kNotMultipart = "the request body is not multipart/form-data";
 
 bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
                  std::uint64_t max_upload, JobKind kind, Upload& up) {
@@ -449,7 +471,7 @@ bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
         return true;
       });
   mesh.close();
-  if (!read && up.problem.empty()) up.problem = "the request body is not multipart/form-data";
+  if (!read && up.problem.empty()) up.problem = kNotMultipart;
   if (up.problem.empty() && !up.has_mesh) up.problem = "no 'mesh' part: send the mesh file";
   return up.problem.empty();
 }
@@ -463,7 +485,9 @@ struct Routes {
 
   bool authorised(const httplib::Request& req, httplib::Response& res) const {
     const std::string header = req.get_header_value("Authorization");
-    if (header.rfind("Bearer ", 0) == 0 && same_secret(header.substr(7), options.token))
+    // The scheme is case-insensitive (RFC 7235 §2.1): "bearer" is "Bearer".
+    if (header.size() > 7 && strncasecmp(header.c_str(), "Bearer ", 7) == 0 &&
+        same_secret(header.substr(7), options.token))
       return true;
     res.set_header("WWW-Authenticate", "Bearer");
     refuse(res, 401, "send the service's token: Authorization: Bearer TOKEN");
@@ -540,8 +564,17 @@ void add_submit_routes(httplib::Server& server, const Routes& r) {
     if (!req.is_multipart_form_data())
       return refuse(res, 400, "send multipart/form-data with a 'mesh' file part");
     Upload up;
-    if (!read_upload(reader, r.store.uploads_dir(), r.options.max_upload, kind, up))
+    if (!read_upload(reader, r.store.uploads_dir(), r.options.max_upload, kind, up)) {
+      // A body past the payload cap stops the reader before any part is seen (curl sends its
+      // headers, waits for 100 Continue, and cpp-httplib refuses the length): the limit, 413.
+      const std::string length = req.get_header_value("Content-Length");
+      if (up.problem == kNotMultipart && !length.empty() &&
+          std::strtoull(length.c_str(), nullptr, 10) > r.options.max_upload)
+        return refuse(res, 413,
+                      "the request is over the upload limit of " +
+                          std::to_string(r.options.max_upload) + " bytes");
       return refuse(res, up.status, up.problem);
+    }
     JobOptions accepted;
     try {
       accepted = job_options(kind, up.options);
@@ -687,13 +720,13 @@ int serve(const ServeOptions& options) {
   JobStore store(options.data, options.keep);
   std::atomic<bool> stopping = false;
   Runner runner(store, options);
-  httplib::Server server;
+  // Requests are short (an upload to disk, a record read) but long polls hold a worker up to
+  // 30 s: 64 workers, more than cpp-httplib's 8; none of them waits for a slow client's
+  // headers (connection_gate.hpp).
+  GatedServer server(GateOptions{.workers = 64});
   server.set_read_timeout(options.timeout.count(), 0);
   server.set_write_timeout(options.timeout.count(), 0);
   server.set_keep_alive_timeout(5);
-  // Requests are short (an upload to disk, a record read) but long polls hold a thread up to
-  // 30 s: more threads than cpp-httplib's 8.
-  server.new_task_queue = [] { return new httplib::ThreadPool(64); };
   // cpp-httplib 0.11 listens with a backlog of 5: in a burst, connections past it wait in
   // SYN retransmits for tens of seconds (50 checks at once: one in 50 timed out after 60 s).
   // The socket is kept here and listened on again with the system's largest backlog.
@@ -739,10 +772,15 @@ int serve(const ServeOptions& options) {
   if (listening_socket >= 0) ::listen(listening_socket, SOMAXCONN);
   std::fflush(stdout);
 
+  std::atomic<bool> listen_returned = false;
   std::thread stopper([&] {
     int signal = 0;
     sigwait(&signals, &signal);
     stopping = true;  // event streams end, so the pool's threads can be joined
+    // A signal right after "listening on" may come before listen_after_bind() runs, when
+    // stop() does nothing and the server would then listen for ever: wait until it runs.
+    while (!server.is_running() && !listen_returned)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     server.stop();
   });
   // Finished jobs past --keep, checked every minute until the server stops.
@@ -755,6 +793,8 @@ int serve(const ServeOptions& options) {
       store.expire();
   });
   server.listen_after_bind();
+  listen_returned = true;
+  server.close_gate();
   {
     std::lock_guard lock(expiry_mutex);
     done = true;

@@ -20,9 +20,10 @@ struct ServeOptions {
   /// job whose resident memory passes it by kMemoryHeadroom is stopped. 0: half of physical
   /// memory shared among the --jobs.
   std::uint64_t memory = 0;
-  std::chrono::seconds keep{24 * 3600};  ///< finished jobs are deleted this long after
-  std::chrono::seconds timeout{30};      ///< a client that sends or reads nothing this long
-  std::filesystem::path program;         ///< the tpmsfill executable that runs the jobs
+  std::chrono::seconds keep{24 * 3600};    ///< finished jobs are deleted this long after
+  std::chrono::seconds timeout{30};        ///< a client that sends or reads nothing this long
+  std::chrono::seconds job_timeout{3600};  ///< a job running longer is stopped (0: never)
+  std::filesystem::path program;           ///< the tpmsfill executable that runs the jobs
 };
 
 /// Beyond a job's budget, for the program itself (code, libraries, threads' stacks), which no
