@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -102,7 +103,8 @@ int run_serve(const ServeArgs& a) {
          (bare ? " (a size without K, M or G is bytes: did you mean " + a.memory + "M?)" : "")});
   }
   o.keep = std::chrono::seconds(static_cast<long>(a.keep_hours * 3600));
-  o.job_timeout = std::chrono::seconds(static_cast<long>(a.job_timeout));
+  // Whole seconds, rounded up: 0.5 must not become 0, which is no limit at all.
+  o.job_timeout = std::chrono::seconds(static_cast<long>(std::ceil(a.job_timeout)));
   char self[PATH_MAX];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
   if (n <= 0) throw IoError("cannot find the tpmsfill program to run jobs with");
