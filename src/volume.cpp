@@ -268,9 +268,12 @@ VolumeFile parse_field_text(std::string_view data, const std::string& source) {
   return f;
 }
 
+// The binary form's header. Version 1: magic, version, type, sign, counts, size; version 2
+// adds the origin.
+constexpr std::size_t kHeader1 = 4 + 2 + 1 + 1 + 12 + 24;
+constexpr std::size_t kHeader2 = kHeader1 + 24;
+
 VolumeFile parse_field_binary(std::string_view data, const std::string& source) {
-  // Version 1: magic, version, type, sign, counts, size; version 2 adds the origin.
-  constexpr std::size_t kHeader1 = 4 + 2 + 1 + 1 + 12 + 24;
   if (data.size() < kHeader1) fail_at_byte(source, data.size(), "the header is cut short");
   auto u16 = [&](std::size_t at) {
     std::uint16_t x;
@@ -285,7 +288,7 @@ VolumeFile parse_field_binary(std::string_view data, const std::string& source) 
   const std::uint16_t version = u16(4);
   if (version != 1 && version != 2)
     fail_at_byte(source, 4, "this tpmsfill reads TDFB versions 1 and 2");
-  const std::size_t kHeader = kHeader1 + (version == 2 ? 24 : 0);
+  const std::size_t kHeader = version == 2 ? kHeader2 : kHeader1;
   if (data.size() < kHeader) fail_at_byte(source, data.size(), "the header is cut short");
   const auto type = static_cast<unsigned char>(data[6]), sign = static_cast<unsigned char>(data[7]);
   if (type > 1) fail_at_byte(source, 6, "unknown value type " + std::to_string(type));
@@ -811,6 +814,27 @@ VolumeFormat detect(std::string_view data, const std::string& source) {
   return volume_format_from_extension(source);
 }
 
+// What a gzipped binary form's header declares: the header and its counts' values. Other
+// forms (text, NRRD, MetaImage, INR) declare nothing here; their own data is held to its
+// header's size where it is compressed on its own.
+detail::DeclaredSize binary_form_size() {
+  return {kHeader2, [](std::string_view head) -> std::uint64_t {
+            if (!head.starts_with(kBinaryMagic)) return 0;
+            std::uint16_t version;
+            std::memcpy(&version, head.data() + 4, 2);
+            const auto type = static_cast<unsigned char>(head[6]);
+            if ((version != 1 && version != 2) || type > 1) return 0;
+            std::uint64_t count = 1;
+            for (int a = 0; a < 3; ++a) {
+              std::uint32_t d;
+              std::memcpy(&d, head.data() + 8 + 4 * a, 4);
+              if (d < 1 || d > kMaxDim) return 0;
+              count *= d;
+            }
+            return (version == 2 ? kHeader2 : kHeader1) + count * (type == 0 ? 4 : 8);
+          }};
+}
+
 VolumeFile parse_any(std::string_view bytes, const std::string& source, const VolumeReadOptions& o,
                      const std::filesystem::path* folder) {
   if (bytes.empty()) throw InputError(source + " is empty");
@@ -821,7 +845,7 @@ VolumeFile parse_any(std::string_view bytes, const std::string& source, const Vo
   bool gz = false;
   if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
       static_cast<unsigned char>(bytes[1]) == 0x8b) {
-    inflated = detail::inflate_bytes(bytes, source, o.max_bytes);
+    inflated = detail::inflate_bytes(bytes, source, o.max_bytes, binary_form_size());
     bytes = inflated, gz = true;
   }
   const VolumeFormat format = o.format == VolumeFormat::Auto ? detect(bytes, source) : o.format;

@@ -488,6 +488,19 @@ TEST(VolumeIo, CompressedDataStopsAtTheSizeItsHeaderDeclares) {
       "ObjectType = Image\nNDims = 3\nDimSize = 16 4 4\nElementType = MET_UCHAR\n"
       "CompressedData = True\nElementDataFile = LOCAL\n" +
       zeros;
+  // A gzipped binary form (TDFB) whose header declares 2 x 2 x 2 float32s: 44 + 32 bytes.
+  std::string tdfb("TDFB\x01\x00\x00\x01", 8);
+  for (const std::uint32_t d : {2u, 2u, 2u}) tdfb.append(reinterpret_cast<const char*>(&d), 4);
+  tdfb.append(24, '\0');
+  const std::string whole = gzip(tdfb + std::string(std::size_t{64} << 20, '\0'));
+  try {
+    parse_volume(whole, "bomb.tdfb.gz");
+    ADD_FAILURE() << "bomb.tdfb.gz was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("more than 76 bytes, the size its header declares"),
+              std::string::npos)
+        << e.what();
+  }
   for (const auto& [bytes, name] : {std::pair{nrrd, "bomb.nrrd"}, std::pair{mha, "bomb.mha"}}) {
     const auto start = std::chrono::steady_clock::now();
     try {
