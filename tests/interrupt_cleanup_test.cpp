@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 
 #include "detail/interrupt_cleanup.hpp"
@@ -25,6 +26,9 @@ TEST(InterruptCleanup, ASignalRemovesTheRegisteredFilesAndFoldersAndEndsTheProce
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
     if (pid == 0) {
+      // A shell's background jobs start with SIGINT ignored, and an ignored signal stays so
+      // (the test below): each signal starts at its default here, as in a terminal.
+      for (const int s : {SIGINT, SIGTERM, SIGHUP}) std::signal(s, SIG_DFL);
       detail::remove_registered_paths_on_signals();
       test::write_file(staged, "partial");
       fs::create_directory(layers);
