@@ -555,7 +555,7 @@ void inflate_data(DataRef& d, std::string& storage, std::uint64_t max_bytes,
                   std::uint64_t declared) {
   try {
     storage = detail::inflate_bytes(d.bytes, d.source, max_bytes,
-                                    {1, [declared](std::string_view) { return declared; }});
+                                    {0, [declared](std::string_view) { return declared; }});
   } catch (const ParseError& e) {
     fail_at_byte(d.source, d.base + e.byte_offset().value_or(0), e.reason());
   }
@@ -613,12 +613,9 @@ std::vector<double> nrrd_values(std::string_view data, const Header& h, const El
   const std::int64_t skip = h.get(skip_key) ? header_integer(h, skip_key) : 0;
   if (skip == -1 && (gzip || text)) h.fail(skip_key, "'byte skip: -1' is only read with raw data");
   if (gzip) {
-    // Text holds at most a few dozen characters a value (and may be padded): no size to hold
-    // it to beyond the limit.
     inflate_data(d, inflated, max_bytes,
-                 text ? 0
-                      : count * std::uint64_t(e.size) +
-                            static_cast<std::uint64_t>(std::max<std::int64_t>(skip, 0)));
+                 count * std::uint64_t(e.size) +
+                     static_cast<std::uint64_t>(std::max<std::int64_t>(skip, 0)));
     f.compressed = true;
   }
   skip_bytes(d, skip, count * std::uint64_t(e.size), h, skip_key);

@@ -18,18 +18,29 @@ std::string inflate_bytes(std::string_view data, const std::string& source, std:
   const std::unique_ptr<z_stream, int (*)(z_stream*)> guard(&z, inflateEnd);
   std::string out;
   // A single gzip member's last four bytes hold its size modulo 2^32: room for that much
-  // (within the limit) spares the string's doublings, which held twice the data at the end.
+  // spares the string's doublings, which held twice the data at the end. Deflate expands at
+  // most 1032 times, so a larger claim is a lie.
+  std::uint64_t claimed = 0;
   if (data.size() >= 18 && static_cast<unsigned char>(data[0]) == 0x1f &&
       static_cast<unsigned char>(data[1]) == 0x8b) {
     const auto* tail = reinterpret_cast<const unsigned char*>(data.data() + data.size() - 4);
-    const std::uint64_t size =
-        tail[0] | tail[1] << 8 | tail[2] << 16 | std::uint64_t{tail[3]} << 24;
-    // Deflate expands at most 1032 times: a larger claim is a lie.
-    const std::uint64_t possible = 1032 * static_cast<std::uint64_t>(data.size());
-    out.reserve(static_cast<std::size_t>(std::min({size, max_bytes, possible})));
+    claimed = std::min(tail[0] | tail[1] << 8 | tail[2] << 16 | std::uint64_t{tail[3]} << 24,
+                       1032 * static_cast<std::uint64_t>(data.size()));
   }
   std::uint64_t limit = max_bytes;
-  bool declared_limit = false, head_read = declared.head == 0;
+  bool declared_limit = false;
+  // The limit settled (by the declared size, once its head is in), then the room reserved
+  // within it: a gzip of zeros under a header declaring 84 bytes reserves no gigabyte.
+  const auto settle = [&](std::string_view head) {
+    if (declared.total)
+      if (const std::uint64_t total = declared.total(head); total > 0 && total < limit) {
+        limit = total;
+        declared_limit = true;
+      }
+    if (out.size() < claimed) out.reserve(static_cast<std::size_t>(std::min(claimed, limit + 1)));
+  };
+  bool head_read = !declared.total || declared.head == 0;
+  if (head_read) settle({});
   std::vector<unsigned char> chunk(std::size_t{1} << 18);
   std::uint64_t consumed = 0;  // input handed to zlib so far
   auto feed = [&] {
@@ -50,10 +61,7 @@ std::string inflate_bytes(std::string_view data, const std::string& source, std:
     out.append(reinterpret_cast<const char*>(chunk.data()), chunk.size() - z.avail_out);
     if (!head_read && out.size() >= declared.head) {
       head_read = true;
-      if (const std::uint64_t total = declared.total(out); total > 0 && total < limit) {
-        limit = total;
-        declared_limit = true;
-      }
+      settle(out);
     }
     if (out.size() > limit)
       throw InputError(

@@ -11,8 +11,9 @@
 namespace tpmsfill::detail {
 
 /// The whole size a format's first bytes declare (a binary STL's triangle count, a volume's
-/// dimensions): once `head` bytes are inflated, `total(head bytes)` gives it, or 0 where they
-/// declare none. Inflating stops as soon as the data runs past it.
+/// dimensions): once `head` bytes are inflated (at once when `head` is 0: a header read
+/// before), `total(head bytes)` gives it, or 0 where they declare none. Inflating stops as
+/// soon as the data runs past it. Without `total`, nothing is declared.
 struct DeclaredSize {
   std::size_t head = 0;
   std::function<std::uint64_t(std::string_view)> total;
