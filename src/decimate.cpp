@@ -563,15 +563,20 @@ class IntersectionGuard {
   std::vector<Vec3> local_;
 };
 
-/// CGAL's filter: no face around the collapse turns over (Bounded_normal_change_filter), and
-/// the DistanceBound holds.
+/// CGAL's filter: no edge the collapse makes is longer than the limit, no face around it
+/// turns over (Bounded_normal_change_filter), and the DistanceBound holds.
 struct BoundFilter {
   DistanceBound* bound;
   IntersectionGuard* guard;
-  CollapseRegion* region;  ///< scratch, reused from collapse to collapse
+  CollapseRegion* region;       ///< scratch, reused from collapse to collapse
+  double max_edge_squared = 0;  ///< 0: no limit
   template <class Profile>
   boost::optional<typename Profile::Point> operator()(
       const Profile& profile, boost::optional<typename Profile::Point> p) const {
+    if (p && max_edge_squared > 0)
+      for (auto v : profile.link())
+        if (CGAL::squared_distance(get(profile.vertex_point_map(), v), *p) > max_edge_squared)
+          return {};
     p = SMS::Bounded_normal_change_filter<>()(profile, p);
     if (!p) return p;
     const SurfaceMesh& sm = profile.surface_mesh();
@@ -656,7 +661,8 @@ RoundResult simplify(const TriangleSoup& input, const std::vector<std::uint8_t>&
   SMS::edge_collapse(sm, StopPredicate{&state},
                      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<SurfaceMesh>())
                          .get_placement(placement)
-                         .filter(BoundFilter{&bound, &guard, &region})
+                         .filter(BoundFilter{&bound, &guard, &region,
+                                             options.max_edge_length * options.max_edge_length})
                          .edge_is_constrained_map(lock)
                          .visitor(Visitor(&state, &bound, &guard)));
   if (state.cancelled) throw Cancelled("cancelled");
@@ -755,6 +761,10 @@ void check_options(const DecimateOptions& o) {
         format("decimate: the tolerance must be a positive length in mm, not %g", o.tolerance));
   if (o.max_rounds < 1)
     throw InputError(format("decimate: max_rounds must be at least 1, not %g", o.max_rounds));
+  if (!(o.max_edge_length >= 0) || !std::isfinite(o.max_edge_length))
+    throw InputError(
+        format("decimate: the longest edge must be a length in mm (0: no limit), not %g",
+               o.max_edge_length));
 }
 
 void add_warnings(DecimateReport& r) {

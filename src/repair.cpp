@@ -38,6 +38,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -52,7 +53,9 @@
 #include "detail/soup_indices.hpp"
 #include "detail/stage_progress.hpp"
 #include "detail/surface_deviation.hpp"
+#include "detail/winding_solid.hpp"
 #include "tpmsfill/components.hpp"
+#include "tpmsfill/decimate.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -316,19 +319,11 @@ RepairAction action(std::string defect, std::uint64_t found, std::string done,
   return RepairAction{std::move(defect), found, std::move(done), fixed};
 }
 
-/// CGAL's multi-line failure message on one line: "assertion violation! Expr: ...; File: ...".
-std::string one_line(const char* what) {
-  std::string s = what;
-  const std::string prefix = "CGAL ERROR: ";
-  if (s.rfind(prefix, 0) == 0) s.erase(0, prefix.size());
-  while (!s.empty() && s.back() == '\n') s.pop_back();
-  std::string out;
-  for (char c : s)
-    if (c == '\n')
-      out += "; ";
-    else
-      out += c;
-  return out;
+/// Where a CGAL check failed, for a sentence: "an internal check in its Visitor.h". CGAL's own
+/// text (the failed expression, its bug-reporting plea) means nothing to a user.
+std::string cgal_check_place(const std::string& file) {
+  const std::string name = std::filesystem::path(file).filename().string();
+  return name.empty() ? "an internal check" : "an internal check in its " + name;
 }
 
 /// Puts the soup in an order that depends only on its geometry, not on how CGAL happened to
@@ -384,6 +379,8 @@ void check_options(const RepairOptions& o) {
     throw InputError("alpha must be a positive length in mm (0 = derived from the mesh size)");
   if (!(o.offset >= 0 && std::isfinite(o.offset)))
     throw InputError("the wrap offset must be a positive length in mm (0 = alpha / 30)");
+  if (!(o.voxel >= 0 && std::isfinite(o.voxel)))
+    throw InputError("the voxel must be a positive length in mm (0 = half the tolerance)");
 }
 
 /// What steps 1-6 did, for the log.
@@ -391,6 +388,7 @@ struct Counts {
   std::uint64_t stitched = 0, pinched = 0, degenerate_left = 0, specks = 0;
   HoleCounts holes;
   std::uint64_t si_found = 0, si_fixed = 0, inward_shells = 0;
+  std::uint64_t separated = 0;  ///< vertices pulled apart from others at their position
   std::string si_action = "left (self-intersection removal off)";
 };
 
@@ -531,7 +529,7 @@ void resolve_self_intersections(SurfaceMesh& mesh, Counts& counts, Progress* pro
 
 /// CGAL's failure as one of RepairReport::unresolved's sentences.
 std::string step_failure(const CGAL::Failure_exception& e) {
-  return "a repair step failed inside CGAL (" + one_line(e.what()) + ")";
+  return "a repair step failed inside CGAL (" + cgal_check_place(e.filename()) + ")";
 }
 
 /// Steps 1-4: the soup as a mesh, stitched, without specks, holes filled. Writes into `s`
@@ -571,6 +569,36 @@ void repair_surface(const TriangleSoup& input, const RepairOptions& options, Ste
   s.filled = s.mesh;
 }
 
+/// Pulls apart vertices that share a position (sheets that touch at a point, split into one
+/// vertex per fan, but still one point in a file): each moves 1 % of the way to its own
+/// neighbours' centroid, into its own fan, so that no reader welds them again. The final
+/// check decides whether that made the mesh valid. Returns how many vertices moved.
+std::uint64_t separate_pinches(SurfaceMesh& mesh) {
+  PMP::duplicate_non_manifold_vertices(mesh);
+  std::map<std::array<double, 3>, std::vector<Vertex>> at;
+  for (Vertex v : mesh.vertices()) {
+    if (mesh.is_isolated(v)) continue;
+    const Point3& p = mesh.point(v);
+    at[{p.x(), p.y(), p.z()}].push_back(v);
+  }
+  std::vector<std::pair<Vertex, Vec3>> moves;
+  for (const auto& [p, group] : at) {
+    if (group.size() < 2) continue;
+    for (Vertex v : group) {
+      Vec3 centroid{};
+      double n = 0;
+      for (Vertex w : CGAL::vertices_around_target(mesh.halfedge(v), mesh)) {
+        centroid = centroid + position(mesh, w);
+        ++n;
+      }
+      const Vec3 q = position(mesh, v);
+      moves.emplace_back(v, q + 0.01 * ((1.0 / n) * centroid - q));
+    }
+  }
+  for (const auto& [v, q] : moves) mesh.point(v) = detail::to_cgal(q);
+  return moves.size();
+}
+
 /// Steps 5-6 on s.mesh: self-intersections resolved, shells oriented.
 void resolve_and_orient(const RepairOptions& options, Steps& s) {
   SurfaceMesh& mesh = s.mesh;
@@ -586,6 +614,7 @@ void resolve_and_orient(const RepairOptions& options, Steps& s) {
   // --- 6. orientation -------------------------------------------------------------------
   if (!mesh.is_empty() && CGAL::is_closed(mesh) && count_self_intersections(mesh) == 0)
     s.counts.inward_shells += orient_shells(mesh, true);
+  s.counts.separated = separate_pinches(mesh);
 }
 
 /// Steps 1-6.
@@ -619,7 +648,9 @@ std::vector<RepairAction> write_log(const MeshCheck& before, const Counts& c,
   a.push_back(action("non-manifold edges", before.non_manifold_edges, "split into manifold sheets",
                      before.non_manifold_edges));
   a.push_back(action("non-manifold vertices", before.non_manifold_vertices + c.pinched,
-                     "split (one vertex per fan)", before.non_manifold_vertices + c.pinched));
+                     c.separated ? "split (one vertex per fan), the fans pulled apart"
+                                 : "split (one vertex per fan)",
+                     before.non_manifold_vertices + c.pinched));
   a.push_back(action("coincident border edge pairs", c.stitched, "stitched", c.stitched));
   a.push_back(action("small components", c.specks, "removed", c.specks));
   a.push_back(action("holes", c.holes.found,
@@ -661,30 +692,6 @@ void round_result(RepairResult& result, const RepairOptions& options) {
   }
 }
 
-/// Step 7: the result replaced by the alpha wrap of `wrap_input`, if CGAL can make one.
-void wrap_result(RepairResult& result, const TriangleSoup& wrap_input,
-                 const RepairOptions& options) {
-  RepairReport& report = result.report;
-  const double diagonal = norm(bounding_box(wrap_input).size());
-  if (!wrap_input.triangles.empty() && diagonal > 0) {
-    report.alpha = options.alpha > 0 ? options.alpha : diagonal / 100.0;
-    report.offset = options.offset > 0 ? options.offset : report.alpha / 30.0;
-    try {
-      TriangleSoup wrapped = detail::alpha_wrap(wrap_input, report.alpha, report.offset);
-      canonical_order(wrapped);
-      round_coordinates(options.rounding, wrapped);
-      result.mesh = std::move(wrapped);
-      report.wrapped = true;
-      detail::report_or_cancel(options.progress, 0.9);
-      report.after = check_mesh(result.mesh);
-    } catch (const CGAL::Failure_exception& e) {
-      report.unresolved.push_back("the alpha wrap failed inside CGAL (" + one_line(e.what()) + ")");
-      report.alpha = report.offset = 0;
-    }
-  }
-  detail::report_or_cancel(options.progress, 1.0);
-}
-
 /// The reference a repair is measured against: the input as cleaned, with its hole patches
 /// (`all`), and without them (`surface`, what the output must stay near).
 struct Reference {
@@ -723,12 +730,13 @@ double volume_of(const TriangleSoup& soup) {
 /// The output's deviation from the reference. A repair's output follows the input except where
 /// a union of overlapping shells removed surface from inside the solid: input samples inside
 /// the output are left out. A wrap encloses all of its input (by its offset, or a cavity's
-/// depth): every sample counts.
+/// depth): only input faces buried in the input's own solid (inside another shell) are left
+/// out, and a cavity's walls count.
 RepairDeviation deviation_of(const TriangleSoup& output, const Reference& ref, bool wrapped) {
   RepairDeviation d;
   const detail::DistanceStats to = detail::surface_distances(output, ref.all);
-  const detail::DistanceStats from =
-      detail::surface_distances(ref.surface, output, /*skip_inside=*/!wrapped);
+  const detail::DistanceStats from = detail::surface_distances(
+      ref.surface, output, /*skip_inside=*/!wrapped, 1, 600000, wrapped ? &ref.all : nullptr);
   d.to_input = {to.max, to.p95};
   d.from_input = {from.max, from.p95};
   // Magnitudes: an inside-out input turned outward is the same solid.
@@ -752,9 +760,100 @@ std::string mm(double v) {
   return s;
 }
 
-/// The log's lines for defects that were still there when the wrap ran: "N remained", so the
-/// log and the wrap's reasons never contradict each other.
-void mark_remaining(std::vector<RepairAction>& actions, const MeshCheck& left) {
+/// One route to a valid mesh (step 7): what it made and its record for the report.
+struct Candidate {
+  RepairCandidate record;
+  TriangleSoup mesh;
+  MeshCheck after;
+};
+
+/// The alpha wrap of `wrap_input`, rounded as the file will hold it.
+Candidate wrap_candidate(const TriangleSoup& wrap_input, double alpha, double offset,
+                         const RepairOptions& options) {
+  Candidate c;
+  c.record.route = "wrap";
+  c.record.alpha = alpha;
+  c.record.offset = offset;
+  try {
+    c.mesh = detail::alpha_wrap(wrap_input, alpha, offset);
+  } catch (const CGAL::Failure_exception& e) {
+    c.record.failure = "the alpha wrap failed inside CGAL (" + cgal_check_place(e.filename()) + ")";
+    return c;
+  }
+  canonical_order(c.mesh);
+  round_coordinates(options.rounding, c.mesh);
+  return c;
+}
+
+/// The volumetric route's decimation makes no edge longer than this many voxels: flat faces of
+/// a CAD part would otherwise become a few huge triangles, each collapse proven against the
+/// thousands of marching-cubes triangles under them (quadratic; minutes for a plain box).
+constexpr double kMaxEdgeVoxels = 10;
+
+/// The volumetric route: the surface of `solid_input`'s winding-number solid at `voxel`
+/// (valid by construction), then decimated within three quarters of what the tolerance leaves
+/// once the surface's own deviation is measured (the decimation's bound is proven, the measure
+/// is sampled: the quarter is the margin between them).
+Candidate volume_candidate(const TriangleSoup& solid_input, double voxel, double tolerance,
+                           const Reference& ref, const RepairOptions& options) {
+  Candidate c;
+  c.record.route = "volume";
+  c.record.voxel = voxel;
+  try {
+    c.mesh = detail::winding_solid_surface(solid_input, voxel, options.rounding, options.progress);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const Error& e) {  // nothing inside at this voxel, or a grid too large
+    c.record.failure = std::string("the volumetric route made no surface: ") + e.what();
+    return c;
+  }
+  const double left = tolerance - deviation_of(c.mesh, ref, false).worst();
+  if (left > 0) {
+    // The decimation's bound is proven against the surface, whose own deviation is sampled:
+    // where the two add up past the tolerance after all, the surface is kept as it was.
+    DecimateOptions o;
+    o.tolerance = 0.75 * left;
+    o.max_edge_length = kMaxEdgeVoxels * voxel;
+    o.rounding = options.rounding;
+    o.progress = options.progress;
+    try {
+      DecimateResult d = decimate(c.mesh, o);
+      if (d.report.validation.valid() && d.report.stop != DecimateStop::Unchanged &&
+          deviation_of(d.mesh, ref, false).worst() <= tolerance) {
+        c.mesh = std::move(d.mesh);
+        c.record.decimation = o.tolerance;
+      }
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error&) {
+      // Decimation refuses what it cannot prove valid: the surface stays as marching cubes made it.
+    }
+  }
+  canonical_order(c.mesh);
+  return c;
+}
+
+/// Checks and measures a candidate (unless it already failed) and records it in the report.
+void assess(Candidate& c, const Reference& ref, RepairReport& report) {
+  if (c.record.failure.empty()) {
+    c.after = check_mesh(c.mesh);
+    c.record.triangles = c.mesh.triangles.size();
+    c.record.valid = c.after.valid();
+    if (c.record.valid) {
+      c.record.deviation = deviation_of(c.mesh, ref, c.record.route == "wrap");
+    } else {
+      const std::vector<std::string> problems = c.after.problems();
+      c.record.failure =
+          "its result is not valid (" + (problems.empty() ? "" : problems.front()) + ")";
+    }
+  }
+  report.candidates.push_back(c.record);
+}
+
+/// The log's lines for defects that were still there after the repair steps: "N remained" and
+/// `then` (which route replaced the surface), so the log and the reasons never contradict.
+void mark_remaining(std::vector<RepairAction>& actions, const MeshCheck& left,
+                    const std::string& then) {
   const std::pair<const char*, std::uint64_t> remaining[] = {
       {"non-manifold vertices", left.non_manifold_vertices},
       {"non-manifold edges", left.non_manifold_edges},
@@ -767,8 +866,8 @@ void mark_remaining(std::vector<RepairAction>& actions, const MeshCheck& left) {
     for (const auto& [defect, count] : remaining)
       if (a.defect == defect && count > 0) {
         a.fixed = a.found > count ? a.found - count : 0;
-        a.action += (a.action.empty() ? "" : "; ") + std::to_string(count) +
-                    " remained, so the surface was wrapped";
+        a.action += (a.action.empty() ? "" : "; ") + std::to_string(count) + " remained" +
+                    (then.empty() ? "" : ", " + then);
       }
 }
 
@@ -797,11 +896,10 @@ class CgalMessages {
     std::lock_guard lock(mutex());
     std::vector<std::string>& seen = messages();
     if (seen.empty()) return "";
-    std::string s =
-        "CGAL noted " + std::to_string(seen.size()) +
-        " internal check(s) that did not hold during the repair (first: " + seen.front() +
-        "); steps that failed were undone and the result was checked "
-        "on its own, as every result is";
+    std::string s = "CGAL stopped on " + std::to_string(seen.size()) +
+                    " internal check(s) during the repair (the first was " + seen.front() +
+                    "); the steps concerned were undone and the result was checked on its own, "
+                    "as every result is";
     seen.clear();
     return s;
   }
@@ -809,13 +907,9 @@ class CgalMessages {
  private:
   static void record(const char* type, const char* expression, const char* file, int line,
                      const char* message) {
-    (void)type;
-    std::string where = std::filesystem::path(file ? file : "").filename().string();
-    std::string text =
-        std::string(expression ? expression : "") + " in " + where + ":" + std::to_string(line);
-    if (message && *message) text += ", " + std::string(message);
+    (void)type, (void)expression, (void)line, (void)message;
     std::lock_guard lock(mutex());
-    if (messages().size() < 1000) messages().push_back(one_line(text.c_str()));
+    if (messages().size() < 1000) messages().push_back(cgal_check_place(file ? file : ""));
   }
   static std::mutex& mutex() {
     static std::mutex m;
@@ -907,47 +1001,103 @@ RepairResult repair_mesh(const TriangleSoup& input, const RepairOptions& options
   steps.failure = failure;
   const Reference reference = reference_of(steps, input);
 
-  // --- 7. check; wrap if still not valid or past the tolerance ------------------------------
+  // --- 7. check; other routes if not valid or past the tolerance ---------------------------
   detail::begin_stage(options.progress, "check result");
   report.after = check_mesh(result.mesh);
   if (options.rounding != CoordinateRounding::None && !failure) round_result(result, options);
   detail::report_or_cancel(options.progress, 1.0);
-  if (report.after.valid()) {
+  std::vector<Candidate> candidates;
+  candidates.reserve(6);  // `repaired` is read below while the list grows
+  Candidate& repaired = candidates.emplace_back();
+  repaired.record.route = "repair";
+  repaired.mesh = std::move(result.mesh);
+  repaired.after = report.after;
+  repaired.record.triangles = repaired.mesh.triangles.size();
+  repaired.record.valid = report.after.valid();
+  if (repaired.record.valid) {
     detail::begin_stage(options.progress, "deviation");
-    report.deviation = deviation_of(result.mesh, reference, false);
-    report.within_tolerance = report.deviation.worst() <= report.tolerance;
-    if (!report.within_tolerance && options.wrap) {
-      // Past the tolerance: the wrap is the other candidate; the nearer one is the result.
-      RepairResult wrapped = result;
-      wrapped.report.unresolved = {"the repair lies up to " + mm(report.deviation.worst()) +
-                                   " from the input, beyond the tolerance of " +
-                                   mm(report.tolerance)};
-      detail::begin_stage(options.progress, "alpha wrap");
-      wrap_result(wrapped, failure ? input : to_soup(steps.filled), options);
-      if (wrapped.report.wrapped && wrapped.report.after.valid()) {
-        wrapped.report.deviation = deviation_of(wrapped.mesh, reference, true);
-        if (wrapped.report.deviation.worst() < report.deviation.worst()) {
-          wrapped.report.rejected = report.deviation;
-          wrapped.report.rejected_kind = "repair";
-          result = std::move(wrapped);
-        } else {
-          report.rejected = wrapped.report.deviation;
-          report.rejected_kind = "wrap";
-        }
-      }
-      report.within_tolerance = report.deviation.worst() <= report.tolerance;
-    }
-  } else if (options.wrap) {
+    repaired.record.deviation = deviation_of(repaired.mesh, reference, false);
+  } else {
     report.unresolved = report.after.problems();
     if (failure) report.unresolved.insert(report.unresolved.begin(), *failure);
-    mark_remaining(report.actions, report.after);
-    detail::begin_stage(options.progress, "alpha wrap");
-    wrap_result(result, failure ? input : to_soup(steps.filled), options);
-    if (report.after.valid()) {
-      report.deviation = deviation_of(result.mesh, reference, report.wrapped);
-      report.within_tolerance = report.deviation.worst() <= report.tolerance;
-    }
+    repaired.record.failure = "its result is not valid (" + report.unresolved.front() + ")";
   }
+  report.candidates.push_back(repaired.record);
+  auto within = [&](const Candidate& c) {
+    return c.record.valid && c.record.deviation.worst() <= report.tolerance;
+  };
+  if (repaired.record.valid && !within(repaired))
+    report.unresolved = {"the repair lies up to " + mm(repaired.record.deviation.worst()) +
+                         " from the input, beyond the tolerance of " + mm(report.tolerance)};
+
+  // Coarse to fine, cheapest first, until one is within the tolerance: the wrap at CGAL's usual
+  // alpha, the winding-number solid remade at half the tolerance (and a quarter, if that
+  // surface alone was beyond), then wraps at half and a quarter of that alpha (each about four
+  // times the cost of the one before).
+  if (!within(repaired)) {
+    const TriangleSoup wrap_input = failure ? input : to_soup(steps.filled);
+    const double diagonal = norm(bounding_box(wrap_input).size());
+    std::vector<double> alphas;
+    if (options.alpha > 0)
+      alphas = {options.alpha};
+    else if (diagonal > 0)
+      alphas = {diagonal / 100, diagonal / 200, diagonal / 400};
+    auto try_route = [&](Candidate c) {
+      assess(c, reference, report);
+      candidates.push_back(std::move(c));
+      return within(candidates.back());
+    };
+    auto wrap_at = [&](double alpha) {
+      detail::begin_stage(options.progress, "alpha wrap");
+      return try_route(wrap_candidate(wrap_input, alpha,
+                                      options.offset > 0 ? options.offset : alpha / 30, options));
+    };
+    bool done = options.wrap && !alphas.empty() && wrap_at(alphas[0]);
+    if (!done && options.volume && options.fill_holes && !wrap_input.triangles.empty()) {
+      const double voxel = options.voxel > 0 ? options.voxel : report.tolerance / 2;
+      detail::begin_stage(options.progress, "volume");
+      done = try_route(volume_candidate(wrap_input, voxel, report.tolerance, reference, options));
+      // The surface itself beyond the tolerance (nothing left to decimate within): a part
+      // about a voxel thin was lost. Once more at half the voxel (8 times the nodes).
+      const RepairCandidate& coarse = candidates.back().record;
+      if (!done && options.voxel == 0 && coarse.valid && coarse.decimation == 0) {
+        detail::begin_stage(options.progress, "volume");
+        done = try_route(
+            volume_candidate(wrap_input, voxel / 2, report.tolerance, reference, options));
+      }
+    }
+    for (std::size_t i = 1; !done && options.wrap && i < alphas.size(); ++i)
+      done = wrap_at(alphas[i]);
+  }
+
+  // The valid candidate nearest the input (the first of equals); the repair as it came when
+  // none is valid.
+  std::size_t pick = 0;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i].record.valid &&
+        (!candidates[pick].record.valid ||
+         candidates[i].record.deviation.worst() < candidates[pick].record.deviation.worst()))
+      pick = i;
+  Candidate& chosen = candidates[pick];
+  report.candidates[pick].taken = true;
+  result.mesh = std::move(chosen.mesh);
+  report.after = chosen.after;
+  if (chosen.record.valid) {
+    report.route = chosen.record.route;
+    report.deviation = chosen.record.deviation;
+    report.within_tolerance = within(chosen);
+    report.wrapped = report.route == "wrap";
+    report.alpha = chosen.record.alpha;
+    report.offset = chosen.record.offset;
+    report.voxel = chosen.record.voxel;
+  } else {
+    report.within_tolerance = false;
+  }
+  if (!candidates[0].record.valid)
+    mark_remaining(report.actions, candidates[0].after,
+                   report.route == "wrap"     ? "so the surface was wrapped"
+                   : report.route == "volume" ? "so the surface was remade from its volume"
+                                              : "");
   if (report.valid()) warn_deviation(report, reference);
   if (std::string cgal = cgal_messages.sentence(); !cgal.empty()) report.warnings.push_back(cgal);
   return result;

@@ -53,6 +53,20 @@ std::string to_json(const RepairReport& r) {
   for (const RepairAction& a : r.actions)
     actions.push_back(
         {{"defect", a.defect}, {"found", a.found}, {"action", a.action}, {"fixed", a.fixed}});
+  json candidates = json::array();
+  for (const RepairCandidate& c : r.candidates) {
+    const bool wrap = c.route == "wrap", volume = c.route == "volume";
+    candidates.push_back({{"route", c.route},
+                          {"alpha", wrap ? json(c.alpha) : json(nullptr)},
+                          {"offset", wrap ? json(c.offset) : json(nullptr)},
+                          {"voxel", volume ? json(c.voxel) : json(nullptr)},
+                          {"decimation", c.decimation > 0 ? json(c.decimation) : json(nullptr)},
+                          {"triangles", c.triangles},
+                          {"valid", c.valid},
+                          {"taken", c.taken},
+                          {"deviation", c.valid ? deviation_json(c.deviation) : json(nullptr)},
+                          {"failure", c.valid ? json(nullptr) : json(c.failure)}});
+  }
   json j = {
       {"valid", r.valid()},
       {"problems", r.after.problems()},
@@ -60,11 +74,12 @@ std::string to_json(const RepairReport& r) {
       {"within_tolerance", r.within_tolerance},
       {"tolerance", r.tolerance},
       {"deviation", deviation_json(r.deviation)},
-      {"rejected", r.rejected ? deviation_json(*r.rejected) : json(nullptr)},
-      {"rejected_kind", r.rejected ? json(r.rejected_kind) : json(nullptr)},
+      {"route", r.route.empty() ? json(nullptr) : json(r.route)},
+      {"candidates", std::move(candidates)},
       {"wrapped", r.wrapped},
       {"alpha", r.wrapped ? json(r.alpha) : json(nullptr)},
       {"offset", r.wrapped ? json(r.offset) : json(nullptr)},
+      {"voxel", r.route == "volume" ? json(r.voxel) : json(nullptr)},
       {"unresolved", r.unresolved},
       {"float_repasses", r.float_repasses},
       {"min_component_fraction", r.min_component_fraction},
@@ -112,18 +127,29 @@ std::string to_text(const RepairReport& r) {
   if (r.float_repasses > 0)
     s += "float    rounding to float (for STL) broke the repair: repaired again " +
          std::to_string(r.float_repasses) + (r.float_repasses == 1 ? " time\n" : " times\n");
-  if (r.wrapped) {
-    s += "wrap     alpha wrap with alpha " + g(r.alpha) + " mm, offset " + g(r.offset) +
-         " mm, because the repaired mesh " +
-         (r.rejected_kind == "repair" ? "was valid but" : "still had:") + "\n";
+  if (r.candidates.size() > 1) {
+    s += "routes   tried because the repaired mesh " +
+         std::string(r.candidates.front().valid ? "was valid but" : "still had:") + "\n";
     for (const std::string& p : r.unresolved) s += "  - " + p + "\n";
+    for (const RepairCandidate& c : r.candidates) {
+      s += "  " + c.route;
+      if (c.route == "wrap") s += " (alpha " + g(c.alpha) + " mm, offset " + g(c.offset) + " mm)";
+      if (c.route == "volume")
+        s += " (voxel " + g(c.voxel) + " mm" +
+             (c.decimation > 0 ? ", decimated within " + g(c.decimation) + " mm" : "") + ")";
+      if (c.valid)
+        s += ": valid, lies up to " + g(c.deviation.worst()) + " mm from the input" +
+             (c.deviation.worst() <= r.tolerance ? "" : " (beyond the tolerance)");
+      else
+        s += ": " + c.failure;
+      if (c.taken) s += "  <- taken";
+      s += "\n";
+    }
   }
   s += "output   " + summary(r.after) + "\n";
   if (r.valid()) {
     s += "deviation " + deviation_text(r.deviation) + "; tolerance " + g(r.tolerance) +
          " mm: " + (r.within_tolerance ? "within" : "BEYOND") + "\n";
-    if (r.rejected)
-      s += "  (the " + r.rejected_kind + " was not taken: " + deviation_text(*r.rejected) + ")\n";
   }
   for (const std::string& w : r.warnings) s += "warning  " + w + "\n";
   if (r.valid() && !r.within_tolerance) {

@@ -74,6 +74,16 @@ TEST(RepairCli, JsonParsesAndNamesTheWrap) {
   EXPECT_NEAR(j["tolerance"].get<double>(), 0.01 * std::sqrt(300.0), 1e-9);
   EXPECT_EQ(j["written"], true);
   EXPECT_EQ(j["wrapped"], true);
+  EXPECT_EQ(j["route"], "wrap");
+  // --alpha is the only wrap tried; without hole filling there is no volumetric route.
+  ASSERT_EQ(j["candidates"].size(), 2u) << out;
+  EXPECT_EQ(j["candidates"][0]["route"], "repair");
+  EXPECT_EQ(j["candidates"][0]["valid"], false);
+  EXPECT_TRUE(j["candidates"][0]["failure"].is_string());
+  EXPECT_EQ(j["candidates"][1]["route"], "wrap");
+  EXPECT_EQ(j["candidates"][1]["taken"], true);
+  EXPECT_EQ(j["candidates"][1]["alpha"].get<double>(), 1.5);
+  EXPECT_EQ(j["candidates"][1]["deviation"], j["deviation"]);
   EXPECT_EQ(j["alpha"].get<double>(), 1.5);
   EXPECT_EQ(j["offset"].get<double>(), 0.05);
   EXPECT_FALSE(j["unresolved"].empty());

@@ -63,6 +63,11 @@ struct DecimateOptions {
   /// 3MF), so that the file holds exactly the mesh that was validated. None: the input's points
   /// are kept and new vertices are doubles.
   CoordinateRounding rounding = CoordinateRounding::Float;
+  /// No collapse may make an edge longer than this, mm; 0: no limit. The proof's work per
+  /// collapse grows with the input triangles under a result triangle, so on large flat areas
+  /// (a remade CAD part: thousands of marching-cubes triangles in one plane) a limit keeps the
+  /// decimation near linear; it also keeps triangles from spanning a whole face.
+  double max_edge_length = 0;
   /// Simplifications from the input, at most, while locking where the result was invalid.
   int max_rounds = 8;
   bool self_intersections = true;  ///< validate with the self-intersection search (exact)
@@ -141,7 +146,8 @@ struct DecimateResult {
 ///                     merged first, as check_mesh() does, so an STL's soup is fine)
 /// @param[in] options  tolerance (mm), target, rounds
 /// @return the decimated mesh (valid: report.validation.valid()) and the report
-/// @throws InputError  tolerance not positive and finite, max_rounds < 1, or the mesh (after
+/// @throws InputError  tolerance not positive and finite, max_rounds < 1, max_edge_length
+///                     negative or not finite, or the mesh (after
 ///                     merging) is not valid (the message gives validate_mesh()'s problems)
 /// @throws Cancelled   options.progress said so
 DecimateResult decimate(const TriangleSoup& mesh, const DecimateOptions& options);

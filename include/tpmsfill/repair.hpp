@@ -24,13 +24,21 @@
 ///     (PMP::experimental::autorefine_and_remove_self_intersections, a union of overlapping
 ///     shells), else local remeshing (PMP::experimental::remove_self_intersections);
 ///  6. orient every shell outward (PMP::orient_to_bound_a_volume);
-///  7. if check_mesh() still refuses the result, replace it by a 3D alpha wrap
-///     (CGAL::alpha_wrap_3) of the mesh as it was after step 4 (see RepairOptions::wrap);
-///  8. check_mesh() (self-intersections searched) on the result: RepairReport::after;
-///  9. the result's deviation from the input (RepairDeviation): a valid repair whose deviation
-///     exceeds the tolerance is not accepted as it is; the wrap is tried, and the result is
-///     the candidate with the smaller deviation, RepairReport::within_tolerance saying
-///     whether it is within. CGAL's own warnings are caught into RepairReport::warnings.
+///  7. check_mesh() (self-intersections searched) on the result, and its deviation from the
+///     input (RepairDeviation). A valid result within the tolerance is the answer. Otherwise
+///     other routes run, coarse to fine and cheapest first, until one is within the tolerance:
+///       a. a 3D alpha wrap (CGAL::alpha_wrap_3) of the mesh as it was after step 4, with
+///          alpha = the bounding-box diagonal / 100 (see RepairOptions::wrap);
+///       b. the volumetric route: the boundary of the mesh's winding-number solid (w ≥ ½,
+///          holes closed: overlapping shells united, self-intersections gone), extracted by
+///          marching cubes from its signed distance sampled at half the tolerance (valid by
+///          construction), then decimated within what the tolerance leaves (see
+///          RepairOptions::volume);
+///       c. wraps at alpha = diagonal / 200 and / 400 (each about four times the cost).
+///     The result is the valid candidate nearest the input (RepairDeviation::worst());
+///     RepairReport::route names it, RepairReport::candidates lists every route tried,
+///     RepairReport::within_tolerance says whether the result is within. CGAL's own warnings
+///     are caught into RepairReport::warnings.
 ///
 /// Deterministic: the same soup and options give the same mesh, whatever the thread count.
 #pragma once
@@ -54,23 +62,32 @@ struct RepairOptions {
   double min_component_fraction = 1e-3;
   bool fill_holes = true;  ///< step 4 (off: holes stay, so the mesh is repaired only by a wrap)
   bool fair_holes = true;  ///< fair hole patches (smooth); off: triangulate and refine only
-  bool self_intersections = true;  ///< step 5 (off: self-intersecting meshes go to the wrap)
-  /// Step 7. Alpha wrapping always yields a valid mesh but moves the surface: it lies about
-  /// `offset` outside the input and does not enter cavities narrower than about `alpha`.
+  bool self_intersections = true;  ///< step 5 (off: self-intersecting meshes go to step 7)
+  /// Step 7a and c. Alpha wrapping always yields a valid mesh but moves the surface: it lies
+  /// about `offset` outside the input and does not enter cavities narrower than about `alpha`.
   /// The wrap's input is the mesh after hole filling, not the original soup: specks are gone
   /// (the original would wrap each of them) and holes are closed (an open surface would be
   /// wrapped on both sides, as a thin shell instead of a solid).
   bool wrap = true;
-  /// Alpha (mm): the radius of the ball that carves space around the input. 0 = the
-  /// bounding-box diagonal of the wrapped mesh / 100 (details down to about 1% of the part).
+  /// Alpha (mm): the radius of the ball that carves space around the input. 0 = searched: the
+  /// bounding-box diagonal of the wrapped mesh / 100 (details down to about 1% of the part),
+  /// then / 200 and / 400 if the volumetric route too lies beyond the tolerance. A value > 0
+  /// is the only wrap tried.
   double alpha = 0;
   /// Offset (mm): how far outside the input the wrap lies. 0 = alpha / 30 (CGAL's own
   /// default ratio), i.e. diagonal / 3000: 0.03 mm for a 100 mm part.
   double offset = 0;
+  /// Step 7b, the volumetric route (needs fill_holes: it closes holes itself). Exact where the
+  /// winding number decides, approximate by about a voxel where the surface is remade; parts
+  /// thinner than a voxel may be lost, which the deviation then shows.
+  bool volume = true;
+  /// The volumetric route's voxel (mm): 0 = half the tolerance. Grids over 2^26 nodes are
+  /// not sampled (the route is then reported as failed).
+  double voxel = 0;
   /// Round the result's coordinates as the output file will hold them before the final check
   /// (rounding_for(format), io.hpp: Float for STL, ThreeMf for 3MF), so that the file holds
-  /// exactly the mesh that was checked. If rounding breaks validity, the wrap runs (its output
-  /// is rounded and checked too).
+  /// exactly the mesh that was checked. If rounding breaks validity, the other routes run (their
+  /// output is rounded and checked too).
   CoordinateRounding rounding = CoordinateRounding::None;
   /// Largest deviation from the input (RepairDeviation::worst) a repair may have to be
   /// accepted, mm. 0 = 1 % of the input's bounding-box diagonal.
@@ -110,6 +127,22 @@ struct RepairAction {
   std::uint64_t fixed = 0;  ///< of those, how many were resolved by the step
 };
 
+/// One route tried in step 7 (the repair steps themselves first).
+struct RepairCandidate {
+  std::string route;             ///< "repair", "wrap" or "volume"
+  double alpha = 0, offset = 0;  ///< wrap: its parameters, mm (0 otherwise)
+  double voxel = 0;              ///< volume: the voxel, mm (0 otherwise)
+  /// volume: the tolerance its marching-cubes surface was decimated within, mm (0: not
+  /// decimated, when the surface alone used the tolerance up or decimation could not prove
+  /// a valid result)
+  double decimation = 0;
+  std::uint64_t triangles = 0;  ///< of its mesh
+  bool valid = false;           ///< its mesh passes check_mesh()
+  bool taken = false;           ///< its mesh is the result
+  RepairDeviation deviation;    ///< when valid
+  std::string failure;          ///< why it gave no valid mesh ("" when valid), one sentence
+};
+
 struct RepairReport {
   MeshCheck before;  ///< check_mesh() of the input (self-intersections searched)
   /// In pipeline order, always the same defect classes (found may be 0): "duplicate points",
@@ -127,22 +160,24 @@ struct RepairReport {
   /// Holes whose faired patch would have left its rim's box (+ a tenth of the rim's
   /// diameter): their refined, unfaired patch was kept.
   std::uint64_t fairing_undone = 0;
-  /// Why the wrap ran: check_mesh()'s problems with the repaired mesh; empty when it did not.
+  /// Why routes other than the repair ran: check_mesh()'s problems with the repaired mesh
+  /// (a CGAL failure first), or its deviation past the tolerance; empty when none ran.
   std::vector<std::string> unresolved;
   /// Times steps 1-6 ran again on the result because rounding it
-  /// (RepairOptions::rounding) broke its validity (at most 2; then the wrap).
+  /// (RepairOptions::rounding) broke its validity (at most 2; then the other routes).
   std::uint64_t float_repasses = 0;
-  bool wrapped = false;       ///< the result is an alpha wrap
-  double alpha = 0;           ///< mm, the value used (0 when not wrapped)
-  double offset = 0;          ///< mm, the value used (0 when not wrapped)
-  MeshCheck after;            ///< check_mesh() of the result (self-intersections searched)
-  double tolerance = 0;       ///< mm, the value used (RepairOptions::tolerance)
-  RepairDeviation deviation;  ///< of the result
-  /// The candidate that was not taken (a valid repair past the tolerance when the wrap was
-  /// taken, or the wrap when it deviated more), and which it was: "repair" or "wrap".
-  std::optional<RepairDeviation> rejected;
-  std::string rejected_kind;
-  bool within_tolerance = true;  ///< deviation.worst() <= tolerance
+  /// The route whose mesh is the result: "repair", "wrap" or "volume"; "" when none gave a
+  /// valid mesh (the result is then the repair's, not valid).
+  std::string route;
+  std::vector<RepairCandidate> candidates;  ///< every route tried, in the order tried
+  bool wrapped = false;                     ///< route == "wrap"
+  double alpha = 0;                         ///< mm, the wrap's (0 when not wrapped)
+  double offset = 0;                        ///< mm, the wrap's (0 when not wrapped)
+  double voxel = 0;              ///< mm, the volumetric route's (0 when route != "volume")
+  MeshCheck after;               ///< check_mesh() of the result (self-intersections searched)
+  double tolerance = 0;          ///< mm, the value used (RepairOptions::tolerance)
+  RepairDeviation deviation;     ///< of the result
+  bool within_tolerance = true;  ///< valid() and deviation.worst() <= tolerance
   /// Sentences for what the result does not say by itself: a wrap that filled cavities, a box
   /// that grew, CGAL's own warnings (translated), ... One sentence each.
   std::vector<std::string> warnings;
@@ -174,9 +209,12 @@ RepairResult repair_mesh(const TriangleSoup& soup, const RepairOptions& options 
 ///
 ///   valid, problems (check_mesh's sentences for the result), warnings, within_tolerance,
 ///   tolerance (mm), deviation {to_input {max, p95}, from_input {max, p95} (mm),
-///   volume_change (fraction), bbox_growth (mm), added_thickness (mm)}, rejected (the same object,
-///   or null), rejected_kind, wrapped, alpha, offset (mm; null when not wrapped), unresolved
-///   (sentences that made the wrap run), float_repasses, min_component_fraction,
+///   volume_change (fraction), bbox_growth (mm), added_thickness (mm)}, route (null when none
+///   gave a valid mesh), candidates: [{route, alpha, offset, voxel (mm; null where not that
+///   route's), decimation (mm, null when not decimated), triangles, valid, taken, deviation (the
+///   same object, or null), failure (null when valid)}], wrapped, alpha, offset (mm; null when not
+///   wrapped), voxel (mm; null unless route is "volume"), unresolved (sentences that made the
+///   other routes run), float_repasses, min_component_fraction,
 ///   small_component_threshold (mm^2), components, holes_faired, holes_flat, fairing_undone,
 ///   actions: [{defect, found, action, fixed}], before, after (each the object
 ///   to_json(MeshCheck) gives). Each field means what the RepairReport member of the same

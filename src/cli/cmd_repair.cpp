@@ -26,9 +26,9 @@ namespace {
 
 struct RepairArgs {
   std::string input, output;
-  bool json = false, no_wrap = false, no_fill_holes = false, quiet = false;
+  bool json = false, no_wrap = false, no_volume = false, no_fill_holes = false, quiet = false;
   bool accept_deviation = false;
-  double alpha = 0, offset = 0, tolerance = 0;
+  double alpha = 0, offset = 0, tolerance = 0, voxel = 0;
   double min_component = RepairOptions{}.min_component_fraction;
   std::string units = "mm";
   int threads = 0;
@@ -44,6 +44,8 @@ int run_repair(const RepairArgs& args) {
 
   RepairOptions options;
   options.wrap = !args.no_wrap;
+  options.volume = !args.no_volume;
+  options.voxel = args.voxel;
   options.fill_holes = !args.no_fill_holes;
   options.alpha = args.alpha;
   options.offset = args.offset;
@@ -88,13 +90,14 @@ int run_repair(const RepairArgs& args) {
   if (report.valid() && !valid) {
     std::fflush(stdout);
     const RepairDeviation& d = report.deviation;
+    const std::string what =
+        report.route == "repair" ? "mesh" : "mesh (route: " + report.route + ")";
     std::fprintf(stderr,
                  "tpmsfill: error: the repaired %s lies up to %.3g mm from the input (95 %% within "
                  "%.3g mm, volume %+.1f %%), beyond the tolerance of %.3g mm; nothing was written "
                  "(--accept-deviation writes it anyway, --tolerance sets the limit)\n",
-                 report.wrapped ? "(wrapped) mesh" : "mesh", d.worst(),
-                 std::max(d.to_input.p95, d.from_input.p95), 100 * d.volume_change,
-                 report.tolerance);
+                 what.c_str(), d.worst(), std::max(d.to_input.p95, d.from_input.p95),
+                 100 * d.volume_change, report.tolerance);
     return kNotValid;
   }
   if (!report.valid()) {
@@ -103,7 +106,9 @@ int run_repair(const RepairArgs& args) {
                  "tpmsfill: error: %s could not be made a valid closed 2-manifold%s; nothing "
                  "was written\n",
                  args.input.c_str(),
-                 args.no_wrap ? " without wrapping (try again without --no-wrap)" : "");
+                 args.no_wrap || args.no_volume
+                     ? " with the routes allowed (try again without --no-wrap or --no-volume)"
+                     : "");
     return kNotValid;
   }
   return kOk;
@@ -119,10 +124,15 @@ Command add_repair_command(CLI::App& app) {
       "Merges duplicate points, drops degenerate and duplicate triangles, orients the faces, "
       "stitches borders, splits non-manifold edges and vertices, removes small components, "
       "fills holes, resolves self-intersections and orients every shell outward (CGAL Polygon "
-      "Mesh Processing, exact predicates). If the result is still not valid, the mesh is "
-      "replaced by its alpha wrap (CGAL 3D Alpha Wrapping), which is always valid but lies "
-      "--offset outside the input and does not enter cavities narrower than about --alpha. "
-      "OUT is written only when `tpmsfill check` would accept it. Lengths are millimetres.\n\n"
+      "Mesh Processing, exact predicates). If the result is still not valid, or lies beyond "
+      "--tolerance from the input, other routes run, cheapest first, until one is within: the "
+      "alpha wrap (CGAL 3D Alpha Wrapping; always valid, but it lies --offset outside the input "
+      "and does not enter cavities narrower than about --alpha), the volumetric route (the "
+      "solid the winding number encloses, remade by marching cubes at --voxel and decimated "
+      "within the tolerance left), then wraps with a half and a quarter of the alpha. The "
+      "valid result nearest the input is kept; the report names its route and every route "
+      "tried. OUT is written only when `tpmsfill check` would accept it and it lies within "
+      "--tolerance. Lengths are millimetres.\n\n"
       "Example: tpmsfill repair scan.stl scan-fixed.stl\n\n"
       "Exit code 0: repaired and written; 1: could not be made valid (nothing written); 2: "
       "unreadable input or bad arguments.");
@@ -138,19 +148,26 @@ Command add_repair_command(CLI::App& app) {
                 "Print the JSON report instead of text (fields: docs/cli.md)");
   sub->add_flag("--no-wrap", args->no_wrap,
                 "Never fall back to alpha wrapping; fail (exit 1) instead");
+  sub->add_flag("--no-volume", args->no_volume,
+                "Never remake the surface from the volume it encloses (the volumetric route)");
   sub->add_option("--alpha", args->alpha,
-                  "Alpha of the wrap in mm (default: bounding-box diagonal / 100)")
+                  "Alpha of the wrap in mm, the only one tried (default: bounding-box diagonal "
+                  "/ 100, then / 200 and / 400 if nothing else is within the tolerance)")
+      ->check(positive());
+  sub->add_option("--voxel", args->voxel,
+                  "Voxel of the volumetric route in mm (default: half the tolerance)")
       ->check(positive());
   sub->add_option("--offset", args->offset, "Offset of the wrap in mm (default: alpha / 30)")
       ->check(positive());
   sub->add_option("--tolerance", args->tolerance,
                   "Largest deviation from the input a repair may have, mm (default 1 % of the "
-                  "bounding-box diagonal); past it the wrap is tried and the nearer is kept")
+                  "bounding-box diagonal); past it the other routes are tried and the nearest "
+                  "result is kept")
       ->check(positive());
   sub->add_flag("--accept-deviation", args->accept_deviation,
                 "Write the result even when it deviates from the input beyond --tolerance");
   sub->add_flag("--no-fill-holes", args->no_fill_holes,
-                "Do not fill holes (an open mesh then needs the wrap)");
+                "Do not fill holes (an open mesh then needs the wrap; no volumetric route)");
   sub->add_option("--min-component", args->min_component,
                   "Remove components whose area is below this fraction of the largest one's "
                   "(default 0.001; 0 keeps all)")

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <vector>
 
 #include "detail/cgal_types.hpp"
@@ -32,17 +33,43 @@ std::vector<std::array<double, 3>> sample_weights(int n) {
   return w;
 }
 
+/// A soup's non-degenerate triangles (exact test), in its order and orientation.
+std::vector<Triangle3> proper_triangles(const TriangleSoup& soup) {
+  std::vector<Triangle3> out;
+  out.reserve(soup.triangles.size());
+  for (const Triangle& t : soup.triangles) {
+    const Point3 a = to_cgal(soup.points[t[0]]), b = to_cgal(soup.points[t[1]]),
+                 c = to_cgal(soup.points[t[2]]);
+    if (!CGAL::collinear(a, b, c)) out.emplace_back(a, b, c);
+  }
+  return out;
+}
+
+/// The winding number of a closed soup (its triangles in `tree`) at q: signed crossings of a
+/// ray, +1 where the ray leaves through a face (runs along its normal), −1 where it enters.
+long winding_number(const Tree& tree, const Point3& q, std::vector<Tree::Primitive_id>& hits) {
+  const Kernel::Vector_3 direction(0.5772156649, 0.6180339887, 0.5320888862);
+  hits.clear();
+  tree.all_intersected_primitives(Kernel::Ray_3(q, direction), std::back_inserter(hits));
+  long winding = 0;
+  for (const Tree::Primitive_id& id : hits) {
+    const Triangle3& w = *id;
+    const Kernel::Vector_3 normal =
+        CGAL::cross_product(w.vertex(1) - w.vertex(0), w.vertex(2) - w.vertex(0));
+    winding += CGAL::to_double(normal * direction) > 0 ? 1 : -1;
+  }
+  return winding;
+}
+
 }  // namespace
 
 DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to, bool skip_inside,
-                                int grid, std::size_t max_samples) {
-  std::vector<Triangle3> target;
-  target.reserve(to.triangles.size());
-  for (const Triangle& t : to.triangles) {
-    const Point3 a = to_cgal(to.points[t[0]]), b = to_cgal(to.points[t[1]]),
-                 c = to_cgal(to.points[t[2]]);
-    if (!CGAL::collinear(a, b, c)) target.emplace_back(a, b, c);  // exact: no degenerate
-  }
+                                int grid, std::size_t max_samples, const TriangleSoup* buried_in) {
+  const std::vector<Triangle3> target = proper_triangles(to);
+  const std::vector<Triangle3> walls =
+      buried_in ? proper_triangles(*buried_in) : std::vector<Triangle3>{};
+  Tree solid(walls.begin(), walls.end());
+  if (!walls.empty()) solid.build();
   DistanceStats stats;
   if (target.empty() || from.triangles.empty()) return stats;
   Tree tree(target.begin(), target.end());
@@ -65,14 +92,25 @@ DistanceStats surface_distances(const TriangleSoup& from, const TriangleSoup& to
   };
   std::vector<double> d(per * used);
   parallel_for(used, 256, [&](std::size_t begin, std::size_t end) {
+    std::vector<Tree::Primitive_id> hits;
     for (std::size_t i = begin; i < end; ++i) {
       const Triangle& t = from.triangles[i * stride];
       const Vec3 a = from.points[t[0]], b = from.points[t[1]], c = from.points[t[2]];
+      // Buried: the sample's outer side (a ten-thousandth of the triangle's size along its
+      // normal) lies inside the solid.
+      const Vec3 normal = cross(b - a, c - a);
+      const double length = norm(normal);
+      const Vec3 off = length > 0 ? (1e-4 / std::sqrt(length)) * normal : Vec3{};
       for (std::size_t k = 0; k < per; ++k) {
         const std::array<double, 3>& w = weights[k];
-        const Point3 p = to_cgal(w[0] * a + w[1] * b + w[2] * c);
+        const Vec3 q = w[0] * a + w[1] * b + w[2] * c;
+        const Point3 p = to_cgal(q);
         const double distance = std::sqrt(CGAL::to_double(tree.squared_distance(p)));
-        d[per * i + k] = skip_inside && distance > 0 && inside(p) ? NAN : distance;
+        const bool skip =
+            distance > 0 &&
+            ((skip_inside && inside(p)) ||
+             (!walls.empty() && length > 0 && winding_number(solid, to_cgal(q + off), hits) >= 1));
+        d[per * i + k] = skip ? NAN : distance;
       }
     }
   });
