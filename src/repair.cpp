@@ -765,6 +765,9 @@ struct Candidate {
   RepairCandidate record;
   TriangleSoup mesh;
   MeshCheck after;
+  /// The mesh's deviation where the route already measured it (a sampled measure of a large
+  /// surface takes seconds; assess() does not take it twice).
+  std::optional<RepairDeviation> measured;
 };
 
 /// The alpha wrap of `wrap_input`, rounded as the file will hold it.
@@ -807,7 +810,8 @@ Candidate volume_candidate(const TriangleSoup& solid_input, double voxel, double
     c.record.failure = std::string("the volumetric route made no surface: ") + e.what();
     return c;
   }
-  const double left = tolerance - deviation_of(c.mesh, ref, false).worst();
+  c.measured = deviation_of(c.mesh, ref, false);
+  const double left = tolerance - c.measured->worst();
   if (left > 0) {
     // The decimation's bound is proven against the surface, whose own deviation is sampled:
     // where the two add up past the tolerance after all, the surface is kept as it was.
@@ -818,10 +822,13 @@ Candidate volume_candidate(const TriangleSoup& solid_input, double voxel, double
     o.progress = options.progress;
     try {
       DecimateResult d = decimate(c.mesh, o);
-      if (d.report.validation.valid() && d.report.stop != DecimateStop::Unchanged &&
-          deviation_of(d.mesh, ref, false).worst() <= tolerance) {
-        c.mesh = std::move(d.mesh);
-        c.record.decimation = o.tolerance;
+      if (d.report.validation.valid() && d.report.stop != DecimateStop::Unchanged) {
+        const RepairDeviation decimated = deviation_of(d.mesh, ref, false);
+        if (decimated.worst() <= tolerance) {
+          c.mesh = std::move(d.mesh);
+          c.measured = decimated;
+          c.record.decimation = o.tolerance;
+        }
       }
     } catch (const Cancelled&) {
       throw;
@@ -840,7 +847,8 @@ void assess(Candidate& c, const Reference& ref, RepairReport& report) {
     c.record.triangles = c.mesh.triangles.size();
     c.record.valid = c.after.valid();
     if (c.record.valid) {
-      c.record.deviation = deviation_of(c.mesh, ref, c.record.route == "wrap");
+      c.record.deviation =
+          c.measured ? *c.measured : deviation_of(c.mesh, ref, c.record.route == "wrap");
     } else {
       const std::vector<std::string> problems = c.after.problems();
       c.record.failure =
