@@ -46,4 +46,10 @@ TriangleSoup winding_solid_surface(const TriangleSoup& soup, double voxel,
   return marching_cubes(field, {.progress = progress, .rounding = rounding});
 }
 
+double winding_solid_volume(const TriangleSoup& soup, const Grid& grid, Progress* progress) {
+  const CleanResult cleaned = clean_soup(soup);
+  const MeshIndex index = build_index(cleaned.soup, {.hole_caps = &cleaned.caps});
+  return classify_grid(index, grid, {.rule = InsideRule::Winding, .progress = progress}).volume;
+}
+
 }  // namespace tpmsfill::detail

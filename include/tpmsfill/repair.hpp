@@ -109,8 +109,12 @@ struct RepairDeviation {
   /// inside the output are left out (surface a union of overlapping shells removed is no lost
   /// feature); a wrap encloses its input, so there every sample counts.
   Deviation from_input;
-  double volume_change = 0;  ///< (V_output − V_input) / |V_input| (0 without an input volume)
-  double bbox_growth = 0;    ///< mm, how far the output's box reaches beyond the input's
+  /// (V_output − V_input) / V_input, 0 without an input volume. V is the summed signed volume's
+  /// magnitude; where the input has several components or self-intersections (shells that may
+  /// overlap or nest, which the sum counts twice), both are the winding-number solid's volume
+  /// measured on one grid of rays (400 per bounding-box diagonal).
+  double volume_change = 0;
+  double bbox_growth = 0;  ///< mm, how far the output's box reaches beyond the input's
   /// mm: volume gained over the input's area (a filled cavity, which no distance sees once
   /// its walls are inside the solid; 0 when the volume shrank, as a union of shells does).
   double added_thickness = 0;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "tpmsfill/grid.hpp"
 #include "tpmsfill/io.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
@@ -26,5 +27,14 @@ constexpr std::uint64_t kMaxWindingSolidNodes = std::uint64_t{1} << 26;
 /// @throws Cancelled      progress said so
 TriangleSoup winding_solid_surface(const TriangleSoup& soup, double voxel,
                                    CoordinateRounding rounding, Progress* progress);
+
+/// The volume of the same solid {w ≥ ½}, mm³, measured along one ray per row of `grid`
+/// (Occupancy::volume: exact along each row, the midpoint rule across rows). Where shells
+/// overlap or nest, the summed signed volume of the triangles counts the shared part twice;
+/// this does not. Two soups measured on one grid share its sampling: where their surfaces
+/// coincide, so do their figures.
+/// @throws InputError  no triangle has three distinct corners
+/// @throws Cancelled   progress said so
+double winding_solid_volume(const TriangleSoup& soup, const Grid& grid, Progress* progress);
 
 }  // namespace tpmsfill::detail
