@@ -2,10 +2,13 @@
 # Fuzzes the mesh readers (3MF included), the recipe reader, the field/ITDF readers, the tet-mesh
 # readers, the solid spline model reader (.tsm), the point-cloud reader and the service's job
 # options with libFuzzer + ASan + UBSan, one run each.
-#   scripts/fuzz.sh [seconds per reader]        (default 120)
+#   scripts/fuzz.sh [seconds per reader] [reader...]   (default 120 s, every reader)
+# Readers: auto stl obj ply off 3mf recipe volume tet-medit tet-tetgen tet-vtk model points
+# options. Naming some runs those alone (the targets are built all the same).
 # Findings (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/<reader>/.
 set -euo pipefail
 seconds="${1:-120}"
+only=("${@:2}")
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build-fuzz"
 
@@ -25,8 +28,9 @@ fuzzer="$build/tests/fuzz/read_mesh_fuzz"
 
 # Seed corpus: one small valid file per format, written here, plus assimp's test models when
 # the package is installed.
-seeds="$build/seeds"
-rm -rf "$seeds"
+# (one folder per run, so two runs on different readers can share the build)
+seeds=$(mktemp -d "$build/seeds.XXXXXX")
+trap 'rm -rf "$seeds"' EXIT
 mkdir -p "$seeds"/{auto,stl,obj,ply,off,3mf}
 printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n' >"$seeds/stl/ascii.stl"
 python3 - "$seeds/stl/binary.stl" <<'PY'
@@ -72,6 +76,7 @@ export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp"
 status=0
 fuzz() {
   local name=$1 program=$2 max_len=$3
+  if [ ${#only[@]} -gt 0 ] && [[ " ${only[*]} " != *" $name "* ]]; then return 0; fi
   local corpus="$build/corpus/$name" findings="$build/findings/$name"
   mkdir -p "$corpus" "$findings"
   echo "== $name: ${seconds}s"

@@ -40,6 +40,7 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -393,6 +394,31 @@ struct Counts {
 };
 
 /// Step 1: the soup cleaned and oriented, as a halfedge mesh.
+/// Numbers distinct points in lexicographic order of their positions, starts each polygon at
+/// its smallest number (keeping its orientation) and sorts the polygons. The steps after it
+/// depend on the order they meet elements in; a file's order says nothing about the part, so
+/// one mesh in any encoding (STL, OBJ, PLY, OFF number it differently) repairs alike.
+void order_by_position(std::vector<Point3>& points,
+                       std::vector<std::array<std::size_t, 3>>& polygons) {
+  std::vector<std::size_t> by_position(points.size());
+  std::iota(by_position.begin(), by_position.end(), std::size_t{0});
+  std::stable_sort(by_position.begin(), by_position.end(), [&](std::size_t a, std::size_t b) {
+    return CGAL::compare_xyz(points[a], points[b]) == CGAL::SMALLER;
+  });
+  std::vector<std::size_t> number(points.size());
+  std::vector<Point3> sorted(points.size());
+  for (std::size_t i = 0; i < by_position.size(); ++i) {
+    number[by_position[i]] = i;
+    sorted[i] = points[by_position[i]];
+  }
+  points = std::move(sorted);
+  for (auto& polygon : polygons) {
+    for (std::size_t& v : polygon) v = number[v];
+    std::rotate(polygon.begin(), std::min_element(polygon.begin(), polygon.end()), polygon.end());
+  }
+  std::sort(polygons.begin(), polygons.end());
+}
+
 SurfaceMesh mesh_from_soup(const TriangleSoup& input) {
   std::vector<Point3> points;
   points.reserve(input.points.size());
@@ -403,6 +429,7 @@ SurfaceMesh mesh_from_soup(const TriangleSoup& input) {
   // repair_polygon_soup() on triangles (std::array) keeps repeated-corner ones: its steps one
   // by one, dropping those after the merge.
   PMP::merge_duplicate_points_in_polygon_soup(points, polygons);
+  order_by_position(points, polygons);
   std::erase_if(polygons, detail::repeated_corner<std::size_t>);
   PMP::merge_duplicate_polygons_in_polygon_soup(points, polygons);
   PMP::remove_isolated_points_in_polygon_soup(points, polygons);

@@ -201,7 +201,9 @@ struct RepairResult {
 /// @param[in] options  which steps run, specks threshold, wrap parameters
 /// @return the repaired mesh (shared points, no unreferenced ones) and what was done. When
 ///         report.valid() is false (the wrap was off or failed) the mesh is the best repair
-///         reached, not a valid one.
+///         reached, not a valid one. The same surface in any order of points, triangles or
+///         corners (the same mesh as STL, OBJ, PLY or OFF) gives the same result, point for
+///         point: the steps start from the welded points in order of position.
 /// @throws InputError  the soup has no triangles, none with three distinct corners, or an
 ///                     index out of range; an option is out of range (negative alpha or
 ///                     offset, fraction outside [0, 1))
