@@ -17,6 +17,7 @@
 #include "cli/job_files.hpp"
 #include "cli/picture_flags.hpp"
 #include "cli/thread_flags.hpp"
+#include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -237,9 +238,7 @@ Command add_check_command(CLI::App& app) {
       ->required();
   sub->add_flag("--json", args->json,
                 "Print one JSON object instead of text (fields: docs/cli.md)");
-  sub->add_option("--units", args->units,
-                  "Unit the mesh was modelled in: mm, cm, m, in or um (default mm); sizes are "
-                  "reported in millimetres");
+  add_units_flag(sub, args->units);
   sub->add_flag("--no-self-intersections", args->skip_self_intersections,
                 "Skip the self-intersection search (the slowest check)");
   sub->add_option("--max-examples", args->max_examples,

@@ -18,6 +18,7 @@
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/thread_flags.hpp"
+#include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -156,9 +157,7 @@ Command add_conformal_command(CLI::App& app) {
                   "along the normals, edges split where they stray; disks only, no skins, "
                   "refused where it folds)");
   add_tpms_options(sub, args->tpms);
-  sub->add_option("--units", args->units,
-                  "Unit the surface was modelled in: mm, cm, m, in or um (default mm); OUT is in "
-                  "mm");
+  add_units_flag(sub, args->units);
   sub->add_option("--scale", args->scale,
                   "Multiply the surface's coordinates (after --units) by this (default 1)")
       ->check(positive());

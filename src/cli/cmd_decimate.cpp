@@ -20,6 +20,7 @@
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/thread_flags.hpp"
+#include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -137,9 +138,7 @@ Command add_decimate_command(CLI::App& app) {
   sub->add_option("--target", args->target,
                   "Stop at this many triangles (default: as far as the tolerance allows)")
       ->check(between(1, 1e15, "at least 1"));
-  sub->add_option("--units", args->units,
-                  "Unit the input was modelled in: mm, cm, m, in or um (default mm); it is "
-                  "converted to millimetres, the unit of OUT and of every length");
+  add_units_flag(sub, args->units);
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   sub->add_flag("--json", args->json,
                 "Print the JSON report instead of text (fields: docs/cli.md)");

@@ -30,6 +30,7 @@
 
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
+#include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
 #include "detail/file_bytes.hpp"
 
@@ -334,7 +335,7 @@ void add_input_options(CLI::App* sub, MaterialArgs& args) {
                   "Eight boundary point ids for the cube's corners, corner k at (k&1, k>>1&1, "
                   "k>>2&1) (default: found from the bounding box)")
       ->expected(8);
-  sub->add_option("--units", args.units, "Unit IN was modelled in: mm, cm, m, in or um");
+  add_units_flag(sub, args.units);
   sub->add_flag("--json", args.json, "Print JSON instead of text");
 }
 

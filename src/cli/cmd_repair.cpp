@@ -19,6 +19,7 @@
 #include "cli/job_files.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/thread_flags.hpp"
+#include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -141,9 +142,7 @@ Command add_repair_command(CLI::App& app) {
   sub->add_option("OUT", args->output,
                   "Output mesh; the extension picks the format (.stl, .obj, .ply, .off, .3mf)")
       ->required();
-  sub->add_option("--units", args->units,
-                  "Unit the input was modelled in: mm, cm, m, in or um (default mm); it is "
-                  "converted to millimetres, the unit of OUT and of every length");
+  add_units_flag(sub, args->units);
   sub->add_flag("--json", args->json,
                 "Print the JSON report instead of text (fields: docs/cli.md)");
   sub->add_flag("--no-wrap", args->no_wrap,

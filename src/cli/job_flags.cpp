@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "cli/ramp_along.hpp"
+#include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
 
 namespace tpmsfill::cli {
@@ -158,9 +159,7 @@ void add_job_options(CLI::App* sub, JobArgs& args) {
                   "ray crossings, the method paper's rule, for closed meshes only) or auto "
                   "(default: the winding number, cleaning the mesh only if some grid row finds "
                   "it open or inside out)");
-  sub->add_option("--units", args.units,
-                  "Unit the input was modelled in: mm, cm, m, in or um (default mm); it is "
-                  "converted to millimetres, the unit of every other length and of OUT");
+  add_units_flag(sub, args.units);
   sub->add_option("--scale", args.scale,
                   "Multiply the input's coordinates (after --units) by this, e.g. 2 to fill the "
                   "part at twice its size (default 1)")
