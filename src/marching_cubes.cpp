@@ -20,11 +20,6 @@
 namespace tpmsfill {
 namespace {
 
-// Edge parameters are clamped to [kDelta, 1 - kDelta] so a vertex never sits on a grid node
-// and two vertices on edges sharing a node never coincide; where the output is rounded as its
-// file holds it (McOptions::rounding), RoundedGrid keeps the rounded vertex inside its edge.
-constexpr double kDelta = 1e-4;
-
 /// Vertex ids of the +x, +y, +z edges of every node (i + nx·j) of one node layer, and the
 /// layer's row states (Extractor::row_states) that fill() skips rows by.
 struct LayerIds {
@@ -117,7 +112,9 @@ struct Extractor {
     const std::size_t n = grid.index(i, j, k);
     const std::size_t stride = axis == 0 ? sx : (axis == 1 ? sy : sz);
     const double v0 = v(n), v1 = v(n + stride);
-    const double t = std::clamp((static_cast<double>(iso) - v0) / (v1 - v0), kDelta, 1 - kDelta);
+    // Clamped off the nodes (detail::edge_crossing); where the output is rounded as its file
+    // holds it (McOptions::rounding), RoundedGrid keeps the rounded vertex inside its edge.
+    const double t = detail::edge_crossing(v0, v1, static_cast<double>(iso));
     double p[3];
     for (int a = 0; a < 3; ++a) p[a] = held.node(a, at[a]);
     const double c0 = grid.coordinate(axis, at[axis]), c1 = grid.coordinate(axis, at[axis] + 1);

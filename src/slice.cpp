@@ -32,9 +32,6 @@
 namespace tpmsfill {
 namespace {
 
-// Marching cubes' clamp of the edge parameter (marching_cubes.cpp): a vertex never sits on a
-// node, so vertices of edges sharing a node never coincide.
-constexpr double kDelta = 1e-4;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 // The preflight's model of a slice's time on 2 cores: per plane node of each layer (its slab's
@@ -74,7 +71,7 @@ class Tracer {
     if (id != kNone) return id;
     const std::size_t n0 = ei + nx_ * ej, n1 = n0 + (axis ? nx_ : 1);
     const double v0 = v_[n0], v1 = v_[n1];
-    const double t = std::clamp(-v0 / (v1 - v0), kDelta, 1 - kDelta);
+    const double t = detail::edge_crossing(v0, v1, 0);
     const int at[2] = {static_cast<int>(ei), static_cast<int>(ej)};
     const double c0 = g_.coordinate(axis, at[axis]), c1 = g_.coordinate(axis, at[axis] + 1);
     // As the file holds it: the other coordinate on its held node line, this one strictly

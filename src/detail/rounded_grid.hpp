@@ -13,6 +13,7 @@
 /// marching cubes' clamp of 1e-4 of a 0.1 mm voxel.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -36,6 +37,15 @@ inline double held(CoordinateRounding rounding, double x) {
       return six_decimals_value(x);
   }
   return x;
+}
+
+/// Where along a grid edge the field crosses `iso`, as a parameter in (0, 1) from the node
+/// valued v0 to the one valued v1 (marching cubes' and marching squares' vertex). Clamped to
+/// [1e-4, 1 − 1e-4]: a vertex never sits on a node, so vertices on edges that share a node
+/// never coincide.
+inline double edge_crossing(double v0, double v1, double iso) {
+  constexpr double kMargin = 1e-4;
+  return std::clamp((iso - v0) / (v1 - v0), kMargin, 1 - kMargin);
 }
 
 /// Spacing of the coordinates a file with `rounding` holds near ±magnitude, mm (0 for None:
