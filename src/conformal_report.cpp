@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "detail/format_numbers.hpp"
 #include "tpmsfill/conformal.hpp"
 #include "tpmsfill/report.hpp"
 
@@ -20,11 +21,7 @@ json finite_or_null(double x) {
   return std::isfinite(x) ? json(x) : json(nullptr);
 }
 
-std::string format(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0) {
-  char s[256];
-  std::snprintf(s, sizeof s, fmt, a, b, c, d);
-  return s;
-}
+using detail::format;
 
 }  // namespace
 

@@ -27,6 +27,7 @@
 
 #include "detail/cgal_types.hpp"
 #include "detail/disjoint_sets.hpp"
+#include "detail/format_numbers.hpp"
 #include "detail/self_intersections.hpp"
 #include "detail/soup_topology.hpp"
 #include "detail/stage_progress.hpp"
@@ -46,12 +47,7 @@ using EdgeIndex = SurfaceMesh::Edge_index;
 using LockMap = SurfaceMesh::Property_map<EdgeIndex, bool>;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-std::string format(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0,
-                   double e = 0) {
-  char s[512];
-  std::snprintf(s, sizeof s, fmt, a, b, c, d, e);
-  return s;
-}
+using detail::format;
 
 // --- input ---------------------------------------------------------------------------------
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "detail/format_numbers.hpp"
 #include "tpmsfill/decimate.hpp"
 
 namespace tpmsfill {
@@ -11,12 +12,7 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-std::string format(const char* fmt, double a = 0, double b = 0, double c = 0, double d = 0,
-                   double e = 0) {
-  char s[512];
-  std::snprintf(s, sizeof s, fmt, a, b, c, d, e);
-  return s;
-}
+using detail::format;
 
 // 1234567 -> "1,234,567".
 std::string count(std::uint64_t n) {

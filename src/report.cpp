@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "detail/format_numbers.hpp"
 #include "detail/report_text.hpp"
 
 namespace tpmsfill {
@@ -43,11 +44,7 @@ json printability(const FillReport& r) {
           {"pores_below", below(m ? &m->pore : nullptr, r.min_pore)}};
 }
 
-std::string format(const char* fmt, double a, double b = 0, double c = 0) {
-  char s[160];
-  std::snprintf(s, sizeof s, fmt, a, b, c);
-  return s;
-}
+using detail::format;
 
 std::string inside_summary(const FillReport& r) {
   if (r.inside_rule != "winding") return "parity of ray crossings";

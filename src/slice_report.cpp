@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "detail/format_numbers.hpp"
 #include "detail/report_text.hpp"
 #include "tpmsfill/slice.hpp"
 
@@ -13,11 +14,7 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-std::string format(const char* fmt, double a, double b = 0, double c = 0) {
-  char s[160];
-  std::snprintf(s, sizeof s, fmt, a, b, c);
-  return s;
-}
+using detail::format;
 
 }  // namespace
 
