@@ -19,6 +19,7 @@
 #include "detail/parallel.hpp"
 #include "detail/surface_normals.hpp"
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/grid.hpp"
 #include "tpmsfill/review.hpp"
 #include "tpmsfill/validate.hpp"
 
@@ -227,10 +228,8 @@ class SurfaceMap {
 class SlabSamples {
  public:
   SlabSamples(const FieldSource& design, std::array<double, 3> size, double spacing) {
-    Grid& g = field_.grid;
-    g.spacing = spacing;
-    g.origin = {-2 * spacing, -2 * spacing, -2 * spacing};
-    for (int a = 0; a < 3; ++a) g.dims[a] = static_cast<int>(std::ceil(size[a] / spacing)) + 5;
+    const Grid g = make_grid(Box3{{0, 0, 0}, {size[0], size[1], size[2]}},
+                             {.voxel_size = spacing, .padding = 2});
     if (g.node_count() > std::size_t(1) << 28)
       throw ResourceError("the slab design would need " + std::to_string(g.node_count()) +
                           " samples at half the voxel; use a coarser voxel");
