@@ -9,6 +9,10 @@
 set -euo pipefail
 seconds="${1:-120}"
 only=("${@:2}")
+readers=" auto stl obj ply off 3mf recipe volume tet-medit tet-tetgen tet-vtk model points options "
+for name in "${only[@]}"; do
+  [[ $readers == *" $name "* ]] || { echo "fuzz: no reader '$name' (readers:$readers)" >&2; exit 2; }
+done
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build-fuzz"
 

@@ -14,14 +14,10 @@ tool=$build/tpmsfill
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-candidates=()
-[[ -d ../shared/meshes ]] && for f in ../shared/meshes/*.{off,stl,STL,ply,obj}; do [[ -f $f ]] && candidates+=("$f"); done
-tarball=/usr/share/doc/libcgal-demo/data.tar.gz
-if [[ -f $tarball ]]; then
-  tar -xzf "$tarball" -C "$work" data/meshes 2>/dev/null || true
-  while IFS= read -r f; do candidates+=("$f"); done < <(find "$work/data/meshes" -type f \
-    \( -name '*.off' -o -name '*.ply' -o -name '*.obj' -o -name '*.stl' \) | sort)
-fi
+meshes=()
+source scripts/real_meshes.sh
+real_meshes "$work"
+candidates=("${meshes[@]}")
 if [[ -d /usr/share/assimp/models ]]; then
   while IFS= read -r f; do candidates+=("$f"); done < <(find /usr/share/assimp/models -type f \
     \( -iname '*.off' -o -iname '*.ply' -o -iname '*.obj' -o -iname '*.stl' \) | sort)

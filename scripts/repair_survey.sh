@@ -12,13 +12,8 @@ tool=$build/tpmsfill
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 meshes=()
-[[ -d ../shared/meshes ]] && for f in ../shared/meshes/*.{off,stl,STL,ply,obj}; do [[ -f $f ]] && meshes+=("$f"); done
-tarball=/usr/share/doc/libcgal-demo/data.tar.gz
-if [[ -f $tarball ]]; then
-  tar -xzf "$tarball" -C "$work" data/meshes 2>/dev/null || true
-  while IFS= read -r f; do meshes+=("$f"); done < <(find "$work/data/meshes" -type f \
-    \( -name '*.off' -o -name '*.ply' -o -name '*.obj' -o -name '*.stl' \) -size -2M | sort)
-fi
+source scripts/real_meshes.sh
+real_meshes "$work" -size -2M
 echo "| mesh | exit | wrapped | to input max / p95 (% diag) | from input max / p95 (% diag) | volume | box growth (% diag) | within 1 % | s |"
 echo "|---|---:|---|---:|---:|---:|---:|---|---:|"
 for m in "${meshes[@]}"; do
