@@ -1072,6 +1072,50 @@ PY
   done
 fi
 
+if [[ "$section" == all || "$section" == memory ]]; then
+  echo
+  echo "The service with serve --memory 1G: each fill job plans within the budget and ends as the"
+  echo "kernel counted it (the job's peak_memory_bytes, its rusage)."
+  echo
+  echo "| mesh | voxel mm | state | slab planes | estimate MB | peak MB | peak / budget |"
+  echo "|---|---:|---|---:|---:|---:|---:|"
+  mkdir -p "$tmp/serve-memory"
+  printf 'bench-token-0123456789\n' >"$tmp/serve-memory/token"
+  chmod 600 "$tmp/serve-memory/token"
+  ./build/tpmsfill serve --listen 127.0.0.1:0 --data "$tmp/serve-memory" --memory 1G \
+    --token-file "$tmp/serve-memory/token" >"$tmp/serve-memory/out.txt" 2>&1 &
+  server=$!
+  for _ in $(seq 100); do grep -q "listening on" "$tmp/serve-memory/out.txt" && break; sleep 0.1; done
+  port=$(sed -n 's|^listening on http://127.0.0.1:\([0-9]*\)$|\1|p' "$tmp/serve-memory/out.txt")
+  for voxel in 0.4 0.2; do
+    python3 - "$port" "$tmp/mem/ChineseDragon-10kv.off" "$voxel" <<'PY'
+import json, sys, time, urllib.request
+port, mesh, voxel = sys.argv[1:4]
+token = "bench-token-0123456789"
+boundary = "tpmsfill-bench"
+body = (f"--{boundary}\r\nContent-Disposition: form-data; name=\"mesh\"; filename=\"dragon.off\"\r\n\r\n").encode()
+body += open(mesh, "rb").read()
+body += (f"\r\n--{boundary}\r\nContent-Disposition: form-data; name=\"options\"\r\n\r\n"
+         + json.dumps({"voxel": float(voxel)}) + f"\r\n--{boundary}--\r\n").encode()
+headers = {"Authorization": "Bearer " + token}
+req = urllib.request.Request(f"http://127.0.0.1:{port}/v1/fill", data=body, method="POST",
+                             headers={**headers, "Content-Type": f"multipart/form-data; boundary={boundary}"})
+job = json.load(urllib.request.urlopen(req))["id"]
+while True:
+    j = json.load(urllib.request.urlopen(urllib.request.Request(
+        f"http://127.0.0.1:{port}/v1/jobs/{job}?wait=30", headers=headers)))
+    if j["state"] in ("done", "failed", "cancelled"):
+        break
+r = j.get("report") or {}
+peak = j.get("peak_memory_bytes", 0)
+print(f"| ChineseDragon-10kv.off | {voxel} | {j['state']} | {r.get('slab_planes') or ''} | "
+      f"{r.get('estimated_memory_bytes', 0) / 2**20:.0f} | {peak / 2**20:.0f} | {peak / 2**30:.2f} |")
+PY
+  done
+  kill "$server" 2>/dev/null || true
+  wait "$server" 2>/dev/null || true
+fi
+
 if [[ "$section" == all || "$section" == slow-clients ]]; then
   echo
   echo "## 28. the service under slow clients"

@@ -10,6 +10,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <string>
 #include <utility>
@@ -20,6 +21,7 @@
 #include "detail/soup_indices.hpp"
 #include "detail/soup_topology.hpp"
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/io.hpp"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 
@@ -282,6 +284,29 @@ MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
   record_closed_shape(c, soup, topo, mesh, faces);
   facts_in_millimetres(c, options.units.factor());
   return c;
+}
+
+RoundingCheck check_rounding(const TriangleSoup& soup, CoordinateRounding rounding) {
+  const CheckOptions facts{.self_intersections = false};
+  RoundingCheck r;
+  r.degenerate = r.held_degenerate = check_mesh(soup, facts).degenerate_triangles;
+  if (rounding == CoordinateRounding::None) return r;
+  TriangleSoup held = soup;
+  round_coordinates(rounding, held);
+  r.held_degenerate = check_mesh(held, facts).degenerate_triangles;
+  if (r.held_degenerate <= r.degenerate) return r;
+  const Box3 b = bounding_box(held);
+  const double reach = std::max({std::fabs(b.min.x), std::fabs(b.min.y), std::fabs(b.min.z),
+                                 std::fabs(b.max.x), std::fabs(b.max.y), std::fabs(b.max.z)});
+  const char* as = rounding == CoordinateRounding::Float     ? "STL's floats"
+                   : rounding == CoordinateRounding::ThreeMf ? "3MF's micrometres"
+                                                             : "six decimals";
+  r.warning = std::to_string(r.held_degenerate - r.degenerate) +
+              " triangles are degenerate once their coordinates are rounded to " + as + ", " +
+              std::to_string(static_cast<long long>(reach)) +
+              " mm from the origin: write PLY, OBJ or OFF, which hold doubles, or move the part "
+              "nearer the origin";
+  return r;
 }
 
 }  // namespace tpmsfill

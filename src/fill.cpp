@@ -698,35 +698,47 @@ constexpr double kMostPorousLattice = 0.97;
 
 }  // namespace
 
-void solve_porosity_with_skin(const FillOptions& o, const MeshIndex& tree, LatticeDesign& d,
-                              FillReport& r) {
-  if (!(o.skin > 0) || !d.porosity || !one_porosity(d)) return;
+std::optional<FillPart::SolvedPorosity> solve_porosity_with_skin(const FillOptions& o,
+                                                                 const MeshIndex& tree,
+                                                                 LatticeDesign& d, FillReport& r) {
+  if (!(o.skin > 0) || !d.porosity || !one_porosity(d)) return std::nullopt;
   // The part's solid is the skin (share s of its volume) and the lattice in the rest, so a part
   // porosity p needs a lattice porosity of p / (1 - s).
   const double asked = *d.porosity;
   const double share =
       skin_share(tree, o.inside.value_or(InsideRule::Winding), r.input_bbox, o.skin);
-  double lattice = share < 1 ? asked / (1 - share) : 1;
-  if (lattice > kMostPorousLattice) {
-    lattice = kMostPorousLattice;
+  FillPart::SolvedPorosity s;
+  s.lattice_porosity = share < 1 ? asked / (1 - share) : 1;
+  if (s.lattice_porosity > kMostPorousLattice) {
+    s.lattice_porosity = kMostPorousLattice;
     char text[400];
     std::snprintf(text, sizeof text,
                   "the %.3g mm skin is %.1f %% of the part's volume: with it the part can be at "
                   "most %.1f %% porous, not the %.1f %% asked (a thinner --skin, or --skin-windows "
                   "to open it at the pores)",
                   o.skin, 100 * share, 100 * kMostPorousLattice * (1 - share), 100 * asked);
-    r.warnings.push_back(text);
+    s.warnings.push_back(text);
   }
   LatticeDesign solved = o.design;
-  solved.porosity = lattice;
-  d = resolve_design(solved, r.input_bbox);
+  solved.porosity = s.lattice_porosity;
+  solved = resolve_design(solved, r.input_bbox);
+  s.level = solved.level;
+  s.thickness = solved.thickness;
+  apply_solved_porosity(s, d, r);
+  return s;
+}
+
+void apply_solved_porosity(const FillPart::SolvedPorosity& s, LatticeDesign& d, FillReport& r) {
   // The level (or thickness) is now fixed: a porosity left set would be solved again for the
   // lattice alone. The report keeps the part's target; the echoed recipe the level, which
   // reruns the job exactly.
+  d.level = s.level;
+  d.thickness = s.thickness;
   d.porosity.reset();
-  r.level = d.level;
-  r.thickness = d.thickness;
-  r.unclipped_porosity = lattice;
+  r.level = s.level;
+  r.thickness = s.thickness;
+  r.unclipped_porosity = s.lattice_porosity;
+  r.warnings.insert(r.warnings.end(), s.warnings.begin(), s.warnings.end());
 }
 
 void warn_porosity(const LatticeDesign& d, double got, FillReport& r) {

@@ -67,8 +67,8 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
       [&](std::uint64_t s) { return widened(slab_planes(grid, first, end, per_slab, s), halo); },
       agree, job.progress);
 
-  solve_porosity_with_skin(o, *indexed.tree, job.result.resolved.design, r);
   FillPart part;
+  part.solved_porosity = solve_porosity_with_skin(o, *indexed.tree, job.result.resolved.design, r);
   part.first_plane = first;
   part.end_plane = end;
   part.clean = r.clean;
@@ -127,6 +127,11 @@ void join_parts(Job& job, std::vector<FillPart> parts) {
     next = p.end_plane;
   }
   if (next != grid.dims[2]) throw InputError("fill_parts: the parts do not cover the grid");
+  // Parts from other processes solved the skin's porosity in their own jobs; this one (rank 0's
+  // join) has not, unless it made the one part itself.
+  LatticeDesign& design = job.result.resolved.design;
+  if (parts.front().solved_porosity && design.porosity)
+    apply_solved_porosity(*parts.front().solved_porosity, design, r);
   job.inside_runs = job.solid_runs = Regions{};
   job.inside_runs.grid = job.solid_runs.grid = grid;
   Occupancy::PlaneCounts total;

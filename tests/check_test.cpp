@@ -379,3 +379,32 @@ TEST(CheckMesh, SameResultTwice) {
   EXPECT_EQ(c.vertices, a.vertices);
   EXPECT_DOUBLE_EQ(c.area, a.area);
 }
+
+// A sliver whose corners are 3 µm apart is sound in doubles anywhere, but 100 m from the
+// origin a float's step is 7.8 µm: STL's floats put two corners on one point. The check says
+// so with the numbers and what to do; at the origin, and in formats of doubles, it says
+// nothing.
+TEST(CheckRounding, SliversFarOutAreCountedAsTheFileHoldsThem) {
+  for (const double offset : {0.0, 10.0, 1e5, -1e5}) {
+    TriangleSoup sliver = test::make_box({0, 0, 0}, {1, 1, 1});
+    const auto first = static_cast<std::uint32_t>(sliver.points.size());
+    sliver.points.insert(sliver.points.end(), {{5, 0, 0}, {5.003, 0, 0}, {5, 1, 0}});
+    sliver.triangles.push_back({first, first + 1, first + 2});
+    for (Vec3& p : sliver.points) p.x += offset;
+    const bool far = std::fabs(offset) > 1e4;
+    for (const CoordinateRounding rounding :
+         {CoordinateRounding::None, CoordinateRounding::Float, CoordinateRounding::ThreeMf}) {
+      const RoundingCheck r = check_rounding(sliver, rounding);
+      EXPECT_EQ(r.degenerate, 0u) << offset;
+      const bool lost = far && rounding != CoordinateRounding::None;
+      EXPECT_EQ(r.held_degenerate, lost ? 1u : 0u) << offset;
+      EXPECT_EQ(r.warning.empty(), !lost) << offset << ": " << r.warning;
+      if (lost) {
+        EXPECT_NE(r.warning.find("1 triangles are degenerate"), std::string::npos) << r.warning;
+        const std::string reach = offset > 0 ? "100005 mm" : "100000 mm";
+        EXPECT_NE(r.warning.find(reach + " from the origin"), std::string::npos) << r.warning;
+        EXPECT_NE(r.warning.find("write PLY, OBJ or OFF"), std::string::npos) << r.warning;
+      }
+    }
+  }
+}

@@ -11,6 +11,7 @@
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/marching_cubes.hpp>
+#include <tpmsfill/recipe.hpp>
 
 #include "test_util.hpp"
 
@@ -194,6 +195,28 @@ TEST(FillParts, ThreePartsJoinIntoTheWholeGridsMesh) {
       EXPECT_EQ(joined.report.cleaned(), whole.report.cleaned());
       EXPECT_EQ(joined.report.islands_removed, whole.report.islands_removed);
     }
+  }
+  // A porosity with a skin is the part's: each part solves the lattice's level for the whole
+  // part, and the joined report (rank 0's under mpirun) carries that level, the lattice's own
+  // porosity and the skin's warning, as the one-process job's does.
+  const TriangleSoup plate = test::make_box({0, 0, 0}, {30, 24, 6});
+  for (const double skin : {0.5, 2.5}) {
+    FillOptions o = test::gyroid_options(3, 0.3);
+    o.design.porosity = 0.7;
+    o.skin = skin;
+    const FillResult whole = fill(plate, o);
+    const int nz = fill_grid(plate, o).dims[2];
+    std::vector<FillPart> parts;
+    parts.push_back(fill_part(plate, o, {.first_plane = 0, .end_plane = nz / 2}));
+    parts.push_back(fill_part(plate, o, {.first_plane = nz / 2, .end_plane = nz}));
+    const FillResult joined = fill_parts(plate, o, std::move(parts));
+    EXPECT_TRUE(joined.mesh.triangles == whole.mesh.triangles) << "skin " << skin;
+    EXPECT_EQ(joined.report.level, whole.report.level) << "skin " << skin;
+    EXPECT_EQ(joined.report.unclipped_porosity, whole.report.unclipped_porosity);
+    EXPECT_EQ(joined.resolved.design.level, whole.resolved.design.level);
+    EXPECT_EQ(recipe_json(joined.resolved), recipe_json(whole.resolved))
+        << "the echoed recipe holds the solved level";
+    EXPECT_EQ(joined.report.warnings, whole.report.warnings) << "skin " << skin;
   }
   // Parts that leave a gap are refused.
   const TriangleSoup ball = test::make_sphere({0, 0, 0}, 3, 3);

@@ -537,9 +537,16 @@ TEST(Service, AJobPastItsMemoryIsStoppedWithTheNumbers) {
   EXPECT_EQ(stopped["state"], "failed");
   const std::string error = stopped.value("error", "");
   EXPECT_NE(error.find("past the service's 1 MB a job"), std::string::npos) << error;
+  // Its peak as the kernel counted it: past the 65 MB it was stopped at.
+  EXPECT_GT(stopped.value("peak_memory_bytes", std::uint64_t{0}), 65u << 20) << stopped.dump();
   const std::string small =
       id_of(service.submit("check", stl_bytes(dir, test::make_box({0, 0, 0}, {1, 1, 1})), ""));
-  EXPECT_EQ(service.wait(small)["state"], "done");
+  const Json done = service.wait(small);
+  EXPECT_EQ(done["state"], "done");
+  // A job that ran to its end stayed within the budget and headroom (1 MB + 64 MB).
+  const auto peak = done.value("peak_memory_bytes", std::uint64_t{0});
+  EXPECT_GT(peak, 1u << 20) << done.dump();
+  EXPECT_LE(peak, 65u << 20) << done.dump();
   // fill and slice plan within the same budget and refuse, saying so, what cannot fit it.
   const std::string fill = id_of(service.submit("fill", stl_bytes(dir, ball), kSlowFill));
   const Json refused = service.wait(fill);

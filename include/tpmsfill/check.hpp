@@ -127,6 +127,22 @@ struct MeshCheck {
 /// @throws Error       internal: CGAL built a different number of faces than it was given
 MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options = {});
 
+/// What rounding a mesh's coordinates as a file holds them (rounding_for(format), io.hpp: STL's
+/// floats, 3MF's micrometres) does to its triangles: far from the origin a sliver's corners can
+/// round onto one point or one line. Marching cubes' meshes are kept clear of this by
+/// construction (their points sit on grid edges, clear of the nodes); points that come from
+/// anywhere else, such as iso-material surfaces mapped through a spline, are not.
+struct RoundingCheck {
+  std::uint64_t degenerate = 0;       ///< degenerate triangles of the mesh as given
+  std::uint64_t held_degenerate = 0;  ///< of the mesh as the file holds it
+  /// When the rounding made any: a sentence with how many, how far out, and what to do; else
+  /// empty.
+  std::string warning;
+};
+
+/// @throws InputError  as check_mesh()
+RoundingCheck check_rounding(const TriangleSoup& soup, CoordinateRounding rounding);
+
 /// The JSON object `tpmsfill check --json` prints (2-space indent, keys in this order;
 /// doubles in shortest round-trip form; null where a fact is unset):
 ///

@@ -164,6 +164,14 @@ struct FillPart {
   std::vector<std::uint64_t> band_nodes;       ///< per plane
   CleanReport clean;                           ///< when the input was cleaned (winding rule)
   double seconds = 0;                          ///< the part's wall time
+  /// With a skin sharing --porosity: the lattice's level or thickness solved for the whole part
+  /// (every part solves the same), the lattice's own porosity and the solve's warnings, which
+  /// the joined report and its recipe state.
+  struct SolvedPorosity {
+    double level = 0, thickness = 0, lattice_porosity = 0;
+    std::vector<std::string> warnings;
+  };
+  std::optional<SolvedPorosity> solved_porosity;
 };
 
 struct FillPartOptions {

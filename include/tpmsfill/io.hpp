@@ -94,20 +94,7 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
 /// Whether a mesh file is written gzip-compressed.
 enum class Compression { Auto, None, Gzip };
 
-/// How a format stores coordinates, for rounding a mesh to what its file will hold *before* it
-/// is validated: the file then holds exactly the mesh that was proven valid.
-enum class CoordinateRounding {
-  None,   ///< doubles, read back bit-identical (OBJ, OFF: shortest round-trip text; PLY: binary)
-  Float,  ///< nearest float (STL)
-  /// What lib3mf 1.8 writes and reads back: the float times 10^6 in float arithmetic,
-  /// truncated to an integer, printed as micrometres, parsed to the nearest float; repeated
-  /// until it stands still, so writing a rounded point again changes nothing. Up to one
-  /// micrometre off below 16 mm, 8 micrometres at 100 mm (docs/formats.md).
-  ThreeMf,
-  /// Fixed point with six decimals, read back as the nearest double: the layer files' text
-  /// (ASCII CLI, SVG; layer_files.hpp).
-  SixDecimals,
-};
+// CoordinateRounding (how a format stores coordinates) is in types.hpp.
 
 /// The rounding a format needs (Float for both STLs, ThreeMf for 3MF, None for the others).
 CoordinateRounding rounding_for(MeshFormat format);

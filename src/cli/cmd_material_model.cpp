@@ -268,25 +268,8 @@ int run_material_iso(const ModelArgs& a) {
   // sliver's corners can round onto one point or one line, which no rule of the surfaces'
   // own prevents (their points come through G, off any grid). Counted, and warned about with
   // what to do when the rounding made any.
-  const MeshCheck exact = check_mesh(all, {.self_intersections = false});
-  const MeshFormat format = format_from_extension(a.output);
-  MeshCheck held = exact;
-  if (const CoordinateRounding rounding = rounding_for(format);
-      rounding != CoordinateRounding::None) {
-    round_coordinates(rounding, all);
-    held = check_mesh(all, {.self_intersections = false});
-  }
-  if (held.degenerate_triangles > exact.degenerate_triangles) {
-    const Box3& b = held.bbox;
-    const double reach = std::max({std::fabs(b.min.x), std::fabs(b.min.y), std::fabs(b.min.z),
-                                   std::fabs(b.max.x), std::fabs(b.max.y), std::fabs(b.max.z)});
-    warnings.push_back(
-        std::to_string(held.degenerate_triangles - exact.degenerate_triangles) +
-        " triangles are degenerate as " + std::string(format_name(format)) +
-        " holds their coordinates, " + std::to_string(static_cast<long long>(reach)) +
-        " mm from the origin: write PLY, OBJ or OFF, which hold doubles, or fit the model "
-        "nearer the origin");
-  }
+  const RoundingCheck held = check_rounding(all, rounding_for(format_from_extension(a.output)));
+  if (!held.warning.empty()) warnings.push_back(held.warning);
   write_mesh(a.output, all);
   if (progress.terminal) progress.terminal->clear();
   nlohmann::ordered_json j;
@@ -294,7 +277,7 @@ int run_material_iso(const ModelArgs& a) {
   j["output"] = a.output;
   j["tau_mm3"] = tau;
   j["surfaces"] = surfaces;
-  j["degenerate_triangles"] = held.degenerate_triangles;
+  j["degenerate_triangles"] = held.held_degenerate;
   j["wall_seconds"] = seconds_since(t0);
   if (a.json || !a.quiet) {
     if (a.json) {

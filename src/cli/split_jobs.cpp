@@ -39,6 +39,14 @@ std::string part_bytes(const FillPart& p) {
   wire::put(out, p.band_nodes);
   wire::put(out, p.clean);
   wire::put(out, p.seconds);
+  wire::put(out, p.solved_porosity.has_value());
+  if (const auto& s = p.solved_porosity) {
+    wire::put(out, s->level);
+    wire::put(out, s->thickness);
+    wire::put(out, s->lattice_porosity);
+    wire::put(out, static_cast<std::uint64_t>(s->warnings.size()));
+    for (const std::string& w : s->warnings) wire::put(out, w);
+  }
   return out;
 }
 
@@ -57,6 +65,19 @@ FillPart part_from(const std::string& bytes) {
   in.get(p.band_nodes);
   in.get(p.clean);
   in.get(p.seconds);
+  bool solved = false;
+  in.get(solved);
+  if (solved) {
+    FillPart::SolvedPorosity& s = p.solved_porosity.emplace();
+    in.get(s.level);
+    in.get(s.thickness);
+    in.get(s.lattice_porosity);
+    std::uint64_t n = 0;
+    in.get(n);
+    if (n > bytes.size()) throw std::runtime_error("wire: truncated message");
+    s.warnings.resize(n);
+    for (std::string& w : s.warnings) in.get(w);
+  }
   return p;
 }
 

@@ -53,9 +53,15 @@ void record_classification(const FillOptions& options, const Occupancy::PlaneCou
 /// coarse sample through `tree`, the index of the inside rule); a warning with both numbers
 /// when even the most porous lattice cannot reach it. Before the design is evaluated; the
 /// report's level, thickness and unclipped porosity follow. Nothing without a skin or with a
-/// design that has no one porosity (fill.cpp).
-void solve_porosity_with_skin(const FillOptions& options, const MeshIndex& tree,
-                              LatticeDesign& design, FillReport& report);
+/// design that has no one porosity (fill.cpp). Returns what it solved, for a split job's parts.
+std::optional<FillPart::SolvedPorosity> solve_porosity_with_skin(const FillOptions& options,
+                                                                 const MeshIndex& tree,
+                                                                 LatticeDesign& design,
+                                                                 FillReport& report);
+
+/// What solve_porosity_with_skin() solved, into `design` and `report` (a split job's join).
+void apply_solved_porosity(const FillPart::SolvedPorosity& solved, LatticeDesign& design,
+                           FillReport& report);
 
 /// A warning with the numbers when the part's porosity `got` is more than 5 points from the
 /// one asked: a structure's porosity is solved over its whole unit cube, of which the model may

@@ -70,6 +70,7 @@ JobRecord record_from_json(const Json& j) {
   if (j.contains("report")) job.report = j["report"];
   job.created = j.at("created").get<std::int64_t>();
   job.finished = j.value("finished", std::int64_t{0});
+  job.peak_memory = j.value("peak_memory_bytes", std::uint64_t{0});
   return job;
 }
 
@@ -104,6 +105,7 @@ Json record_json(const JobRecord& job) {
   j["progress"] = job.progress;
   j["created"] = job.created;
   if (job.finished > 0) j["finished"] = job.finished;
+  if (job.peak_memory > 0) j["peak_memory_bytes"] = job.peak_memory;
   if (!job.error.empty()) j["error"] = job.error;
   if (!job.warnings.empty()) j["warnings"] = job.warnings;
   if (!job.report.is_null()) j["report"] = job.report;

@@ -38,6 +38,9 @@ struct JobRecord {
   std::string warnings;   ///< the command's warnings (stderr lines), when it ended
   nlohmann::json report;  ///< the command's report, when done
   std::int64_t created = 0, finished = 0;  ///< seconds since the epoch
+  /// The command's peak resident memory (bytes, its rusage), once it ended: what a job of
+  /// this size needs, to size serve --memory by.
+  std::uint64_t peak_memory = 0;
   bool cancel_asked = false;
 };
 

@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <strings.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -228,11 +229,13 @@ class Runner {
       finish_failed(job.id, "the server could not start the job (fork failed)");
       return;
     }
-    const Ending ending = read_progress(job.id, pipe_fds[0], pid);
+    Ending ending = read_progress(job.id, pipe_fds[0], pid);
     close(pipe_fds[0]);
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    rusage usage{};
+    while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
     }
+    ending.peak_memory = static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux: KiB
     {
       std::lock_guard lock(mutex_);
       children_.erase(job.id);
@@ -249,6 +252,7 @@ class Runner {
   struct Ending {
     std::uint64_t over_memory = 0;
     bool timed_out = false;
+    std::uint64_t peak_memory = 0;  ///< the command's peak resident bytes (wait4's rusage)
   };
 
   // Progress lines from the command ("stage<TAB>fraction<TAB>overall"), until it exits. Its
@@ -270,11 +274,11 @@ class Runner {
         next_reading = now + kEvery;
         if (const std::uint64_t rss = resident_memory(pid); rss > limit) {
           kill(pid, SIGKILL);
-          return {rss, false};
+          return {.over_memory = rss};
         }
         if (options_.job_timeout.count() > 0 && now - started > options_.job_timeout) {
           kill(pid, SIGKILL);
-          return {0, true};
+          return {.timed_out = true};
         }
       }
       if (polled == 0) continue;
@@ -340,6 +344,7 @@ class Runner {
         [&](JobRecord& r) {
           r.exit_code = code;
           r.warnings = warnings;
+          r.peak_memory = ending.peak_memory;
           if (r.cancel_asked) {
             r.state = JobState::Cancelled;
             r.error = sentence.empty() ? "cancelled (killed: it did not stop within " +
