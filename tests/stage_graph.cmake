@@ -1,8 +1,8 @@
-# The stages' include graph has no cycle. Stage S is include/tpmsfill/S.hpp with its sources
-# src/S.cpp and src/S_*.cpp; S depends on T when one of those files includes tpmsfill/T.hpp.
+# The stages' include graph has no cycle. Stage S is include/tpmsfill/[folder/]S.hpp with its sources
+# src/<folder>/S.cpp and src/<folder>/S_*.cpp; S depends on T when one of those files includes tpmsfill/T.hpp.
 # Run by ctest: cmake -DSOURCE_DIR=<repository> -P stage_graph.cmake
 cmake_minimum_required(VERSION 3.22)
-file(GLOB headers "${SOURCE_DIR}/include/tpmsfill/*.hpp")
+file(GLOB_RECURSE headers "${SOURCE_DIR}/include/tpmsfill/*.hpp")
 set(stages)
 foreach(header ${headers})
   get_filename_component(stage "${header}" NAME_WE)
@@ -10,13 +10,23 @@ foreach(header ${headers})
 endforeach()
 
 foreach(stage ${stages})
-  file(GLOB files "${SOURCE_DIR}/include/tpmsfill/${stage}.hpp" "${SOURCE_DIR}/src/${stage}.cpp"
-       "${SOURCE_DIR}/src/${stage}_*.cpp")
+  file(GLOB_RECURSE own_header "${SOURCE_DIR}/include/tpmsfill/${stage}.hpp")
+  file(GLOB files ${own_header} "${SOURCE_DIR}/src/*/${stage}.cpp"
+       "${SOURCE_DIR}/src/*/${stage}_*.cpp")
+  # A private module beside the stage's sources (src/lattice/field_planes.cpp with its own
+  # field_planes.hpp) is not part of the stage.
+  foreach(file ${files})
+    string(REGEX REPLACE "\\.cpp$" ".hpp" own "${file}")
+    if(file MATCHES "\\.cpp$" AND EXISTS "${own}")
+      list(REMOVE_ITEM files "${file}")
+    endif()
+  endforeach()
   set(uses_${stage})
   foreach(file ${files})
-    file(STRINGS "${file}" lines REGEX "^#include [<\"]tpmsfill/[a-z_0-9]+\\.hpp[>\"]")
+    file(STRINGS "${file}" lines REGEX "^#include [<\"]tpmsfill/([a-z_]+/)?[a-z_0-9]+\\.hpp[>\"]")
     foreach(line ${lines})
-      string(REGEX REPLACE "^#include [<\"]tpmsfill/([a-z_0-9]+)\\.hpp.*" "\\1" used "${line}")
+      string(REGEX REPLACE "^#include [<\"]tpmsfill/([a-z_]+/)?([a-z_0-9]+)\\.hpp.*" "\\2" used
+                           "${line}")
       if(NOT used STREQUAL stage)
         list(APPEND uses_${stage} ${used})
       endif()

@@ -15,7 +15,7 @@
 namespace tpmsfill {
 
 namespace detail {
-struct MeshIndexAccess;  // src/detail/mesh_index_impl.hpp: how classify and distance see inside
+struct MeshIndexAccess;  // src/sampling/internal/mesh_index_impl.hpp: how classify and distance see inside
 }
 
 struct IndexOptions {

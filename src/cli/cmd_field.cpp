@@ -26,7 +26,7 @@
 #include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
-#include "detail/file_bytes.hpp"
+#include "io/file_bytes.hpp"
 
 namespace tpmsfill::cli {
 namespace {

@@ -32,7 +32,7 @@
 #include "cli/terminal_progress.hpp"
 #include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
-#include "detail/file_bytes.hpp"
+#include "io/file_bytes.hpp"
 
 namespace tpmsfill::cli {
 namespace {

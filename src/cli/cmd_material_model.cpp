@@ -25,7 +25,7 @@
 #include "cli/preflight.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
-#include "detail/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace tpmsfill::cli {
 namespace {

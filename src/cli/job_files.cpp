@@ -12,7 +12,7 @@
 #include <tpmsfill/error.hpp>
 
 #include "cli/printable.hpp"
-#include "detail/file_bytes.hpp"
+#include "io/file_bytes.hpp"
 
 namespace tpmsfill::cli {
 

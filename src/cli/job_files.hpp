@@ -11,7 +11,7 @@
 #include <tpmsfill/report.hpp>
 #include <utility>
 #include <vector>
-#include "detail/interrupt_cleanup.hpp"
+#include "io/interrupt_cleanup.hpp"
 
 namespace tpmsfill::cli {
 

@@ -13,7 +13,7 @@
 #include "cli/ranks.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/usage_errors.hpp"
-#include "detail/interrupt_cleanup.hpp"
+#include "io/interrupt_cleanup.hpp"
 
 namespace {
 

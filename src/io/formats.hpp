@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "detail/index_limits.hpp"
-#include "detail/parse_errors.hpp"
+#include "core/index_limits.hpp"
+#include "io/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 

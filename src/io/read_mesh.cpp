@@ -12,9 +12,9 @@
 #include <cstdio>
 #include <cstring>
 
-#include "detail/file_bytes.hpp"
-#include "detail/inflate.hpp"
-#include "detail/triangulate_polygon.hpp"
+#include "io/file_bytes.hpp"
+#include "io/inflate.hpp"
+#include "io/internal/triangulate_polygon.hpp"
 #include "io/formats.hpp"
 #include "io/three_mf.hpp"
 

@@ -25,7 +25,7 @@
 #include <map>
 #include <memory>
 
-#include "detail/xml_text.hpp"
+#include "io/xml_text.hpp"
 #include "io/formats.hpp"
 #include "io/three_mf.hpp"
 

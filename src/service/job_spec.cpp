@@ -7,7 +7,7 @@
 #include <tpmsfill/recipe.hpp>
 #include <tpmsfill/units.hpp>
 
-#include "detail/json_depth.hpp"
+#include "core/json_depth.hpp"
 
 namespace tpmsfill::service {
 namespace {

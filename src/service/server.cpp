@@ -27,7 +27,7 @@
 #include <tpmsfill/io.hpp>
 #include <vector>
 
-#include "detail/file_bytes.hpp"
+#include "io/file_bytes.hpp"
 #include "service/connection_gate.hpp"
 
 #include "service/archive.hpp"

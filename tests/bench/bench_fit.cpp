@@ -12,7 +12,7 @@
 #include <tpmsfill/marching_cubes.hpp>
 #include <vector>
 
-#include "detail/surface_deviation.hpp"
+#include "mesh/surface_deviation.hpp"
 
 using namespace tpmsfill;
 

@@ -1,0 +1,2 @@
+// Deliberately wrong: lattice reaches into core's internal headers.
+#include "core/internal/threads.hpp"

@@ -1,0 +1,2 @@
+// Deliberately wrong: core reaches up into lattice.
+#include "lattice/field_job.hpp"
