@@ -3,18 +3,18 @@
 //
 //   03_stage_by_stage MESH [OUT.stl]
 #include <cstdio>
-#include <tpmsfill/classify.hpp>
-#include <tpmsfill/clean.hpp>
-#include <tpmsfill/compose.hpp>
-#include <tpmsfill/distance.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/grid.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/marching_cubes.hpp>
-#include <tpmsfill/spatial.hpp>
-#include <tpmsfill/tpms.hpp>
-#include <tpmsfill/validate.hpp>
-#include <tpmsfill/voxel.hpp>
+#include <tpmsfill/lattice/compose.hpp>
+#include <tpmsfill/lattice/tpms.hpp>
+#include <tpmsfill/mesh/clean.hpp>
+#include <tpmsfill/mesh/validate.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/distance.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
+#include <tpmsfill/sampling/voxel.hpp>
 
 using namespace tpmsfill;
 

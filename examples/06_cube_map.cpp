@@ -9,11 +9,11 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/tet_mesh.hpp>
-#include <tpmsfill/tetrahedralize.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
+#include <tpmsfill/solid/tetrahedralize.hpp>
 
 using namespace tpmsfill;
 

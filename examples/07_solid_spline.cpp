@@ -7,15 +7,15 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/material.hpp>
-#include <tpmsfill/material_volume.hpp>
-#include <tpmsfill/solid_inverse.hpp>
-#include <tpmsfill/solid_model.hpp>
-#include <tpmsfill/tetrahedralize.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/material_volume.hpp>
+#include <tpmsfill/solid/solid_inverse.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
+#include <tpmsfill/solid/tetrahedralize.hpp>
 
 using namespace tpmsfill;
 

@@ -92,6 +92,21 @@ timed() {
   read -r wall kb < <(tail -n 1 "$tmp/time.txt")
 }
 
+# A service in folder $1 (made if missing; token bench-token-0123456789) on a free port, with
+# the rest of the arguments as serve's flags: sets $server (its pid) and $port.
+start_service() {
+  local dir=$1
+  shift
+  mkdir -p "$dir"
+  printf 'bench-token-0123456789\n' >"$dir/token"
+  chmod 600 "$dir/token"
+  ./build/tpmsfill serve --listen 127.0.0.1:0 --data "$dir" --token-file "$dir/token" "$@" \
+    >"$dir/out.txt" 2>&1 &
+  server=$!
+  for _ in $(seq 100); do grep -q "listening on" "$dir/out.txt" && break; sleep 0.1; done
+  port=$(sed -n 's|^listening on http://127.0.0.1:\([0-9]*\)$|\1|p' "$dir/out.txt")
+}
+
 # Sections 21 and 22: libcgal-demo's genus-0 meshes that map at diagonal / 30, into $tmp/mat.
 extract_material_meshes() {
   mkdir -p "$tmp/mat"
@@ -1079,14 +1094,7 @@ if [[ "$section" == all || "$section" == memory ]]; then
   echo
   echo "| mesh | voxel mm | state | slab planes | estimate MB | peak MB | peak / budget |"
   echo "|---|---:|---|---:|---:|---:|---:|"
-  mkdir -p "$tmp/serve-memory"
-  printf 'bench-token-0123456789\n' >"$tmp/serve-memory/token"
-  chmod 600 "$tmp/serve-memory/token"
-  ./build/tpmsfill serve --listen 127.0.0.1:0 --data "$tmp/serve-memory" --memory 1G \
-    --token-file "$tmp/serve-memory/token" >"$tmp/serve-memory/out.txt" 2>&1 &
-  server=$!
-  for _ in $(seq 100); do grep -q "listening on" "$tmp/serve-memory/out.txt" && break; sleep 0.1; done
-  port=$(sed -n 's|^listening on http://127.0.0.1:\([0-9]*\)$|\1|p' "$tmp/serve-memory/out.txt")
+  start_service "$tmp/serve-memory" --memory 1G
   for voxel in 0.4 0.2; do
     python3 - "$port" "$tmp/mem/ChineseDragon-10kv.off" "$voxel" <<'PY'
 import json, sys, time, urllib.request
@@ -1123,14 +1131,7 @@ if [[ "$section" == all || "$section" == slow-clients ]]; then
   echo "| slow clients | health: median s | health: max s | slow clients let go after s |"
   echo "|---:|---:|---:|---:|"
   for n in 0 70 200; do
-    mkdir -p "$tmp/serve-$n"
-    printf 'bench-token-0123456789\n' >"$tmp/serve-$n/token"
-    chmod 600 "$tmp/serve-$n/token"
-    ./build/tpmsfill serve --listen 127.0.0.1:0 --data "$tmp/serve-$n" \
-      --token-file "$tmp/serve-$n/token" >"$tmp/serve-$n/out.txt" 2>&1 &
-    server=$!
-    for _ in $(seq 100); do grep -q "listening on" "$tmp/serve-$n/out.txt" && break; sleep 0.1; done
-    port=$(sed -n 's|^listening on http://127.0.0.1:\([0-9]*\)$|\1|p' "$tmp/serve-$n/out.txt")
+    start_service "$tmp/serve-$n"
     python3 - "$port" "$n" <<'PY'
 import socket, statistics, sys, threading, time, urllib.request
 port, n = int(sys.argv[1]), int(sys.argv[2])

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <functional>
 #include <string>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/field.hpp>
 #include <tpmsfill/fill.hpp>
-#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/lattice/design.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
 #include <tpmsfill/types.hpp>
 #include <vector>
 

@@ -1,40 +1,16 @@
 /// @file conformal.hpp
 /// @brief Stage "conformal": a lattice layer of height H that follows a freeform surface
-/// (seed 004's microchannels): a planar slab design, laid onto the surface through its
-/// parameterization (parameterize.hpp), then filled, meshed and validated like any lattice.
+/// (e.g. the multi-morphology microchannels of Yang et al. 2023): a planar slab design, laid
+/// onto the surface through its parameterization (parameterize.hpp), then filled, meshed and
+/// validated like any lattice.
 ///
-/// The field-space map. For a point p near the surface, q is its closest point (CGAL's AABB
-/// tree over the surface's triangles), (u, v) the parameter there (barycentric in q's
-/// triangle), and h the signed distance along the surface's normal at q (on the `side` the
-/// layer grows to). The slab design, a LatticeDesign in the box [0, Lu] × [0, Lv] × [0, H/s]
-/// (blends, rings, grading as for any part), is evaluated at (u·Lu, v·Lv, h/s): sampled once on
-/// a grid of half the voxel and read back trilinearly. The layer is what lies between h = 0
-/// and h = H over the surface:
-///
-///   φ = max(φ_slab, min(φ_design, skins)),   φ_slab = max(−h, h − H, lateral)
-///
-/// lateral is, over the surface, minus the distance to its boundary (through u, v: the seam of
-/// a tube is no boundary) and, past the boundary, the distance from the boundary's normal
-/// line; skins (optional) are solid where h < skin_surface or h > H − skin_top, so the layer
-/// can be a closed channel. The map is one-to-one while H stays below the surface's smallest
-/// radius of curvature on the layer's side (its focal distance): the job estimates that
-/// radius and warns with it when H exceeds it. Cells on the surface measure T·√σ_A (the
-/// parameterization's area scale); the report gives their spread.
-///
-/// The seed's own map, vertex by vertex (map_slab_vertices, SlabMap::Vertex): the slab's mesh
-/// is made in slab coordinates (x in [0, Lu], y in [0, Lv], z in [0, H/s]) and carried over.
-/// A vertex (x, y, z) goes to (u, v) = (x/Lu, y/Lv), is located in the layout's triangle that
-/// holds (u, v) (barycentric λ), lifted to P = Σ λ_k P_k and offset along the interpolated
-/// vertex normal: P + s·z·N, N = normalize(Σ λ_k n_k) (angle-weighted normals; per-face normals
-/// would tear the mesh at the surface's edges). Edges whose mapped midpoint strays from the
-/// chord between their mapped ends by more than a tolerance are split (shared midpoints, so
-/// the mesh stays closed and manifold) until none does.
-///
-/// Where it is valid: while s·z stays below the surface's focal distance on the layer's side
-/// (past it the offset folds, and the result intersects itself), and on disks only (a tube's
-/// slab has walls at u = 0 and u = 1 that land on the same seam). The field-space map takes
-/// tubes too and its output is validated like any fill's, which is why conformal_fill() uses it
-/// by default.
+/// The layer is what lies between heights h = 0 and h = H over the surface. The slab reaches
+/// it through the field (conformal_source: disks and tubes, the default) or vertex by vertex
+/// (map_slab_vertices: disks only). The field map is one-to-one while H stays below the
+/// surface's focal distance (its smallest radius of curvature on the layer's side; the vertex
+/// map while s·z does): the job estimates that radius and warns with it when H exceeds it.
+/// Cells on the surface measure T·√σ_A (the parameterization's area scale); the report gives
+/// their spread. The method: docs/method.md, section "Mapping a slab design onto a surface".
 #pragma once
 
 #include <array>
@@ -43,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "tpmsfill/design.hpp"
 #include "tpmsfill/field.hpp"
 #include "tpmsfill/fill.hpp"
-#include "tpmsfill/parameterize.hpp"
+#include "tpmsfill/lattice/design.hpp"
 #include "tpmsfill/progress.hpp"
+#include "tpmsfill/surface/parameterize.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
@@ -60,7 +36,7 @@ struct ConformalOptions {
   double height = 0;  ///< H, the layer's height above the surface, mm (> 0)
   SurfaceSide side = SurfaceSide::Out;
   /// s: the slab design's z is h / s, so s > 1 stretches the design's cells across the layer
-  /// (the seed's normal-offset scale).
+  /// (the normal-offset scale of Yang et al. 2023).
   double normal_scale = 1;
   /// The slab's size along u and v, mm. Unset: the surface's mean lengths along u and v
   /// (SurfaceParameterization::length_u/v), so cells keep their nominal size on average. For a
@@ -84,7 +60,10 @@ struct VertexMapReport {
   double chord_error = 0;         ///< the largest left after splitting, mm
 };
 
-/// Maps `slab` vertex by vertex onto the surface (see the file comment).
+/// Maps `slab` vertex by vertex onto the surface: (x, y, z) goes to the surface point at
+/// (u, v) = (x/Lu, y/Lv), offset by s·z along the interpolated vertex normal, and edges whose
+/// mapped midpoint strays from their mapped chord by more than options.chord_tolerance are
+/// split (docs/method.md, section "Mapping a slab design onto a surface").
 /// @param[in] slab     a mesh in slab coordinates (e.g. fill() of the slab box with the design)
 /// @param[in] layout   a disk's layout (periodic_u false)
 /// @param[in] lengths  Lu, Lv, mm (slab_lengths())
@@ -104,15 +83,23 @@ void require_valid(const ConformalOptions& options);
 std::array<double, 2> slab_lengths(const SurfaceParameterization& layout,
                                    const LatticeDesign& design, const ConformalOptions& options);
 
-/// The layer as a field source (field.hpp): φ above, mm. `design` is resolved against the slab
-/// box (resolve_design). `layout` must outlive the source.
+/// The layer as a field source (field.hpp), mm:
+///
+///   φ = max(φ_slab, min(φ_design, skins)),   φ_slab = max(−h, h − H, lateral)
+///
+/// with h a point's signed height over the surface (along the normal at its closest point, on
+/// `side`), φ_design the slab design at (u·Lu, v·Lv, h/s), lateral minus the distance to the
+/// surface's boundary over the surface (a tube's seam is no boundary) and the distance from
+/// the boundary's normal line past it, and skins solid where h < skin_surface or
+/// h > H − skin_top. `design` is resolved against the slab box (resolve_design). `layout` must
+/// outlive the source.
 /// @throws InputError  invalid options or design
 FieldSource conformal_source(const SurfaceParameterization& layout, const LatticeDesign& design,
                              const ConformalOptions& options);
 
 /// How the slab reaches the surface: through the field (conformal_source: the default) or the
-/// seed's vertex map (map_slab_vertices: disks only, no skins; the mapped mesh is validated and
-/// refused with its intersecting pairs where it folds).
+/// vertex map of Yang et al. 2023 (map_slab_vertices: disks only, no skins; the mapped mesh is
+/// validated and refused with its intersecting pairs where it folds).
 enum class SlabMap { Field, Vertex };
 
 struct ConformalJobOptions {

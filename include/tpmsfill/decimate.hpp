@@ -2,40 +2,13 @@
 /// @brief Stage "decimate": fewer triangles for a valid closed 2-manifold (a filled lattice),
 /// within a distance tolerance of it, and still valid.
 ///
-/// Edge collapse (CGAL's Surface_mesh_simplification: Lindstrom–Turk cost and placement) with
-/// three filters on every collapse: no triangle around the collapse may flip its normal; the
-/// collapse must keep the result and the input within `tolerance` of each other, both ways
-/// (the distance bound below); and no triangle it makes may meet another triangle of the mesh
-/// (validation's exact pair test, against the faces near it found through a uniform grid).
-/// CGAL's link condition keeps the mesh a combinatorial 2-manifold. The result is validated
-/// all the same (validate_mesh(), the checks every output of fill() gets: closed, 2-manifold,
-/// outward, no degenerate faces, no duplicate points, no self-intersections); where it fails,
-/// the vertices of the input that collapsed into the offending triangles are locked (with
-/// their one-ring: edges at a locked vertex are never collapsed, and their neighbours keep
-/// their position) and the simplification starts again from the input, for at most
-/// DecimateOptions::max_rounds rounds, each round growing the locked region by a ring. If no
-/// round gives a valid mesh, the input is returned unchanged with a warning: an invalid mesh
-/// is never returned.
-///
-/// The distance bound, two-sided and proven: every point of the result lies within
-/// `tolerance` of the input, and every point of the input within `tolerance` of the result
-/// (the symmetric Hausdorff distance is at most `tolerance`). Each input triangle is kept with
-/// the faces of the result that its proof of closeness uses; a collapse changes a few faces
-/// (the region), and it is accepted only if every input triangle depending on the region is
-/// proven again against the region's new triangles (and the unchanged faces around them), and
-/// every new triangle is proven against the input triangles there. A triangle is proven
-/// within the tolerance of a set of triangles piece by piece: a piece is done when one
-/// triangle of the set lies within the tolerance of its three corners (the distance to a
-/// triangle is convex) or when its corners' distances plus its covering radius stay within
-/// the tolerance (the distance to a set is 1-Lipschitz); otherwise it is split in four, down
-/// to 1/16 of the triangle, and a piece still unproven there refuses the collapse. Distances
-/// are exact point–triangle distances in double arithmetic (so "within" holds up to their
-/// round-off, about 1e-15 of the coordinates). Both one-sided distances are also measured
-/// afterwards (DecimateReport::distance).
-///
-/// Deterministic: edge collapse is serial and every collapse decision is exact or
-/// order-fixed, so the result does not depend on the thread count (validation is parallel
-/// and deterministic).
+/// Guarantees: every point of the result lies within `tolerance` of the input and every point
+/// of the input within `tolerance` of the result (a proven bound on the symmetric Hausdorff
+/// distance, up to double round-off, about 1e-15 of the coordinates); the result passes
+/// validate_mesh() (closed, 2-manifold, outward, no degenerate faces, no duplicate points, no
+/// self-intersections), or, when no round gives a valid mesh, the input is returned unchanged
+/// with a warning: an invalid mesh is never returned. The result does not depend on the thread
+/// count. The method: docs/method.md, section "Decimation that keeps the proof".
 #pragma once
 
 #include <cmath>
@@ -44,9 +17,9 @@
 #include <vector>
 
 #include "tpmsfill/io.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
-#include "tpmsfill/validate.hpp"
 
 namespace tpmsfill {
 

@@ -17,16 +17,16 @@
 #include <optional>
 #include <vector>
 
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/clean.hpp"
-#include "tpmsfill/design.hpp"
 #include "tpmsfill/grid.hpp"
 #include "tpmsfill/io.hpp"
+#include "tpmsfill/lattice/design.hpp"
+#include "tpmsfill/mesh/clean.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 #include "tpmsfill/types.hpp"
 #include "tpmsfill/units.hpp"
-#include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill {
 

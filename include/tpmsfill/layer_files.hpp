@@ -18,7 +18,6 @@
 #include <string_view>
 
 #include "tpmsfill/io.hpp"
-#include "tpmsfill/slice.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
@@ -58,8 +57,8 @@ struct LayerFileOptions {
 /// they come, lowest first. Folder formats name files layer_NNNNN.svg / .png (five digits or
 /// more, the layer's index).
 /// The bytes a stack of options.layer_count layers with `points` contour points in all (and
-/// `material_triangles` drawn, seed 001's sections) takes in options.format: a forecast, for a
-/// preflight. The text formats from their numbers' widths over options.bounds, binary CLI
+/// `material_triangles` drawn, a fitted solid's sections) takes in options.format: a forecast,
+/// for a preflight. The text formats from their numbers' widths over options.bounds, binary CLI
 /// exactly but for its header; PNG masks from their pixels, which deflate to about a byte per
 /// pixel the contours cross and a hundredth of one for the rest.
 double layer_file_bytes(const LayerFileOptions& options, double points,

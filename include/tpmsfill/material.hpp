@@ -1,9 +1,11 @@
 /// @file material.hpp
-/// @brief Stage "material" of the material pipeline (seed 001 §4, issue 18): a material value
-/// for every point of a tet mesh, from the functions the seed and its users define it by.
+/// @brief Stage "material" of the material pipeline (Li & Fu 2021, §4): a material value
+/// for every point of a tet mesh, from the functions of Li & Fu 2021 and others users define
+/// it by.
 ///
-///  - distance_material: the Euclidean distance to a point (the seed's rubber duck);
-///  - geodesic_material: the geodesic distance to a set of boundary points (the seed's femur:
+///  - distance_material: the Euclidean distance to a point (e.g. a material that grows from
+///    one point);
+///  - geodesic_material: the geodesic distance to a set of boundary points (e.g. a femur's
 ///    distance to its bottom face), by the heat method on the boundary surface (Crane et al.
 ///    2013, CGAL's Heat_method_3) and the P1 harmonic extension inside (the same system as the
 ///    cube map's interior);
@@ -17,9 +19,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/design.hpp"
-#include "tpmsfill/tet_mesh.hpp"
-#include "tpmsfill/volume.hpp"
+#include "tpmsfill/io/volume.hpp"
+#include "tpmsfill/lattice/design.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill {
 
@@ -27,7 +29,8 @@ namespace tpmsfill {
 std::vector<double> distance_material(const TetMesh& mesh, Vec3 centre);
 
 /// The boundary points within `depth` mm of the mesh's lowest point along `up` (its bottom
-/// face when `up` points away from it): the seed's femur's source set for geodesic_material.
+/// face when `up` points away from it): the source set for geodesic_material when a part is
+/// graded from its bottom face (as Li & Fu 2021 grade a femur).
 /// @throws InputError  `up` is zero or not finite, depth < 0
 std::vector<std::uint32_t> bottom_boundary_points(const TetMesh& mesh, Vec3 up, double depth);
 

@@ -4,43 +4,15 @@
 /// and vertices, degenerate slivers, stray specks) into what check_mesh() accepts: a closed,
 /// outward-oriented 2-manifold without self-intersections or degenerate faces.
 ///
-/// The steps, all CGAL Polygon Mesh Processing on the exact-predicate kernel (Epick):
-///
-///  1. soup: merge bit-identical points, drop repeated-corner and duplicate triangles
-///     (PMP::repair_polygon_soup), orient consistently, splitting non-manifold edges and
-///     vertices (PMP::orient_polygon_soup), build a halfedge mesh;
-///  2. stitch coincident borders (PMP::stitch_borders), split pinched vertices
-///     (PMP::duplicate_non_manifold_vertices), remove collinear triangles
-///     (PMP::remove_degenerate_faces);
-///  3. remove connected components (through edges) whose area is below
-///     RepairOptions::min_component_fraction of the largest one's (stray specks);
-///  4. fill every hole. A (nearly) planar hole is triangulated flat in its plane
-///     (PMP::triangulate_hole, 2D constrained Delaunay). Any other is triangulated and refined
-///     (PMP::triangulate_and_refine_hole), then faired (PMP::fair) only if the faired patch
-///     stays within its rim's bounding box grown by a tenth of the rim's diameter, and within
-///     the part's box grown by the tolerance: no dome outgrows its hole. Where triangulation fails,
-///     plain PMP::triangulate_hole with the exhaustive search (holes up to 400 edges);
-///  5. resolve self-intersections: autorefine and keep the outer hull
-///     (PMP::experimental::autorefine_and_remove_self_intersections, a union of overlapping
-///     shells), else local remeshing (PMP::experimental::remove_self_intersections);
-///  6. orient every shell outward (PMP::orient_to_bound_a_volume);
-///  7. check_mesh() (self-intersections searched) on the result, and its deviation from the
-///     input (RepairDeviation). A valid result within the tolerance is the answer. Otherwise
-///     other routes run, coarse to fine and cheapest first, until one is within the tolerance:
-///       a. a 3D alpha wrap (CGAL::alpha_wrap_3) of the mesh as it was after step 4, with
-///          alpha = the bounding-box diagonal / 100 (see RepairOptions::wrap);
-///       b. the volumetric route: the boundary of the mesh's winding-number solid (w ≥ ½,
-///          holes closed: overlapping shells united, self-intersections gone), extracted by
-///          marching cubes from its signed distance sampled at half the tolerance (valid by
-///          construction), then decimated within what the tolerance leaves (see
-///          RepairOptions::volume);
-///       c. wraps at alpha = diagonal / 200 and / 400 (each about four times the cost).
-///     The result is the valid candidate nearest the input (RepairDeviation::worst());
-///     RepairReport::route names it, RepairReport::candidates lists every route tried,
-///     RepairReport::within_tolerance says whether the result is within. CGAL's own warnings
-///     are caught into RepairReport::warnings.
-///
-/// Deterministic: the same soup and options give the same mesh, whatever the thread count.
+/// Steps 1-6 (CGAL Polygon Mesh Processing, Epick) weld, orient, stitch, remove specks, fill
+/// holes, resolve self-intersections and orient shells outward; step 7 checks the result
+/// (check_mesh(), self-intersections searched) and its deviation from the input
+/// (RepairDeviation), and when it is invalid or beyond the tolerance tries alpha wraps and a
+/// volumetric route (7a-c): the result is the valid candidate nearest the input
+/// (RepairReport::route, candidates, within_tolerance). CGAL's own warnings are caught into
+/// RepairReport::warnings. Deterministic: the same soup and options give the same mesh,
+/// whatever the thread count. The method, with the steps as options and report number them:
+/// docs/method.md, section "Repairing a triangle soup".
 #pragma once
 
 #include <cstdint>

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "tpmsfill/clean.hpp"
 #include "tpmsfill/io.hpp"
-#include "tpmsfill/measure.hpp"
+#include "tpmsfill/lattice/measure.hpp"
+#include "tpmsfill/mesh/clean.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/types.hpp"
-#include "tpmsfill/validate.hpp"
 
 namespace tpmsfill {
 

@@ -1,6 +1,6 @@
 /// @file slice.hpp
 /// @brief Stage "slice": printer layers straight from the field fill() meshes, without a mesh
-/// (seed 001's direct slicing, on our field).
+/// (the direct slicing of Li & Fu 2021, applied to fill()'s field).
 ///
 /// For each layer the field φ of fill() (model clipping, design, grading, blends, skin) is
 /// sampled on the horizontal plane through the layer's centre, at fill()'s nodes in x and y,
@@ -31,54 +31,8 @@
 
 namespace tpmsfill {
 
-/// A point in a layer's plane, mm.
-struct Vec2 {
-  double x = 0, y = 0;
-  friend bool operator==(const Vec2&, const Vec2&) = default;
-};
-
-/// A closed contour: the last point joins the first (it is not repeated).
-struct Contour {
-  std::vector<Vec2> points;
-  /// Signed area (shoelace), mm²: positive for an outer boundary of solid (counter-clockwise
-  /// seen from +z), negative for a hole (clockwise).
-  double area = 0;
-  bool outer() const { return area > 0; }
-};
-
-/// Signed area of the closed polygon through `points` (shoelace), mm²: positive when
-/// counter-clockwise seen from +z.
-inline double signed_area(const std::vector<Vec2>& points) {
-  double twice = 0;
-  for (std::size_t k = 0, n = points.size(); k < n; ++k) {
-    const Vec2 p = points[k], q = points[(k + 1) % n];
-    twice += p.x * q.y - q.x * p.y;
-  }
-  return 0.5 * twice;
-}
-
-/// A layer's filled section as triangles with a material per point (seed 001's direct
-/// slices, issue 18: material_layers.hpp). Writers draw it when it has triangles: SVG fills
-/// each triangle with its mean material's colour, PNG writes the material as grey.
-struct MaterialSection {
-  std::vector<Vec2> points;
-  std::vector<double> material;  ///< per point
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  double material_min = 0, material_max = 1;  ///< the colour and grey scale's ends
-};
-
-/// One printer layer: the solid's cross-section at its centre height.
-struct Layer {
-  std::uint64_t index = 0;     ///< 0 for the lowest
-  double bottom = 0, top = 0;  ///< the layer spans [bottom, top], mm
-  double z = 0;                ///< the height sampled: the layer's centre, mm
-  std::vector<Contour> contours;
-  double area = 0;  ///< solid area: the contours' signed areas summed, mm²
-  /// φ at the plane's nodes (grid.dims[2] == 1, grid.origin.z == z), negative in the solid:
-  /// what writers rasterise with antialiasing (a pixel's coverage from φ at its centre).
-  Field field;
-  MaterialSection material = {};  ///< seed 001's sections: drawn with their material
-};
+// Vec2, Contour, signed_area, MaterialSection and Layer, the plain data of a printer layer,
+// are in types.hpp.
 
 /// What a slice will make and cost, forecast before any work (SliceOptions::preflight), for
 /// the whole stack (a share split among processes forecasts the same). Contour points are the

@@ -166,6 +166,55 @@ struct Band {
   std::vector<std::uint64_t> nodes;
 };
 
+/// A point in a layer's plane, mm.
+struct Vec2 {
+  double x = 0, y = 0;
+  friend bool operator==(const Vec2&, const Vec2&) = default;
+};
+
+/// A closed contour: the last point joins the first (it is not repeated).
+struct Contour {
+  std::vector<Vec2> points;
+  /// Signed area (shoelace), mm²: positive for an outer boundary of solid (counter-clockwise
+  /// seen from +z), negative for a hole (clockwise).
+  double area = 0;
+  bool outer() const { return area > 0; }
+};
+
+/// Signed area of the closed polygon through `points` (shoelace), mm²: positive when
+/// counter-clockwise seen from +z.
+inline double signed_area(const std::vector<Vec2>& points) {
+  double twice = 0;
+  for (std::size_t k = 0, n = points.size(); k < n; ++k) {
+    const Vec2 p = points[k], q = points[(k + 1) % n];
+    twice += p.x * q.y - q.x * p.y;
+  }
+  return 0.5 * twice;
+}
+
+/// A layer's filled section as triangles with a material per point (a fitted solid's direct
+/// slices: material_layers.hpp). Writers draw it when it has triangles: SVG fills
+/// each triangle with its mean material's colour, PNG writes the material as grey.
+struct MaterialSection {
+  std::vector<Vec2> points;
+  std::vector<double> material;  ///< per point
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  double material_min = 0, material_max = 1;  ///< the colour and grey scale's ends
+};
+
+/// One printer layer: the solid's cross-section at its centre height.
+struct Layer {
+  std::uint64_t index = 0;     ///< 0 for the lowest
+  double bottom = 0, top = 0;  ///< the layer spans [bottom, top], mm
+  double z = 0;                ///< the height sampled: the layer's centre, mm
+  std::vector<Contour> contours;
+  double area = 0;  ///< solid area: the contours' signed areas summed, mm²
+  /// φ at the plane's nodes (grid.dims[2] == 1, grid.origin.z == z), negative in the solid:
+  /// what writers rasterise with antialiasing (a pixel's coverage from φ at its centre).
+  Field field;
+  MaterialSection material = {};  ///< a fitted solid's sections: drawn with their material
+};
+
 /// How a format stores coordinates, for rounding a mesh to what its file will hold *before* it
 /// is validated: the file then holds exactly the mesh that was proven valid.
 enum class CoordinateRounding {

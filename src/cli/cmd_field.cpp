@@ -11,13 +11,13 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/itdf.hpp>
-#include <tpmsfill/scanned_field.hpp>
-#include <tpmsfill/volume.hpp>
+#include <tpmsfill/io/volume.hpp>
+#include <tpmsfill/lattice/design.hpp>
+#include <tpmsfill/scan/itdf.hpp>
+#include <tpmsfill/scan/scanned_field.hpp>
 #include <vector>
 
 #include "cli/commands.hpp"

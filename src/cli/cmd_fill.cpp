@@ -16,9 +16,9 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/itdf.hpp>
 #include <tpmsfill/recipe.hpp>
 #include <tpmsfill/render.hpp>
+#include <tpmsfill/scan/itdf.hpp>
 #include <vector>
 
 #include "cli/commands.hpp"

@@ -11,18 +11,18 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <tpmsfill/cube_map.hpp>
-#include <tpmsfill/cube_octree.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/io/volume.hpp>
 #include <tpmsfill/material.hpp>
-#include <tpmsfill/solid_model.hpp>
-#include <tpmsfill/solid_spline.hpp>
-#include <tpmsfill/spatial.hpp>
-#include <tpmsfill/tet_mesh.hpp>
-#include <tpmsfill/tetrahedralize.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/cube_octree.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
+#include <tpmsfill/solid/solid_spline.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
+#include <tpmsfill/solid/tetrahedralize.hpp>
 #include <tpmsfill/units.hpp>
-#include <tpmsfill/volume.hpp>
 #include <vector>
 
 #include <unistd.h>

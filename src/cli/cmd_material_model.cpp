@@ -15,9 +15,10 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/layer_files.hpp>
-#include <tpmsfill/material_layers.hpp>
-#include <tpmsfill/solid_model.hpp>
-#include <tpmsfill/solid_slice.hpp>
+#include <tpmsfill/slice.hpp>
+#include <tpmsfill/solid/material_layers.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
+#include <tpmsfill/solid/solid_slice.hpp>
 #include <vector>
 
 #include "cli/commands.hpp"

@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
-#include <tpmsfill/tpms.hpp>
+#include <tpmsfill/lattice/tpms.hpp>
 #include <vector>
 
 namespace tpmsfill::cli {

@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <memory>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/itdf.hpp>
-#include <tpmsfill/material_volume.hpp>
 #include <tpmsfill/recipe.hpp>
+#include <tpmsfill/scan/itdf.hpp>
+#include <tpmsfill/solid/material_volume.hpp>
 #include <utility>
 
 #include "cli/ramp_along.hpp"

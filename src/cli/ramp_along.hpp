@@ -2,8 +2,8 @@
 #pragma once
 
 #include <string>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/lattice/design.hpp>
 
 namespace tpmsfill::cli {
 

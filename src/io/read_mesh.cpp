@@ -13,9 +13,9 @@
 #include <cstring>
 
 #include "io/file_bytes.hpp"
+#include "io/formats.hpp"
 #include "io/inflate.hpp"
 #include "io/internal/triangulate_polygon.hpp"
-#include "io/formats.hpp"
 #include "io/three_mf.hpp"
 
 namespace tpmsfill {

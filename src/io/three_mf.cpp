@@ -25,9 +25,9 @@
 #include <map>
 #include <memory>
 
-#include "io/xml_text.hpp"
 #include "io/formats.hpp"
 #include "io/three_mf.hpp"
+#include "io/xml_text.hpp"
 
 #ifndef TPMSFILL_VERSION
 #define TPMSFILL_VERSION "unknown"

@@ -5,7 +5,7 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wrestrict"
 #endif
-#include "tpmsfill/volume.hpp"
+#include "tpmsfill/io/volume.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -17,9 +17,9 @@
 #include <optional>
 #include <sstream>
 
+#include "core/names.hpp"
 #include "io/file_bytes.hpp"
 #include "io/inflate.hpp"
-#include "core/names.hpp"
 #include "io/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"

@@ -30,11 +30,11 @@
 #include <string_view>
 #include <utility>
 
+#include "core/index_limits.hpp"
+#include "core/parallel.hpp"
 #include "io/file_bytes.hpp"
 #include "io/float_coordinates.hpp"
-#include "core/index_limits.hpp"
 #include "io/interrupt_cleanup.hpp"
-#include "core/parallel.hpp"
 #include "io/number_text.hpp"
 #include "io/three_mf.hpp"
 #include "tpmsfill/error.hpp"

@@ -8,12 +8,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/file_bytes.hpp"
 #include "core/json_depth.hpp"
+#include "io/file_bytes.hpp"
 #include "io/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/itdf.hpp"
-#include "tpmsfill/material_volume.hpp"
+#include "tpmsfill/scan/itdf.hpp"
+#include "tpmsfill/solid/material_volume.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -1,5 +1,5 @@
 // Stage "compose": one row loop serves the band (eq. 10) and full-field paths.
-#include "tpmsfill/compose.hpp"
+#include "tpmsfill/lattice/compose.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Stage "design": grading, blending and custom sources on top of the TPMS table, evaluated by
 // blocks of rows. Without rotation or a radial warp a layer is separable and its per-axis
 // trigonometry is computed once per grid line; otherwise per node.
-#include "tpmsfill/design.hpp"
+#include "tpmsfill/lattice/design.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +12,8 @@
 #include <mutex>
 #include <string>
 
-#include "lattice/internal/box_samples.hpp"
 #include "core/names.hpp"
+#include "lattice/internal/box_samples.hpp"
 #include "lattice/internal/polygon_miter.hpp"
 #include "lattice/internal/region_distance.hpp"
 #include "lattice/internal/tpms_kernel.hpp"
@@ -468,7 +468,7 @@ Frame make_frame(const Warp& warp, Vec3 p) {
 }
 
 // A TPMS of the design with what its evaluation on one grid needs.
-struct Layer {
+struct PreparedTpms {
   TpmsLayer tpms;
   bool separable;                              // per-axis tables (no rotation, axis warp)
   std::shared_ptr<const CellSamples> samples;  // porosity grading only
@@ -489,7 +489,7 @@ class DesignRows {
     return r.shape == RampShape::Depth ? f.depth : r.coordinate(f.p);
   }
   Frame frame(int i, int j, int k) const;
-  double layer_value(const Layer& L, const Frame& f, int i, int j, int k) const;
+  double layer_value(const PreparedTpms& L, const Frame& f, int i, int j, int k) const;
   void add_layer(const TpmsOptions& o);
   void table_separable_warp();
 
@@ -499,7 +499,7 @@ class DesignRows {
   std::vector<detail::RegionDistance> regions_;  // per blend
   RowFunction custom_;                           // the base, when the design has a custom source
   Warp warp_;
-  std::vector<Layer> layers_;  // base first (absent with a custom source), then the blends
+  std::vector<PreparedTpms> layers_;  // base first (absent with a custom source), then the blends
   std::optional<RampEval> porosity_, level_, thickness_;
   bool per_node_frame_ = false;  // the warp is not separable for some layer
   bool plain_ = false;  // one separable layer, nothing graded, blended or refined: see rows()
@@ -539,7 +539,7 @@ DesignRows::DesignRows(const LatticeDesign& design, const Grid& grid, const Fiel
     add_layer(design);
   for (const Blend& b : design.blends) add_layer(b.tpms);
   if (warp_.on && warp_.axis >= 0) table_separable_warp();
-  for (Layer& L : layers_)
+  for (PreparedTpms& L : layers_)
     if (L.separable)
       for (int axis = 0; axis < 3; ++axis)
         L.trig[axis] = L.tpms.trig_table(grid, axis, axis == warp_.axis ? &warped_ : nullptr);
@@ -548,7 +548,7 @@ DesignRows::DesignRows(const LatticeDesign& design, const Grid& grid, const Fiel
 }
 
 void DesignRows::add_layer(const TpmsOptions& o) {
-  Layer L{TpmsLayer(o), false, nullptr, {}};
+  PreparedTpms L{TpmsLayer(o), false, nullptr, {}};
   L.separable = !L.tpms.rotated && (!warp_.on || warp_.axis >= 0);
   if (porosity_) L.samples = shared_cell_samples(o);
   per_node_frame_ = per_node_frame_ || (!L.separable && warp_.on);
@@ -585,7 +585,7 @@ Frame DesignRows::frame(int i, int j, int k) const {
   return f;
 }
 
-double DesignRows::layer_value(const Layer& L, const Frame& f, int i, int j, int k) const {
+double DesignRows::layer_value(const PreparedTpms& L, const Frame& f, int i, int j, int k) const {
   const TpmsLayer& t = L.tpms;
   Vec3 g, q;
   FGrad fg;
@@ -628,7 +628,7 @@ void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* value
   if (plain_) {
     // The common design (one TPMS at a fixed level): layer_value() with its frame and its
     // gradings left out, the same arithmetic in the same order, so the same bits.
-    const Layer& L = layers_[0];
+    const PreparedTpms& L = layers_[0];
     const TpmsLayer& t = L.tpms;
     const double v = t.o.style == TpmsStyle::Network ? t.o.level : t.o.thickness;
     for_each_needed_node(

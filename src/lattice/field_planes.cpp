@@ -9,11 +9,11 @@
 
 #include <tbb/parallel_for.h>
 
-#include "lattice/job_settings.hpp"
 #include "core/stage_progress.hpp"
-#include "tpmsfill/compose.hpp"
-#include "tpmsfill/distance.hpp"
-#include "tpmsfill/voxel.hpp"
+#include "lattice/job_settings.hpp"
+#include "tpmsfill/lattice/compose.hpp"
+#include "tpmsfill/sampling/distance.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 
 namespace tpmsfill::detail {
 

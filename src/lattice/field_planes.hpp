@@ -15,14 +15,14 @@
 #include <vector>
 
 #include "core/job_progress.hpp"
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/clean.hpp"
-#include "tpmsfill/design.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/fill.hpp"
+#include "tpmsfill/lattice/design.hpp"
+#include "tpmsfill/mesh/clean.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/report.hpp"
-#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill::detail {

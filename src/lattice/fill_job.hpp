@@ -13,15 +13,15 @@
 #include <vector>
 
 #include "core/job_progress.hpp"
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/components.hpp"
 #include "tpmsfill/fill.hpp"
 #include "tpmsfill/io.hpp"
-#include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/mesh/components.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/report.hpp"
-#include "tpmsfill/spatial.hpp"
-#include "tpmsfill/validate.hpp"
-#include "tpmsfill/voxel.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/marching_cubes.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 
 namespace tpmsfill::detail {
 

@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <optional>
 
+#include "core/stage_progress.hpp"
 #include "lattice/field_planes.hpp"
 #include "lattice/fill_job.hpp"
 #include "lattice/job_settings.hpp"
-#include "core/stage_progress.hpp"
-#include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/sampling/marching_cubes.hpp"
 
 namespace tpmsfill::detail {
 namespace {

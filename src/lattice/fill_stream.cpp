@@ -26,15 +26,15 @@
 #include <string>
 
 #include "core/disjoint_sets.hpp"
+#include "core/index_limits.hpp"
+#include "core/stage_progress.hpp"
 #include "io/file_bytes.hpp"
 #include "lattice/fill_job.hpp"
-#include "core/index_limits.hpp"
 #include "lattice/job_settings.hpp"
 #include "mesh/mesh_measures.hpp"
-#include "core/stage_progress.hpp"
 #include "mesh/validate_window.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/validate.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 
 namespace tpmsfill::detail {
 namespace {

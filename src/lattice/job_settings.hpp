@@ -6,13 +6,13 @@
 
 #include <utility>
 
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/compose.hpp"
-#include "tpmsfill/design.hpp"
 #include "tpmsfill/field.hpp"
 #include "tpmsfill/fill.hpp"
+#include "tpmsfill/lattice/compose.hpp"
+#include "tpmsfill/lattice/design.hpp"
 #include "tpmsfill/report.hpp"
-#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill::detail {

@@ -1,17 +1,17 @@
 // Stage "measure": sub-voxel distances to the other phase sampled on their ridge (pore and wall
 // sizes), and 6-connected run labelling of the void (labyrinths).
-#include "tpmsfill/measure.hpp"
+#include "tpmsfill/lattice/measure.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 
-#include "sampling/distance_transform.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
+#include "sampling/distance_transform.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/voxel.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 
 namespace tpmsfill {
 namespace {

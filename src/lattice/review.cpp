@@ -1,5 +1,5 @@
 // Review: every layer a design can produce, checked against the model and the voxel.
-#include "tpmsfill/review.hpp"
+#include "lattice/review.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include "lattice/internal/region_distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/field.hpp"
-#include "tpmsfill/voxel.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -39,18 +39,18 @@ double largest(Vec3 v) {
 }
 
 // One TPMS the design produces somewhere, and where ("" for the base).
-struct Layer {
+struct Extreme {
   TpmsOptions tpms;
   std::string where;
 };
 
 // The base at each end of each ramp (the other quantities at their base values), and each
 // blend: the extremes of what the design produces.
-std::vector<Layer> layers_of(const LatticeDesign& design) {
-  std::vector<Layer> layers;
+std::vector<Extreme> extremes_of(const LatticeDesign& design) {
+  std::vector<Extreme> extremes;
   const TpmsOptions& base = design;
   if (!design.custom) {
-    layers.push_back({resolve_porosity(base), ""});
+    extremes.push_back({resolve_porosity(base), ""});
     for (const Grading& g : design.grading)
       for (int end = 0; end < 2; ++end) {
         const double value = end ? g.ramp.end : g.ramp.start;
@@ -69,23 +69,23 @@ std::vector<Layer> layers_of(const LatticeDesign& design) {
             t.cell = (value / base.cell.x) * base.cell;
             break;
         }
-        layers.push_back({resolve_porosity(t), " at the " + std::string(end ? "end" : "start") +
-                                                   " of the " + std::string(graded_name(g.what)) +
-                                                   " ramp"});
+        extremes.push_back({resolve_porosity(t), " at the " + std::string(end ? "end" : "start") +
+                                                     " of the " + std::string(graded_name(g.what)) +
+                                                     " ramp"});
       }
   }
   for (std::size_t b = 0; b < design.blends.size(); ++b)
-    layers.push_back(
+    extremes.push_back(
         {resolve_porosity(design.blends[b].tpms), " in blend " + std::to_string(b + 1)});
-  return layers;
+  return extremes;
 }
 
 // Refuses a model smaller than one cell along its longest side; warns under three cells.
-void review_size(const std::vector<Layer>& layers, const Box3& model, const ReviewOptions& o,
+void review_size(const std::vector<Extreme>& extremes, const Box3& model, const ReviewOptions& o,
                  std::vector<std::string>& warnings) {
-  if (layers.empty()) return;
+  if (extremes.empty()) return;
   const Vec3 size = model.size();
-  const Vec3 cell = layers.front().tpms.cell;
+  const Vec3 cell = extremes.front().tpms.cell;
   const double spans = std::max({size.x / cell.x, size.y / cell.y, size.z / cell.z});
   const std::string across = "the model is " + mm(largest(size)) + " across";
   if (spans < 1)
@@ -101,10 +101,10 @@ void review_size(const std::vector<Layer>& layers, const Box3& model, const Revi
 
 // Refuses a voxel coarser than half the smallest cell (the lattice cannot be sampled); warns
 // over a quarter (aliased).
-void review_voxel(const std::vector<Layer>& layers, const ReviewOptions& o,
+void review_voxel(const std::vector<Extreme>& extremes, const ReviewOptions& o,
                   std::vector<std::string>& warnings) {
-  const Layer* finest = nullptr;
-  for (const Layer& l : layers)
+  const Extreme* finest = nullptr;
+  for (const Extreme& l : extremes)
     if (!finest || smallest(l.tpms.cell) < smallest(finest->tpms.cell)) finest = &l;
   if (!finest) return;
   const double cell = smallest(finest->tpms.cell);
@@ -136,9 +136,9 @@ std::string fitting_range(const TpmsOptions& t) {
 
 // Refuses a layer that leaves (almost) no solid or no void; warns under 3 % of either, and
 // where its struts, walls or pores are thinner than two voxels.
-void review_layers(const std::vector<Layer>& layers, const ReviewOptions& o,
-                   std::vector<std::string>& warnings) {
-  for (const Layer& l : layers) {
+void review_extremes(const std::vector<Extreme>& extremes, const ReviewOptions& o,
+                     std::vector<std::string>& warnings) {
+  for (const Extreme& l : extremes) {
     const double solid = solid_fraction(l.tpms);
     const std::string name = "the " + tpms_label(l.tpms) + l.where;
     const std::string what = l.tpms.style == TpmsStyle::Network
@@ -327,12 +327,12 @@ std::vector<std::string> review_design(const LatticeDesign& design, const Box3& 
   std::vector<std::string> warnings;
   if (model.empty()) return warnings;
   review_structure(design, model, options, warnings);
-  const std::vector<Layer> layers = layers_of(design);
-  review_size(layers, model, options, warnings);
-  review_voxel(layers, options, warnings);
+  const std::vector<Extreme> extremes = extremes_of(design);
+  review_size(extremes, model, options, warnings);
+  review_voxel(extremes, options, warnings);
   review_blends(design, model, warnings);
   review_ramps(design, model, warnings);
-  review_layers(layers, options, warnings);
+  review_extremes(extremes, options, warnings);
   return warnings;
 }
 

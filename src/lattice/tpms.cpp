@@ -1,6 +1,6 @@
 // Stage "tpms": names, validation, one TPMS as a field source, porosity by bisection over a
 // sampled cell. The design (design.cpp) evaluates its layers with the same TpmsLayer.
-#include "tpmsfill/tpms.hpp"
+#include "tpmsfill/lattice/tpms.hpp"
 
 #include <tbb/parallel_sort.h>
 

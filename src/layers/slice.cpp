@@ -13,21 +13,21 @@
 #include <tuple>
 #include <utility>
 
+#include "core/job_progress.hpp"
+#include "core/stage_progress.hpp"
 #include "lattice/field_planes.hpp"
 #include "lattice/fill_job.hpp"
-#include "core/job_progress.hpp"
 #include "lattice/job_settings.hpp"
+#include "lattice/review.hpp"
 #include "sampling/rounded_grid.hpp"
-#include "core/stage_progress.hpp"
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/clean.hpp"
-#include "tpmsfill/compose.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/grid.hpp"
-#include "tpmsfill/review.hpp"
-#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/lattice/compose.hpp"
+#include "tpmsfill/mesh/clean.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 #include "tpmsfill/units.hpp"
-#include "tpmsfill/voxel.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -16,8 +16,8 @@
 #include <utility>
 
 #include "mesh/cgal_types.hpp"
-#include "mesh/mesh_measures.hpp"
 #include "mesh/internal/problem_text.hpp"
+#include "mesh/mesh_measures.hpp"
 #include "mesh/soup_indices.hpp"
 #include "mesh/soup_topology.hpp"
 #include "tpmsfill/error.hpp"

@@ -6,7 +6,7 @@
 // an edge is a border where that sum is not zero. The border of any set of triangles is a
 // closed chain (as many border edges leave each vertex as enter it), so walking it always
 // closes loops, whatever non-manifold edges or vertices the soup has.
-#include "tpmsfill/clean.hpp"
+#include "tpmsfill/mesh/clean.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,13 +15,13 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/border_loops.hpp"
 #include "core/index_limits.hpp"
+#include "core/stage_progress.hpp"
+#include "mesh/border_loops.hpp"
 #include "mesh/mesh_measures.hpp"
 #include "mesh/row_crossing.hpp"
 #include "mesh/soup_indices.hpp"
 #include "mesh/soup_topology.hpp"
-#include "core/stage_progress.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -1,13 +1,13 @@
 // Stage "components": union-find over point indices (detail::triangle_components), then one
 // serial pass in triangle order for sizes, volumes and areas. keep_components compacts in
 // parallel, per fixed chunk, in order.
-#include "tpmsfill/components.hpp"
+#include "tpmsfill/mesh/components.hpp"
 
 #include <atomic>
 
 #include "core/index_limits.hpp"
-#include "mesh/mesh_measures.hpp"
 #include "core/parallel.hpp"
+#include "mesh/mesh_measures.hpp"
 #include "mesh/soup_indices.hpp"
 #include "mesh/soup_topology.hpp"
 #include "tpmsfill/error.hpp"

@@ -25,14 +25,14 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/cgal_types.hpp"
 #include "core/disjoint_sets.hpp"
 #include "core/format_numbers.hpp"
-#include "mesh/internal/self_intersections.hpp"
-#include "mesh/soup_topology.hpp"
 #include "core/stage_progress.hpp"
-#include "mesh/surface_deviation.hpp"
+#include "mesh/cgal_types.hpp"
+#include "mesh/internal/self_intersections.hpp"
 #include "mesh/internal/tolerance_cover.hpp"
+#include "mesh/soup_topology.hpp"
+#include "mesh/surface_deviation.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

@@ -8,7 +8,7 @@
 
 #include "mesh/internal/bitmap_font.hpp"
 #include "mesh/internal/render_frame.hpp"
-#include "tpmsfill/clean.hpp"
+#include "tpmsfill/mesh/clean.hpp"
 #include "tpmsfill/render.hpp"
 
 namespace tpmsfill {

@@ -11,8 +11,8 @@
 #include <iterator>
 #include <vector>
 
-#include "mesh/cgal_types.hpp"
 #include "core/parallel.hpp"
+#include "mesh/cgal_types.hpp"
 
 namespace tpmsfill::detail {
 namespace {

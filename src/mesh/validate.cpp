@@ -9,7 +9,7 @@
 //   CGAL's box intersection search).
 // Every parallel loop runs over fixed chunks whose results are merged in chunk order, so the
 // report is the same for any thread count.
-#include "tpmsfill/validate.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 
 #include <tbb/parallel_sort.h>
 
@@ -19,14 +19,14 @@
 #include <string>
 #include <utility>
 
-#include "mesh/cgal_types.hpp"
-#include "mesh/mesh_measures.hpp"
 #include "core/parallel.hpp"
+#include "core/stage_progress.hpp"
+#include "mesh/cgal_types.hpp"
 #include "mesh/internal/problem_text.hpp"
 #include "mesh/internal/self_intersections.hpp"
+#include "mesh/mesh_measures.hpp"
 #include "mesh/soup_indices.hpp"
 #include "mesh/soup_topology.hpp"
-#include "core/stage_progress.hpp"
 #include "mesh/validate_window.hpp"
 
 namespace tpmsfill {

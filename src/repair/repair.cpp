@@ -47,17 +47,17 @@
 #include <utility>
 #include <vector>
 
-#include "repair/internal/alpha_wrap.hpp"
-#include "mesh/cgal_types.hpp"
 #include "core/index_limits.hpp"
+#include "core/stage_progress.hpp"
+#include "mesh/cgal_types.hpp"
 #include "mesh/mesh_measures.hpp"
 #include "mesh/soup_indices.hpp"
-#include "core/stage_progress.hpp"
 #include "mesh/surface_deviation.hpp"
+#include "repair/internal/alpha_wrap.hpp"
 #include "repair/internal/winding_solid.hpp"
-#include "tpmsfill/components.hpp"
 #include "tpmsfill/decimate.hpp"
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/mesh/components.hpp"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 

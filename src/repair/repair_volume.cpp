@@ -5,14 +5,14 @@
 #include <vector>
 
 #include "repair/internal/winding_solid.hpp"
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/clean.hpp"
-#include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/grid.hpp"
-#include "tpmsfill/marching_cubes.hpp"
-#include "tpmsfill/spatial.hpp"
-#include "tpmsfill/voxel.hpp"
+#include "tpmsfill/mesh/clean.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/distance.hpp"
+#include "tpmsfill/sampling/marching_cubes.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 
 namespace tpmsfill::detail {
 

@@ -7,10 +7,10 @@
 #include <array>
 #include <vector>
 
-#include "repair/internal/alpha_wrap.hpp"
-#include "mesh/cgal_types.hpp"
 #include "core/index_limits.hpp"
+#include "mesh/cgal_types.hpp"
 #include "mesh/soup_indices.hpp"
+#include "repair/internal/alpha_wrap.hpp"
 
 namespace tpmsfill::detail {
 

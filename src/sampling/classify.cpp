@@ -6,16 +6,16 @@
 // Only the crossing's x position is computed in double; which triangles are crossed, and in
 // which direction, is exact. The caps' winding number (holes) is floating point: it is a
 // smooth sum, compared against J − ½ only where its certified bound leaves the answer open.
-#include "tpmsfill/classify.hpp"
+#include "tpmsfill/sampling/classify.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "sampling/internal/mesh_index_impl.hpp"
 #include "core/parallel.hpp"
-#include "mesh/row_crossing.hpp"
 #include "core/stage_progress.hpp"
+#include "mesh/row_crossing.hpp"
+#include "sampling/internal/mesh_index_impl.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -68,8 +68,8 @@ struct RowResult {
   bool unbalanced = false;
 };
 
-// Where hole caps close the model M, w_M = J_M + R (sampling/internal/cap_winding.hpp): J_M counts the
-// model's crossings and R, which depends only on the holes' rims, is continuous along the row
+// Where hole caps close the model M, w_M = J_M + R (sampling/internal/cap_winding.hpp): J_M counts
+// the model's crossings and R, which depends only on the holes' rims, is continuous along the row
 // and varies on the scale of the distance to the nearest rim. R is therefore sampled, not
 // evaluated at every node: at both ends of the row's stretch near the caps and at midpoints,
 // recursively. Near a rim R turns like the angle around a wire, |R''| ≈ 1 / (2π d²) at

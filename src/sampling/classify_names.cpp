@@ -1,7 +1,7 @@
 // Stage "classify": the inside rule's names, apart from the search so that the recipe reader
 // (and its fuzzer) need no CGAL.
 #include "core/names.hpp"
-#include "tpmsfill/classify.hpp"
+#include "tpmsfill/sampling/classify.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -10,7 +10,7 @@
 // box only when it is farther than the best so far plus a rounding slack, so the triangle that
 // attains the minimum is never pruned. Hints (the previous node's nearest triangle) only
 // tighten the first bound.
-#include "tpmsfill/distance.hpp"
+#include "tpmsfill/sampling/distance.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,9 +19,9 @@
 #include <utility>
 
 #include "core/index_limits.hpp"
-#include "sampling/internal/mesh_index_impl.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
+#include "sampling/internal/mesh_index_impl.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

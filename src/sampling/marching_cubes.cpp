@@ -2,7 +2,7 @@
 // depend on the thread count: count (edge vertices, triangles and centroid vertices per layer)
 // → exclusive scan → fill by index. Memory beyond the output is a few rows of vertex ids per
 // task: each task rolls two layers of edge-vertex ids instead of one id per grid edge.
-#include "tpmsfill/marching_cubes.hpp"
+#include "tpmsfill/sampling/marching_cubes.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -11,10 +11,10 @@
 #include <string>
 
 #include "core/index_limits.hpp"
-#include "sampling/mc_tables.hpp"
 #include "core/parallel.hpp"
-#include "sampling/rounded_grid.hpp"
 #include "core/stage_progress.hpp"
+#include "sampling/mc_tables.hpp"
+#include "sampling/rounded_grid.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

@@ -1,6 +1,6 @@
 // Stage "spatial": the triangles' coordinates in one array and CGAL AABB trees over them
 // (see sampling/internal/mesh_index_impl.hpp for the layout and why there may be two trees).
-#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
 
 #include <tbb/parallel_invoke.h>
 
@@ -11,9 +11,9 @@
 #include <utility>
 
 #include "core/index_limits.hpp"
-#include "sampling/internal/mesh_index_impl.hpp"
 #include "core/parallel.hpp"
 #include "mesh/soup_indices.hpp"
+#include "sampling/internal/mesh_index_impl.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

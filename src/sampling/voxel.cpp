@@ -1,5 +1,5 @@
 // Stage "voxel": separable byte-grid morphology, the distance band, and run-based labelling.
-#include "tpmsfill/voxel.hpp"
+#include "tpmsfill/sampling/voxel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <memory>
 
 #include "core/disjoint_sets.hpp"
-#include "sampling/distance_transform.hpp"
 #include "core/index_limits.hpp"
 #include "core/parallel.hpp"
+#include "sampling/distance_transform.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

@@ -1,5 +1,5 @@
 // Trivariate B-spline: per-axis bases (Cox–de Boor), separable contractions, and the two fits.
-#include "tpmsfill/bspline.hpp"
+#include "tpmsfill/scan/bspline.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // ITDF version 1: writer and reader (layout in docs/formats.md, "ITDF").
-#include "tpmsfill/itdf.hpp"
+#include "tpmsfill/scan/itdf.hpp"
 
 #include <zlib.h>
 

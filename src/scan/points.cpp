@@ -4,11 +4,11 @@
 #include <string>
 
 #include "io/file_bytes.hpp"
+#include "io/formats.hpp"
 #include "io/inflate.hpp"
 #include "io/parse_errors.hpp"
-#include "io/formats.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/scanned_field.hpp"
+#include "tpmsfill/scan/scanned_field.hpp"
 
 namespace tpmsfill {
 namespace {

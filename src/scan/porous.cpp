@@ -1,5 +1,5 @@
 // Seed 003's structures: the fitted C and its thresholds as a field in mm, and porosity.
-#include "tpmsfill/porous.hpp"
+#include "tpmsfill/scan/porous.hpp"
 
 #include <algorithm>
 #include <cmath>

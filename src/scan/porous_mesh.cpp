@@ -3,9 +3,9 @@
 #include <cmath>
 
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/marching_cubes.hpp"
-#include "tpmsfill/porous.hpp"
-#include "tpmsfill/validate.hpp"
+#include "tpmsfill/mesh/validate.hpp"
+#include "tpmsfill/sampling/marching_cubes.hpp"
+#include "tpmsfill/scan/porous.hpp"
 
 namespace tpmsfill {
 

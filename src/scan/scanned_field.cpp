@@ -1,5 +1,5 @@
 // Distance fields from a mesh, a point cloud or a CT (scanned_field.hpp).
-#include "tpmsfill/scanned_field.hpp"
+#include "tpmsfill/scan/scanned_field.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,12 +8,12 @@
 #include <string>
 
 #include "core/parallel.hpp"
-#include "tpmsfill/classify.hpp"
-#include "tpmsfill/clean.hpp"
-#include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/grid.hpp"
-#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/mesh/clean.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/sampling/distance.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
 
 namespace tpmsfill {
 namespace {

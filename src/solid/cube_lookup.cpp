@@ -1,5 +1,5 @@
 // The cube map's inverse (cube_lookup.hpp): buckets over the cube, barycentric weights.
-#include "tpmsfill/cube_lookup.hpp"
+#include "solid/cube_lookup.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Stage "cube map" (cube_map.hpp): corners, curves, mean-value patches, harmonic interior.
 #define EIGEN_NO_DEBUG 1  // Eigen's checks abort() rather than throw: leave them out
-#include "tpmsfill/cube_map.hpp"
+#include "tpmsfill/solid/cube_map.hpp"
 
 #if defined(CGAL_EIGEN3_ENABLED)
 #include <Eigen/Dense>
@@ -16,9 +16,9 @@
 #include <utility>
 
 #include "core/disjoint_sets.hpp"
+#include "core/stage_progress.hpp"
 #include "mesh/exact_orientation.hpp"
 #include "solid/internal/harmonic.hpp"
-#include "core/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

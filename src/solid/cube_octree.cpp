@@ -1,5 +1,5 @@
 // The adaptive octree over the parameter cube (cube_octree.hpp).
-#include "tpmsfill/cube_octree.hpp"
+#include "tpmsfill/solid/cube_octree.hpp"
 
 #include <algorithm>
 #include <cmath>

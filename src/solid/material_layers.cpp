@@ -1,5 +1,5 @@
 // A solid's direct slice as a printer layer with its material (material_layers.hpp).
-#include "tpmsfill/material_layers.hpp"
+#include "tpmsfill/solid/material_layers.hpp"
 
 #include <algorithm>
 #include <cmath>

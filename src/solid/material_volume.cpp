@@ -1,5 +1,5 @@
 // A fitted solid's material sampled onto a volume (material_volume.hpp).
-#include "tpmsfill/material_volume.hpp"
+#include "tpmsfill/solid/material_volume.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,13 +7,13 @@
 #include <optional>
 #include <string>
 
-#include "io/file_bytes.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
-#include "tpmsfill/classify.hpp"
+#include "io/file_bytes.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/solid_inverse.hpp"
-#include "tpmsfill/solid_model.hpp"
+#include "tpmsfill/sampling/classify.hpp"
+#include "tpmsfill/solid/solid_inverse.hpp"
+#include "tpmsfill/solid/solid_model.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -1,5 +1,5 @@
 // G⁻¹(p) by Newton from the nearest sampled image (solid_inverse.hpp).
-#include "tpmsfill/solid_inverse.hpp"
+#include "tpmsfill/solid/solid_inverse.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // The solid spline model file, version 1 (solid_model.hpp; layout in docs/formats.md).
-#include "tpmsfill/solid_model.hpp"
+#include "tpmsfill/solid/solid_model.hpp"
 
 #include <zlib.h>
 

@@ -1,6 +1,6 @@
 // Direct slicing and iso-material surfaces of a fitted solid (solid_slice.hpp): an octree in
 // the parameter cube, one level for marching cubes, vertices by regula falsi, mapped through G.
-#include "tpmsfill/solid_slice.hpp"
+#include "tpmsfill/solid/solid_slice.hpp"
 
 #include <algorithm>
 #include <cmath>

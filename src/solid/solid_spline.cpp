@@ -1,6 +1,6 @@
 // The spline fit of seed 001 (solid_spline.hpp): Greville start, Euler steps on the seed's
 // energies, RS stopping, progressive refinement.
-#include "tpmsfill/solid_spline.hpp"
+#include "tpmsfill/solid/solid_spline.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -11,13 +11,13 @@
 #include <utility>
 
 #include "core/parallel.hpp"
-#include "solid/internal/spline_terms.hpp"
 #include "core/stage_progress.hpp"
+#include "solid/cube_lookup.hpp"
+#include "solid/internal/spline_terms.hpp"
 #include "surface/surface_normals.hpp"
-#include "tpmsfill/cube_lookup.hpp"
-#include "tpmsfill/distance.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/sampling/distance.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -7,8 +7,8 @@
 #include <string_view>
 #include <vector>
 
-#include "solid/internal/tet_formats.hpp"
 #include "io/text_scanner.hpp"
+#include "solid/internal/tet_formats.hpp"
 
 namespace tpmsfill::io {
 namespace {

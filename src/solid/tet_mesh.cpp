@@ -1,5 +1,5 @@
 // The tet mesh's checks and boundary (tet_mesh.hpp). The readers and the writer are in src/io.
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 #include <tbb/parallel_sort.h>
 
@@ -10,8 +10,8 @@
 #include <utility>
 
 #include "core/disjoint_sets.hpp"
-#include "mesh/exact_orientation.hpp"
 #include "core/parallel.hpp"
+#include "mesh/exact_orientation.hpp"
 
 namespace tpmsfill {
 

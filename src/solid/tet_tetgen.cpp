@@ -5,8 +5,8 @@
 #include <string>
 #include <string_view>
 
-#include "solid/internal/tet_formats.hpp"
 #include "io/text_scanner.hpp"
+#include "solid/internal/tet_formats.hpp"
 
 namespace tpmsfill::io {
 namespace {

@@ -1,6 +1,6 @@
 // Stage "tetrahedralize" (tetrahedralize.hpp): CGAL Mesh_3 on a polyhedral domain. The only file
 // that compiles Mesh_3.
-#include "tpmsfill/tetrahedralize.hpp"
+#include "tpmsfill/solid/tetrahedralize.hpp"
 
 // Boost.Graph's edge descriptors in CGAL's feature detection (split_graph_into_polylines) are
 // copied before GCC can see them set; no path reads them unset.
@@ -29,9 +29,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/stage_progress.hpp"
 #include "mesh/cgal_types.hpp"
 #include "mesh/soup_topology.hpp"
-#include "core/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {

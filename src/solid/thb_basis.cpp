@@ -1,5 +1,5 @@
 // Cubic THB splines on the cube octree, and the uniform tensor basis (thb_basis.hpp).
-#include "tpmsfill/thb_basis.hpp"
+#include "tpmsfill/solid/thb_basis.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -15,13 +15,13 @@
 #include <string>
 #include <utility>
 
-#include "mesh/cgal_types.hpp"
 #include "core/parallel.hpp"
+#include "lattice/review.hpp"
+#include "mesh/cgal_types.hpp"
 #include "surface/surface_normals.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/grid.hpp"
-#include "tpmsfill/review.hpp"
-#include "tpmsfill/validate.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -294,9 +294,9 @@ class NearMask {
   std::vector<std::uint8_t> marked_;
 };
 
-struct Layer {
-  Layer(const SurfaceParameterization& layout, std::array<double, 2> lengths,
-        const ConformalOptions& options, LatticeDesign design)
+struct SurfaceLayer {
+  SurfaceLayer(const SurfaceParameterization& layout, std::array<double, 2> lengths,
+               const ConformalOptions& options, LatticeDesign design)
       : map(layout, lengths, options.side),
         options(options),
         lengths(lengths),
@@ -352,17 +352,17 @@ std::array<double, 2> slab_lengths(const SurfaceParameterization& layout,
 namespace {
 
 // The layer: its surface map (an AABB tree) built once, for the field and for the measures.
-std::shared_ptr<const Layer> make_layer(const SurfaceParameterization& layout,
-                                        const LatticeDesign& design,
-                                        const ConformalOptions& options) {
+std::shared_ptr<const SurfaceLayer> make_layer(const SurfaceParameterization& layout,
+                                               const LatticeDesign& design,
+                                               const ConformalOptions& options) {
   require_valid(options);
   require_valid(design);
   const std::array<double, 2> lengths = slab_lengths(layout, design, options);
-  return std::make_shared<const Layer>(layout, lengths, options,
-                                       resolve_design(design, slab_box(lengths, options)));
+  return std::make_shared<const SurfaceLayer>(layout, lengths, options,
+                                              resolve_design(design, slab_box(lengths, options)));
 }
 
-FieldSource source_of(std::shared_ptr<const Layer> layer) {
+FieldSource source_of(std::shared_ptr<const SurfaceLayer> layer) {
   return {.on_grid = [layer](const Grid& grid) -> RowFunction {
     const Vec3 size = slab_box(layer->lengths, layer->options).max;
     auto slab = std::make_shared<const SlabSamples>(design_source(layer->design),
@@ -415,7 +415,7 @@ FillOptions fill_options(const ConformalJobOptions& options) {
 }
 
 // The field-space map: fill() over the surface's box grown by the layer, with the layer's field.
-FillResult fill_through_field(std::shared_ptr<const Layer> layer,
+FillResult fill_through_field(std::shared_ptr<const SurfaceLayer> layer,
                               const SurfaceParameterization& layout,
                               const ConformalJobOptions& options) {
   FillOptions f = fill_options(options);
@@ -495,7 +495,7 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   r.cell_size = {cell(a.min), cell(a.p5), cell(a.p50), cell(a.p95), cell(a.max)};
 
   r.map = options.map;
-  const std::shared_ptr<const Layer> layer = make_layer(r.layout, options.design, o);
+  const std::shared_ptr<const SurfaceLayer> layer = make_layer(r.layout, options.design, o);
   FillResult filled = options.map == SlabMap::Field ? fill_through_field(layer, r.layout, options)
                                                     : fill_by_vertices(r, options, lengths, slab);
   result.mesh = std::move(filled.mesh);

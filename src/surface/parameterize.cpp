@@ -5,7 +5,7 @@
 // linear systems, on a Surface_mesh whose vertex i is point i of the laid-out mesh.
 #define EIGEN_NO_DEBUG 1  // Eigen's checks abort() rather than throw: leave them out
 
-#include "tpmsfill/parameterize.hpp"
+#include "tpmsfill/surface/parameterize.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -16,11 +16,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
-#include <tpmsfill/classify.hpp>
-#include <tpmsfill/clean.hpp>
 #include <tpmsfill/grid.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/spatial.hpp>
+#include <tpmsfill/mesh/clean.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
 #include <vector>
 
 using namespace tpmsfill;

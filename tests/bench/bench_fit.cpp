@@ -8,8 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <tpmsfill/bspline.hpp>
-#include <tpmsfill/marching_cubes.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
+#include <tpmsfill/scan/bspline.hpp>
 #include <vector>
 
 #include "mesh/surface_deviation.hpp"

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <tpmsfill/material_volume.hpp>
-#include <tpmsfill/solid_inverse.hpp>
-#include <tpmsfill/solid_model.hpp>
+#include <tpmsfill/solid/material_volume.hpp>
+#include <tpmsfill/solid/solid_inverse.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
 #include <vector>
 
 using namespace tpmsfill;

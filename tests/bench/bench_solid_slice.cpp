@@ -14,9 +14,9 @@
 #include <cstdlib>
 #include <string>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/solid_model.hpp>
-#include <tpmsfill/solid_slice.hpp>
-#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
+#include <tpmsfill/solid/solid_slice.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
 
 #include <vector>
 #include "../test_util.hpp"

@@ -15,11 +15,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
-#include <tpmsfill/classify.hpp>
-#include <tpmsfill/distance.hpp>
 #include <tpmsfill/report.hpp>
-#include <tpmsfill/spatial.hpp>
-#include <tpmsfill/voxel.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/distance.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
+#include <tpmsfill/sampling/voxel.hpp>
 
 #include "../test_util.hpp"
 

@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <string>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/itdf.hpp>
-#include <tpmsfill/validate.hpp>
-#include <tpmsfill/volume.hpp>
+#include <tpmsfill/io/volume.hpp>
+#include <tpmsfill/mesh/validate.hpp>
+#include <tpmsfill/scan/itdf.hpp>
 
 #include "test_util.hpp"
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <tpmsfill/check.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
 
 #include "test_util.hpp"
 

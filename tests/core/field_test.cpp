@@ -5,11 +5,11 @@
 
 #include <atomic>
 #include <cmath>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/field.hpp>
-#include <tpmsfill/marching_cubes.hpp>
-#include <tpmsfill/tpms.hpp>
+#include <tpmsfill/lattice/design.hpp>
+#include <tpmsfill/lattice/tpms.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
 
 #include "test_util.hpp"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string_view>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/scanned_field.hpp>
+#include <tpmsfill/scan/scanned_field.hpp>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string_view>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/material_volume.hpp>
 #include <tpmsfill/recipe.hpp>
+#include <tpmsfill/solid/material_volume.hpp>
 
 // A volume ramp names a file (a .tsm model or a volume). The fuzz build does not open files a
 // fuzzed recipe names (read_volume_fuzz and read_solid_model_fuzz fuzz those readers), nor link

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string_view>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/solid_model.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);

@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
 
 namespace {
 

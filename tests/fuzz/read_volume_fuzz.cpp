@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string_view>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/itdf.hpp>
-#include <tpmsfill/volume.hpp>
+#include <tpmsfill/io/volume.hpp>
+#include <tpmsfill/scan/itdf.hpp>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

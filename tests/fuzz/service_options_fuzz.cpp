@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/material_volume.hpp>
+#include <tpmsfill/solid/material_volume.hpp>
 
 #include "service/job_spec.hpp"
 

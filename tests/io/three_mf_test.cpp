@@ -24,8 +24,8 @@
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/fill.hpp"
 #include "tpmsfill/io.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/repair.hpp"
-#include "tpmsfill/validate.hpp"
 
 namespace tpmsfill {
 namespace {

@@ -15,7 +15,7 @@
 #include <limits>
 #include <string>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/volume.hpp>
+#include <tpmsfill/io/volume.hpp>
 #include <vector>
 
 #include "test_util.hpp"

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <tpmsfill/bspline.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/volume.hpp>
+#include <tpmsfill/io/volume.hpp>
+#include <tpmsfill/scan/bspline.hpp>
 
 #include "test_util.hpp"
 

@@ -3,10 +3,10 @@
 
 #include <atomic>
 #include <cmath>
-#include <tpmsfill/compose.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/tpms.hpp>
-#include <tpmsfill/voxel.hpp>
+#include <tpmsfill/lattice/compose.hpp>
+#include <tpmsfill/lattice/tpms.hpp>
+#include <tpmsfill/sampling/voxel.hpp>
 
 using namespace tpmsfill;
 

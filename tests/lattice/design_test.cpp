@@ -7,14 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
-#include <tpmsfill/classify.hpp>
-#include <tpmsfill/components.hpp>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
+#include <tpmsfill/lattice/design.hpp>
+#include <tpmsfill/mesh/components.hpp>
+#include <tpmsfill/mesh/validate.hpp>
 #include <tpmsfill/recipe.hpp>
-#include <tpmsfill/spatial.hpp>
-#include <tpmsfill/validate.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
 
 #include "test_util.hpp"
 

@@ -10,8 +10,8 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/marching_cubes.hpp>
 #include <tpmsfill/recipe.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
 
 #include "test_util.hpp"
 

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/components.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
+#include <tpmsfill/mesh/components.hpp>
 
 #include "test_util.hpp"
 

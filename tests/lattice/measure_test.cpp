@@ -13,9 +13,9 @@
 #include <random>
 #include <string>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/measure.hpp>
-#include <tpmsfill/tpms.hpp>
-#include <tpmsfill/voxel.hpp>
+#include <tpmsfill/lattice/measure.hpp>
+#include <tpmsfill/lattice/tpms.hpp>
+#include <tpmsfill/sampling/voxel.hpp>
 
 #include "test_util.hpp"
 

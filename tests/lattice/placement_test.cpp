@@ -11,7 +11,7 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/marching_cubes.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
 
 #include "test_util.hpp"
 

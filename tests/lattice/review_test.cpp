@@ -4,8 +4,8 @@
 
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
-#include <tpmsfill/review.hpp>
 #include <tpmsfill/units.hpp>
+#include "lattice/review.hpp"
 
 #include "test_util.hpp"
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 #include <random>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
+#include <tpmsfill/lattice/design.hpp>
 #include <tpmsfill/recipe.hpp>
 
 #include "lattice/internal/polygon_distance.hpp"

@@ -5,7 +5,7 @@
 #include <random>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
-#include <tpmsfill/tpms.hpp>
+#include <tpmsfill/lattice/tpms.hpp>
 
 #include "test_util.hpp"
 

@@ -16,6 +16,7 @@
 #include <string_view>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/layer_files.hpp>
+#include <tpmsfill/slice.hpp>
 #include <vector>
 
 #include "test_util.hpp"

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <tpmsfill/check.hpp>
-#include <tpmsfill/clean.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/mesh/clean.hpp>
 
 #include "test_util.hpp"
 

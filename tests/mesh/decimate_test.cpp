@@ -22,7 +22,7 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/validate.hpp>
+#include <tpmsfill/mesh/validate.hpp>
 #include <vector>
 
 #include "test_util.hpp"

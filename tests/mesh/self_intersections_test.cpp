@@ -11,7 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <random>
-#include <tpmsfill/validate.hpp>
+#include <tpmsfill/mesh/validate.hpp>
 #include <variant>
 #include <vector>
 

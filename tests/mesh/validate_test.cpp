@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <numbers>
 #include <tpmsfill/check.hpp>
-#include <tpmsfill/components.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/marching_cubes.hpp>
-#include <tpmsfill/validate.hpp>
+#include <tpmsfill/mesh/components.hpp>
+#include <tpmsfill/mesh/validate.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
 #include <unordered_map>
 
 #include "mesh/validate_window.hpp"

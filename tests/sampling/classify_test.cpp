@@ -2,9 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/classify.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/spatial.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
 
 #include "test_util.hpp"
 

@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tpmsfill/classify.hpp>
-#include <tpmsfill/distance.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/spatial.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/distance.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
 
 #include "test_util.hpp"
 

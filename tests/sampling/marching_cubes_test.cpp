@@ -15,7 +15,7 @@
 #include <set>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/field.hpp>
-#include <tpmsfill/marching_cubes.hpp>
+#include <tpmsfill/sampling/marching_cubes.hpp>
 
 #include "sampling/mc_tables.hpp"
 #include "test_util.hpp"

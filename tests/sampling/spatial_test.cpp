@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/spatial.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
 
 #include "test_util.hpp"
 

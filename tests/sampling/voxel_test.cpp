@@ -9,7 +9,7 @@
 #include <random>
 #include <set>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/voxel.hpp>
+#include <tpmsfill/sampling/voxel.hpp>
 
 using namespace tpmsfill;
 

@@ -7,9 +7,9 @@
 #include <functional>
 #include <numbers>
 #include <random>
-#include <tpmsfill/classify.hpp>
-#include <tpmsfill/clean.hpp>
-#include <tpmsfill/spatial.hpp>
+#include <tpmsfill/mesh/clean.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
 
 #include "sampling/internal/cap_winding.hpp"
 #include "test_util.hpp"

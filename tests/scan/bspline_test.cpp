@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/bspline.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/scan/bspline.hpp>
 
 using namespace tpmsfill;
 

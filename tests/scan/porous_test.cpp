@@ -5,12 +5,12 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
-#include <tpmsfill/itdf.hpp>
-#include <tpmsfill/porous.hpp>
+#include <tpmsfill/lattice/design.hpp>
 #include <tpmsfill/recipe.hpp>
+#include <tpmsfill/scan/itdf.hpp>
+#include <tpmsfill/scan/porous.hpp>
 
 #include "test_util.hpp"
 

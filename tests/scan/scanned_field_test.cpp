@@ -7,7 +7,7 @@
 #include <numbers>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/scanned_field.hpp>
+#include <tpmsfill/scan/scanned_field.hpp>
 
 #include "test_util.hpp"
 

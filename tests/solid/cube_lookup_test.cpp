@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/cube_lookup.hpp>
+#include "solid/cube_lookup.hpp"
 
 #include "test_util.hpp"
 

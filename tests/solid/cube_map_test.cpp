@@ -4,8 +4,8 @@
 
 #include <cmath>
 #include <set>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
 
 #include "test_util.hpp"
 

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/cube_octree.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/solid/cube_octree.hpp>
 
 #include "test_util.hpp"
 

@@ -5,10 +5,10 @@
 
 #include <cmath>
 #include <memory>
-#include <tpmsfill/cube_map.hpp>
-#include <tpmsfill/design.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/material_volume.hpp>
+#include <tpmsfill/lattice/design.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/material_volume.hpp>
 
 #include "test_util.hpp"
 

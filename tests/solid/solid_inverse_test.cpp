@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/cube_map.hpp>
-#include <tpmsfill/solid_inverse.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/solid_inverse.hpp>
 
 #include "test_util.hpp"
 

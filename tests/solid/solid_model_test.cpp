@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/solid_model.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/solid_model.hpp>
 
 #include "test_util.hpp"
 

@@ -6,10 +6,10 @@
 
 #include <cmath>
 #include <map>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/solid_slice.hpp>
-#include <tpmsfill/thb_basis.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/solid_slice.hpp>
+#include <tpmsfill/solid/thb_basis.hpp>
 
 #include "test_util.hpp"
 

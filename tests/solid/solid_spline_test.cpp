@@ -6,13 +6,13 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/solid_slice.hpp>
-#include <tpmsfill/solid_spline.hpp>
-#include <tpmsfill/spatial.hpp>
-#include <tpmsfill/tet_mesh.hpp>
-#include <tpmsfill/tetrahedralize.hpp>
+#include <tpmsfill/sampling/spatial.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/solid_slice.hpp>
+#include <tpmsfill/solid/solid_spline.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
+#include <tpmsfill/solid/tetrahedralize.hpp>
 
 #include "test_util.hpp"
 

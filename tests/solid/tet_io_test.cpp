@@ -17,7 +17,7 @@
 #include <limits>
 #include <string>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
 
 #include "test_util.hpp"
 

@@ -1,7 +1,7 @@
 // The tet mesh's checks and boundary (tet_mesh.hpp): counts, orientation, topology, genus.
 #include <gtest/gtest.h>
 
-#include <tpmsfill/tet_mesh.hpp>
+#include <tpmsfill/solid/tet_mesh.hpp>
 
 #include "test_util.hpp"
 

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/cube_map.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/tetrahedralize.hpp>
+#include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/tetrahedralize.hpp>
 
 #include "test_util.hpp"
 

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <tpmsfill/bspline.hpp>
 #include <tpmsfill/error.hpp>
-#include <tpmsfill/thb_basis.hpp>
+#include <tpmsfill/scan/bspline.hpp>
+#include <tpmsfill/solid/thb_basis.hpp>
 
 namespace tpmsfill {
 namespace {

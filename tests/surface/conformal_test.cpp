@@ -10,7 +10,7 @@
 #include <tpmsfill/conformal.hpp>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
-#include <tpmsfill/parameterize.hpp>
+#include <tpmsfill/surface/parameterize.hpp>
 
 #include "test_util.hpp"
 

@@ -4,8 +4,8 @@
 /// (edges moved parallel, corners extended until they meet, reflex corners trimmed) passes
 /// through the point. In the straight-skeleton face of edge e that is the distance to e's line,
 /// so the faces of the interior and exterior skeletons are computed once (CGAL, in
-/// src/lattice/internal/polygon_miter.cpp only) and kept as plain polygons, sorted into square buckets so a
-/// query tests a few of them.
+/// src/lattice/internal/polygon_miter.cpp only) and kept as plain polygons, sorted into square
+/// buckets so a query tests a few of them.
 #pragma once
 
 #include <array>

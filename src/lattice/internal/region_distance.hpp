@@ -12,7 +12,7 @@
 
 #include "lattice/internal/polygon_distance.hpp"
 #include "lattice/internal/polygon_miter.hpp"
-#include "tpmsfill/design.hpp"
+#include "tpmsfill/lattice/design.hpp"
 
 namespace tpmsfill::detail {
 

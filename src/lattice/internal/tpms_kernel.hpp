@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "tpmsfill/tpms.hpp"
+#include "tpmsfill/lattice/tpms.hpp"
 
 namespace tpmsfill::detail {
 

@@ -23,8 +23,8 @@
 #include <limits>
 #include <memory>
 
-#include "mesh/cgal_types.hpp"
 #include "core/parallel.hpp"
+#include "mesh/cgal_types.hpp"
 
 namespace tpmsfill::detail {
 namespace {

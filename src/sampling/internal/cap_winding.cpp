@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "mesh/border_loops.hpp"
 #include "core/disjoint_sets.hpp"
 #include "core/index_limits.hpp"
+#include "mesh/border_loops.hpp"
 #include "mesh/mesh_measures.hpp"
 
 namespace tpmsfill::detail {

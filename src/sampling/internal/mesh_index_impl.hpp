@@ -22,9 +22,9 @@
 #include <memory>
 #include <vector>
 
-#include "sampling/internal/cap_winding.hpp"
 #include "mesh/cgal_types.hpp"
-#include "tpmsfill/spatial.hpp"
+#include "sampling/internal/cap_winding.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill::detail {

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill::detail {
 

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "tpmsfill/thb_basis.hpp"
+#include "tpmsfill/solid/thb_basis.hpp"
 
 namespace tpmsfill::detail {
 

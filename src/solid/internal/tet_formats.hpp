@@ -14,7 +14,7 @@
 #include "core/index_limits.hpp"
 #include "io/parse_errors.hpp"
 #include "tpmsfill/error.hpp"
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill::io {
 

@@ -1,5 +1,5 @@
 /// @file itdf.hpp
-/// @brief Stage "itdf": seed 003's compact implicit storage of a porous structure. The seed
+/// @brief Stage "itdf": the compact implicit storage of a porous structure. Lin & Gao's patent
 /// names ITDF but never defines it; tpmsfill's definition (docs/formats.md, "ITDF") stores the
 /// structure type, sign convention, physical size and placement, then C and its thresholds
 /// (each a constant or a B-spline: degrees, counts, knots, float32, float64 or quantized int16
@@ -18,7 +18,7 @@
 #include <string>
 #include <string_view>
 
-#include "tpmsfill/porous.hpp"
+#include "tpmsfill/scan/porous.hpp"
 
 namespace tpmsfill {
 

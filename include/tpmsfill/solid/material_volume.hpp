@@ -1,6 +1,6 @@
 /// @file material_volume.hpp
-/// @brief A fitted solid's material in mm, m(p) = M(G⁻¹(p)), sampled onto a volume (issue 18,
-/// beyond seed 001): what a lattice is graded by, so that a density-graded scaffold follows a
+/// @brief A fitted solid's material in mm, m(p) = M(G⁻¹(p)), sampled onto a volume (beyond
+/// Li & Fu 2021): what a lattice is graded by, so that a density-graded scaffold follows a
 /// CT or a stiffness map (design.hpp's RampShape::Volume).
 ///
 /// Inverting G at every node of a fill's grid would cost a Newton solve per node; the
@@ -12,9 +12,9 @@
 
 #include <filesystem>
 
+#include "tpmsfill/io/volume.hpp"
 #include "tpmsfill/progress.hpp"
-#include "tpmsfill/solid_spline.hpp"
-#include "tpmsfill/volume.hpp"
+#include "tpmsfill/solid/solid_spline.hpp"
 
 namespace tpmsfill {
 

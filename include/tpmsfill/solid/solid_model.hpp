@@ -1,6 +1,6 @@
 /// @file solid_model.hpp
-/// @brief The solid spline model file (issue 18, seed 001): a fitted G and M with their basis
-/// and the fit's report, version 1 (layout in docs/formats.md, "Solid spline model").
+/// @brief The solid spline model file: a fitted G and M with their basis and the fit's report,
+/// version 1 (layout in docs/formats.md, "Solid spline model").
 ///
 /// The basis is stored as what makes it, not as its functions: the octree as one bit per node
 /// (pre-order from the cube: 1 split, 0 leaf), or the uniform basis's count per axis. The
@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-#include "tpmsfill/solid_spline.hpp"
+#include "tpmsfill/solid/solid_spline.hpp"
 
 namespace tpmsfill {
 

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "tpmsfill/design.hpp"
+#include "tpmsfill/lattice/design.hpp"
 #include "tpmsfill/types.hpp"
 #include "tpmsfill/units.hpp"
 

@@ -1,6 +1,6 @@
 /// @file parameterize.hpp
 /// @brief Stage "parameterize": a surface with one or two boundary loops laid flat on the unit
-/// square, for seed 004's lattices that follow a freeform surface (conformal.hpp).
+/// square, for lattices that follow a freeform surface (conformal.hpp).
 ///
 /// Mean-value coordinates (Floater 2003) with the boundary fixed on the square's sides by arc
 /// length, solved by CGAL's Surface_mesh_parameterization (Eigen's sparse LU). With a convex

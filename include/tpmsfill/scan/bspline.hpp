@@ -1,13 +1,14 @@
 /// @file bspline.hpp
-/// @brief Stage "bspline": the trivariate implicit B-spline of seed 003 (issue 13),
+/// @brief Stage "bspline": the trivariate implicit B-spline fitted to a scanned distance field,
 ///
 ///   C(u, v, w) = Σ_ijk c_ijk B_i(u) B_j(v) B_k(w)   on the unit cube [0, 1]³,
 ///
 /// with scalar coefficients, clamped uniform knots (cubic by default), point evaluation with
-/// gradient, separable evaluation at the centres of a w × h × d grid of cells (the seed's
-/// sample positions (α − ½)/w, ...), and least-squares fitting of those samples: the exact
-/// separable solve (three mode products of small per-axis solves, the default) or LSPIA
-/// (Deng & Lin 2014, the seed's iterative method). Values are x fastest, as Grid's.
+/// gradient, separable evaluation at the centres of a w × h × d grid of cells (a discrete
+/// distance field's sample positions (α − ½)/w, ...), and least-squares fitting of those
+/// samples: the exact separable solve (three mode products of small per-axis solves, the
+/// default) or LSPIA (Deng & Lin 2014, the iterative method of Lin & Gao's patent). Values are
+/// x fastest, as Grid's.
 #pragma once
 
 #include <array>
@@ -50,7 +51,7 @@ std::vector<double> evaluate_bspline_grid(const BSplineVolume& volume, std::arra
 
 enum class FitMethod {
   Direct,  ///< exact least squares, per-axis normal equations (+ smoothing), mode products
-  Lspia,   ///< the seed's iteration c += μ Aᵀ(x − Ac), from the values at Greville points
+  Lspia,   ///< the LSPIA iteration c += μ Aᵀ(x − Ac), from the values at Greville points
 };
 
 struct FitOptions {

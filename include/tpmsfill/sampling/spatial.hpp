@@ -15,7 +15,8 @@
 namespace tpmsfill {
 
 namespace detail {
-struct MeshIndexAccess;  // src/sampling/internal/mesh_index_impl.hpp: how classify and distance see inside
+struct MeshIndexAccess;  // src/sampling/internal/mesh_index_impl.hpp: how classify and distance see
+                         // inside
 }
 
 struct IndexOptions {

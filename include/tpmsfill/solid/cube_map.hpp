@@ -1,5 +1,5 @@
 /// @file cube_map.hpp
-/// @brief Stage "cube map" of the material pipeline (seed 001 §2.2, issue 18): a genus-0 tet
+/// @brief Stage "cube map" of the material pipeline (Li & Fu 2021, §2.2): a genus-0 tet
 /// mesh mapped onto the unit cube [0, 1]³, the volumetric parameterization that the
 /// trivariate spline G(u, v, w) is fitted over.
 ///
@@ -17,13 +17,13 @@
 ///     mapped onto its cube edge by normalised arc length.
 ///  3. Patches: each patch onto its cube face by Floater's mean-value coordinates
 ///     (w_ij = (tan(α/2) + tan(β/2)) / |x_j − x_i|, α and β the angles at x_i beside edge ij;
-///     the seed calls them dihedral angles). The face is convex, so the patch map is a
+///     Li & Fu 2021 call them dihedral angles). The face is convex, so the patch map is a
 ///     bijection (Floater 2003); the stage counts flipped triangles rather than assume it.
 ///  4. Interior: the P1 finite-element harmonic map, K_ij = Σ_T V_T ∇λ_i · ∇λ_j over the tets
-///     T at edge ij (the seed's eq. 4 with its two slips mended), solved as K_II f_I = −K_IB f_B
-///     for the three coordinates (one sparse Cholesky factorization). A 3D harmonic map is not
-///     always a bijection: the stage counts the tets whose image is inverted, and those that are
-///     flat.
+///     T at edge ij (eq. 4 of Li & Fu 2021 with its two slips mended), solved as
+///     K_II f_I = −K_IB f_B for the three coordinates (one sparse Cholesky factorization). A 3D
+///     harmonic map is not always a bijection: the stage counts the tets whose image is
+///     inverted, and those that are flat.
 ///
 /// A box whose corners are the box's corners maps to the box's affine image, to round-off:
 /// mean-value coordinates and P1 harmonic maps both reproduce linear functions.
@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "tpmsfill/progress.hpp"
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill {
 

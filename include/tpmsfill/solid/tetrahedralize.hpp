@@ -1,5 +1,5 @@
 /// @file tetrahedralize.hpp
-/// @brief Stage "tetrahedralize" of the material pipeline (issue 18): a closed surface mesh
+/// @brief Stage "tetrahedralize" of the material pipeline: a closed surface mesh
 /// filled with tets by CGAL's 3D mesh generation (Mesh_3, Delaunay refinement of a polyhedral
 /// domain), for parts that come as a surface rather than a tet mesh.
 ///
@@ -12,7 +12,7 @@
 #include <cstdint>
 
 #include "tpmsfill/progress.hpp"
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {

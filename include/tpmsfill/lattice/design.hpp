@@ -26,10 +26,10 @@
 #include <vector>
 
 #include "tpmsfill/field.hpp"
-#include "tpmsfill/porous.hpp"
-#include "tpmsfill/tpms.hpp"
+#include "tpmsfill/io/volume.hpp"
+#include "tpmsfill/lattice/tpms.hpp"
+#include "tpmsfill/scan/porous.hpp"
 #include "tpmsfill/types.hpp"
-#include "tpmsfill/volume.hpp"
 
 namespace tpmsfill {
 
@@ -79,11 +79,11 @@ enum class RegionShape {
   Slab,       ///< within size/2 of the plane through `point` normal to `axis`
   Sphere,     ///< within `size` (radius) of `point`
   Cylinder,   ///< within `size` (radius) of the line through `point` along `axis`
-  Polygon,    ///< seed 004's ring region: inside `loop`, drawn in the plane of `u` and `v`
+  Polygon,    ///< a ring region: inside `loop`, drawn in the plane of `u` and `v`
 };
 
-/// How a polygon region's rings follow its outline (seed 004's "tangent-connected" offsets
-/// are mitered).
+/// How a polygon region's rings follow its outline (the "tangent-connected" offsets of
+/// Yang et al. 2023 are mitered).
 enum class RingJoin {
   Round,  ///< the Euclidean distance to the outline: rounded corners, C1 off the medial axis
   Miter,  ///< mitered offsets, straight lines meeting on the corners' bisectors (simple outlines)
@@ -98,7 +98,7 @@ struct Region {
   /// from `point`; the region is the prism over it along u × v. The transition runs from the
   /// outer ring, `outer` mm outside the outline, to the inner ring, `inner` mm inside it (both
   /// signed, so the band need not straddle the outline; inner + outer > 0); the blend's
-  /// width is not used, and a Beta peak is measured from the inner ring (seed 004).
+  /// width is not used, and a Beta peak is measured from the inner ring (Yang et al. 2023).
   std::vector<std::array<double, 2>> loop = {};
   Vec3 u = {1, 0, 0}, v = {0, 1, 0};  ///< the outline's plane (v is made orthogonal to u)
   double inner = 1, outer = 1;
@@ -130,9 +130,9 @@ struct LatticeDesign : TpmsOptions {
   /// Replaces the base TPMS when set: any field source (field.hpp), e.g. function_source() of
   /// a strut network's distance. Grading applies to TPMS only; blends still apply on top.
   FieldSource custom = {};
-  /// Seed 003's porous structure (porous.hpp), in place of the base TPMS: resolve_design
-  /// places it over the model's box (or tiles it) and sets `custom` from it, after solving
-  /// `porosity` on it when that is set. Where `custom` is already set, it wins.
+  /// A porous structure fitted to a scanned field (porous.hpp), in place of the base TPMS:
+  /// resolve_design places it over the model's box (or tiles it) and sets `custom` from it,
+  /// after solving `porosity` on it when that is set. Where `custom` is already set, it wins.
   std::optional<PorousStructure> structure = {};
   std::string structure_file = {};  ///< the ITDF file it was read from ("" none): for recipes
 };

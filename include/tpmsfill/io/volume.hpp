@@ -2,10 +2,11 @@
 /// @brief Stage "volume": a discrete scalar field on a uniform grid of cells (a scanned
 /// distance field, a CT, a threshold field) and its files.
 ///
-/// Seed 003 (issue 13) starts from "a discrete distance field": w × h × d values, one per cell,
-/// at the cell centres of the unit cube. Scanners and 3D Slicer write the same thing as NRRD
-/// or MetaImage with a voxel spacing in mm; CGAL writes .inr. ScalarVolume holds any of them:
-/// values at cell centres, x fastest, with an optional physical size.
+/// Porous structures fitted to a scanned field (Lin & Gao's patent) start from "a discrete
+/// distance field": w × h × d values, one per cell, at the cell centres of the unit cube.
+/// Scanners and 3D Slicer write the same thing as NRRD or MetaImage with a voxel spacing in mm;
+/// CGAL writes .inr. ScalarVolume holds any of them: values at cell centres, x fastest, with an
+/// optional physical size.
 ///
 /// Readers are our own, with the mesh readers' rules: every declared count is checked against
 /// the bytes before anything is allocated, every error names the line or byte offset, values
@@ -33,8 +34,8 @@ enum class FieldSign {
 /// w × h × d values at the centres of a box's cells, x fastest (as Grid's fields).
 struct ScalarVolume {
   std::array<int, 3> dims{};  ///< cells along x, y, z (each ≥ 1)
-  /// Size of one cell, mm; all zero when the file gives no physical size (the seed's
-  /// unit-cube form): the volume is then the unit cube, unitless.
+  /// Size of one cell, mm; all zero when the file gives no physical size (a discrete distance
+  /// field's unit-cube form): the volume is then the unit cube, unitless.
   std::array<double, 3> spacing{};
   /// Centre of the first cell (0, 0, 0), mm (NRRD "space origin", MetaImage "Offset").
   Vec3 origin{};
@@ -51,8 +52,8 @@ struct ScalarVolume {
 
 enum class VolumeFormat {
   Auto,         ///< reading: detect from content, then extension; writing: from the extension
-  FieldText,    ///< the seed's form as text: optional header lines, "w h d", values (.tdf)
-  FieldBinary,  ///< the seed's form as binary: magic, counts, float32/float64 values (.tdfb)
+  FieldText,    ///< a distance field as text: optional header lines, "w h d", values (.tdf)
+  FieldBinary,  ///< a distance field as binary: magic, counts, float32/float64 values (.tdfb)
   Nrrd,         ///< NRRD, attached or detached data, raw or gzip (.nrrd, .nhdr)
   MetaImage,    ///< MetaImage, local or separate data, raw or zlib (.mha, .mhd)
   Inr,          ///< CGAL / INRIA image (.inr, .inr.gz)

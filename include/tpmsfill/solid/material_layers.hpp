@@ -1,5 +1,5 @@
 /// @file material_layers.hpp
-/// @brief A solid's direct slice as a printer layer with its material (seed 001, issue 18),
+/// @brief A solid's direct slice as a printer layer with its material (Li & Fu 2021),
 /// for layer_files.hpp's writers: CLI gets the contours (CLI has no material); SVG fills each
 /// triangle of the section with the colour of its mean material (blue → green → yellow from
 /// material_min to material_max), the contours over them; PNG stacks write 0 outside the
@@ -11,8 +11,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/slice.hpp"
-#include "tpmsfill/solid_slice.hpp"
+#include "tpmsfill/solid/solid_slice.hpp"
+#include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
 

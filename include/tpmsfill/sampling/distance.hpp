@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "tpmsfill/progress.hpp"
-#include "tpmsfill/spatial.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {

@@ -1,31 +1,16 @@
 /// @file solid_spline.hpp
-/// @brief Stage "spline fit" of the material pipeline (seed 001 §2.3, issue 18): the
-/// trivariate splines G(u, v, w) (geometry, mm) and M(u, v, w) (material) on one basis
-/// (thb_basis.hpp), fitted to a tet mesh through its cube map, and evaluated anywhere.
+/// @brief Stage "spline fit" of the material pipeline (Li & Fu 2021, §2.3): the trivariate
+/// splines G(u, v, w) (geometry, mm) and M(u, v, w) (material) on one basis (thb_basis.hpp),
+/// fitted to a tet mesh through its cube map, and evaluated anywhere.
 ///
-///  1. Basis: THB on the cube octree of the tets' parametric centroids (the seed's ≤ 5 tets per
-///     cell), or the seed's baseline, a uniform tensor-product cubic B-spline.
-///  2. Start: every control value is I_G or I_M (cube_lookup) at its Greville point.
-///  3. Fit: explicit Euler steps on the seed's energies,
-///       E(G) = A_G + λ1 ∫ B_G + λ2 ∫ C_G + λ3 D_G,   E(M) = A_M + λ1 ∫ B_M + λ2 ∫ C_M,
-///     c_i ← c_i + ε (2 R_i − λ1 ∫ S_i − λ2 ∫ T_i − λ3 ∫ U_i), with
-///       R_i = Σ_k w_k g_k φ_i(x_k) (I(x_k) − F(x_k)) / Σ_k w_k φ_i(x_k)
-///     over 3 × 3 × 3 Gauss points x_k of every element (weights w_k), the normalised,
-///     weighted residual that makes ε a step size whatever the sample count (LSPIA's form);
-///     g = (γ + |F_u|² + |F_v|² + |F_w|²)^(−1/2) the seed's velocity weight, capped at 1/(2ε)
-///     so that a step never overshoots. The regularisers are the seed's, reconstructed (see
-///     docs/method.md): B = |F_u|² + |F_v|² + |F_w|²; C_G = Σ |G_a × G_b|² (the images of
-///     the parameter cells' faces), C_M the thin-plate energy of M; D_G = ∫ |n_G − n_I|² over
-///     the cube's six faces, n_I the normal of the boundary triangle there. S, T and U are
-///     their exact gradients, by the same quadrature (3 × 3 on faces). Positions are scaled to
-///     unit size and the material to [0, 1] while fitting, so that g and λ mean the same for a
-///     part in mm or in m.
-///  4. Stop: the similarity ratio RS = (1 − ‖I − F‖ / ‖I − F⁰‖) · 100 % over the mesh's
-///     points (F⁰ the first Greville start) changes by less than rs_change between steps, or
-///     after max_iterations. G and M stop on their own.
-///  5. Progressive refinement: leaves whose RMS residual (of G or M) exceeds the mean by
-///     refine_sigmas standard deviations are split, the fit goes on from the same spline on the
-///     finer basis (refine_coefficients), for `refinements` rounds.
+/// Every control value starts at I_G or I_M (cube_lookup) at its Greville point; explicit
+/// Euler steps on a data term and regularisers follow, G and M each stopping when the
+/// similarity ratio RS = (1 − ‖I − F‖ / ‖I − F⁰‖) · 100 % (F⁰ the first Greville start) moves
+/// by less than rs_change between steps, or after max_iterations. On THB, leaves with large
+/// residuals are then split and the fit goes on from the same spline, for `refinements` rounds.
+/// Positions are scaled to unit size and the material to [0, 1] while fitting, so that g and λ
+/// mean the same for a part in mm or in m.
+/// The method: docs/method.md, section "Fitting a solid's splines".
 #pragma once
 
 #include <array>
@@ -33,12 +18,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/cube_map.hpp"
-#include "tpmsfill/cube_octree.hpp"
 #include "tpmsfill/progress.hpp"
-#include "tpmsfill/spatial.hpp"
-#include "tpmsfill/tet_mesh.hpp"
-#include "tpmsfill/thb_basis.hpp"
+#include "tpmsfill/sampling/spatial.hpp"
+#include "tpmsfill/solid/cube_map.hpp"
+#include "tpmsfill/solid/cube_octree.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
+#include "tpmsfill/solid/thb_basis.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
@@ -51,15 +36,15 @@ struct SolidSpline {
 };
 
 struct SolidFitOptions {
-  CubeOctreeOptions octree = {};  ///< the starting octree (seed: ≤ 5 tets per cell)
-  /// > 0: the seed's baseline instead of THB, a uniform tensor-product cubic B-spline with this
-  /// many control points per axis (no refinement).
+  CubeOctreeOptions octree = {};  ///< the starting octree (Li & Fu 2021: ≤ 5 tets per cell)
+  /// > 0: the uniform baseline instead of THB: a tensor-product cubic B-spline with this many
+  /// control points per axis (no refinement).
   int uniform = 0;
-  double lambda1 = 1e-3;     ///< first-order regulariser (seed)
-  double lambda2 = 1e-3;     ///< second-order regulariser (seed)
-  double lambda3 = 1e-3;     ///< boundary-normal term, G only (seed)
-  double gamma = 1e-2;       ///< in the velocity weight g (seed)
-  double step = 0.5;         ///< ε, the Euler step (seed: 0.4 to 0.6)
+  double lambda1 = 1e-3;     ///< first-order regulariser (Li & Fu 2021)
+  double lambda2 = 1e-3;     ///< second-order regulariser (Li & Fu 2021)
+  double lambda3 = 1e-3;     ///< boundary-normal term, G only (Li & Fu 2021)
+  double gamma = 1e-2;       ///< in the velocity weight g (Li & Fu 2021)
+  double step = 0.5;         ///< ε, the Euler step (Li & Fu 2021: 0.4 to 0.6)
   double rs_change = 0.05;   ///< stop when RS moves by less, in percentage points
   int max_iterations = 50;   ///< per field and round
   int refinements = 2;       ///< progressive rounds after the first (THB only)

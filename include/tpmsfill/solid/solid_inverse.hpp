@@ -1,5 +1,5 @@
 /// @file solid_inverse.hpp
-/// @brief Point inversion of a fitted solid, G⁻¹(p) (seed 001 §2.3.3, issue 18): the parameter
+/// @brief Point inversion of a fitted solid, G⁻¹(p) (Li & Fu 2021, §2.3.3): the parameter
 /// point whose image under G is p, so that the material can be asked anywhere in mm,
 /// m(p) = M(G⁻¹(p)).
 ///
@@ -14,7 +14,7 @@
 #include <optional>
 #include <vector>
 
-#include "tpmsfill/solid_spline.hpp"
+#include "tpmsfill/solid/solid_spline.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {

@@ -1,5 +1,5 @@
 /// @file tet_mesh.hpp
-/// @brief Input of the heterogeneous-material pipeline (seed 001, issue 18): a tetrahedral mesh
+/// @brief Input of the heterogeneous-material pipeline (Li & Fu 2021): a tetrahedral mesh
 /// with a material value per vertex, its readers and writer, its boundary, and the checks the
 /// volumetric parameterization (cube_map.hpp) needs: positive tets, a closed 2-manifold
 /// boundary, one piece, genus 0.

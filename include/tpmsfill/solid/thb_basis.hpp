@@ -1,15 +1,16 @@
 /// @file thb_basis.hpp
-/// @brief The spline basis that seed 001's geometry G(u, v, w) and material M(u, v, w) share
-/// (issue 18): cubic truncated hierarchical B-splines (THB; Giannelli, Jüttler & Speleers 2012)
-/// on the cube octree, and the uniform tensor-product cubic B-spline the seed compares against
-/// (its "trivariate NURBS", Table 2), behind one representation.
+/// @brief The spline basis that a heterogeneous solid's geometry G(u, v, w) and material
+/// M(u, v, w) share: cubic truncated hierarchical B-splines (THB; Giannelli, Jüttler & Speleers
+/// 2012) on the cube octree, and the uniform tensor-product cubic B-spline that Li & Fu 2021
+/// compare against (their "trivariate NURBS", Table 2), behind one representation.
 ///
-/// Why THB and not the seed's T-splines: on an arbitrary octree T-mesh the blending functions
-/// of a cubic T-spline need not sum to one nor be linearly independent (only analysis-suitable
-/// T-meshes guarantee both, and normalising them makes the spline rational). THB on the same
-/// octree has both properties for every octree, refines locally in the same way (splitting a
-/// cell brings in the finer functions over it), and a refined basis holds the coarse spline
-/// exactly, so progressive refinement starts from the spline it refines.
+/// Why THB and not the T-splines of Li & Fu 2021: on an arbitrary octree T-mesh the blending
+/// functions of a cubic T-spline need not sum to one nor be linearly independent (only
+/// analysis-suitable T-meshes guarantee both, and normalising them makes the spline
+/// rational). THB on the same octree has both properties for every octree, refines locally in
+/// the same way (splitting a cell brings in the finer functions over it), and a refined basis
+/// holds the coarse spline exactly, so progressive refinement starts from the spline it
+/// refines.
 ///
 /// Level l has clamped uniform cubic knots with spans[l] spans per axis (spans[l + 1] =
 /// 2 spans[l]); B-spline (l, i) is non-zero on spans i − 3 .. i of its axis. Ω_l is the union
@@ -27,7 +28,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/cube_octree.hpp"
+#include "tpmsfill/solid/cube_octree.hpp"
 
 namespace tpmsfill {
 
@@ -60,7 +61,7 @@ struct SplineBasis {
 SplineBasis thb_basis(const CubeOctree& octree);
 
 /// The uniform tensor-product cubic B-spline basis with per_axis³ functions (clamped uniform
-/// knots, per_axis − 3 spans per axis): the seed's baseline. One level, identity rows.
+/// knots, per_axis − 3 spans per axis): the uniform baseline. One level, identity rows.
 /// @throws InputError  per_axis < 4 or above 1024
 SplineBasis tensor_basis(int per_axis);
 

@@ -38,8 +38,9 @@ struct TpmsOptions {
   TpmsStyle style = TpmsStyle::Network;
   Vec3 cell = {2, 2, 2};  ///< cell size T per axis, mm (> 0)
   /// Network: offset of the solid's boundary, mm (+ = thinner). Sheet: the wall's centre lies
-  /// at f̃ = −level, so a sheet between two levels C1 ≤ f̃ ≤ C2 (seed 004's "nesting TPMS of
-  /// different C", an asymmetric sheet) has level −(C1 + C2)/2 and thickness C2 − C1.
+  /// at f̃ = −level, so a sheet between two levels C1 ≤ f̃ ≤ C2 (the "nesting TPMS of
+  /// different C" of Yang et al. 2023, an asymmetric sheet) has level −(C1 + C2)/2 and
+  /// thickness C2 − C1.
   double level = 0;
   double thickness = 0.3;   ///< sheet: wall thickness, mm (> 0)
   Vec3 origin = {0, 0, 0};  ///< where the phase is zero, mm (shifts the lattice)

@@ -1,6 +1,7 @@
 /// @file scanned_field.hpp
-/// @brief Stage "scanned field": the discrete distance fields seed 003 starts from, made from
-/// data a user has (volume.hpp's ScalarVolume, values at cell centres, mm):
+/// @brief Stage "scanned field": the discrete distance fields that porous structures are
+/// fitted to (bspline.hpp, porous.hpp), made from data a user has (volume.hpp's ScalarVolume,
+/// values at cell centres, mm):
 ///
 ///  - a mesh, messy or not: the signed distance, negative inside. Inside is the generalized
 ///    winding number of the cleaned, capped mesh (classify.hpp, as `fill --inside winding`),
@@ -20,9 +21,9 @@
 #include <string_view>
 #include <vector>
 
+#include "tpmsfill/io/volume.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
-#include "tpmsfill/volume.hpp"
 
 namespace tpmsfill {
 

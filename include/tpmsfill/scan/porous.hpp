@@ -1,5 +1,5 @@
 /// @file porous.hpp
-/// @brief Stage "porous": seed 003's structures from a fitted field C (bspline.hpp) and its
+/// @brief Stage "porous": porous structures from a fitted field C (bspline.hpp) and its
 /// threshold fields, as a field source (field.hpp) that fill() clips to a model like a TPMS.
 ///
 ///  - Solid type  Ω = { t1 ≤ C ≤ t2 }:  φ = max(t1 − C, C − t2) / |∇C|, in mm.
@@ -26,10 +26,10 @@
 #include <string>
 #include <string_view>
 
-#include "tpmsfill/bspline.hpp"
 #include "tpmsfill/field.hpp"
+#include "tpmsfill/io/volume.hpp"
+#include "tpmsfill/scan/bspline.hpp"
 #include "tpmsfill/types.hpp"
-#include "tpmsfill/volume.hpp"
 
 namespace tpmsfill {
 
@@ -44,13 +44,13 @@ enum class Placement {
 };
 
 /// A threshold t0, t1 or t2: a constant (±∞ allowed for t1 and t2: that side is open) or a
-/// B-spline of its own over the unit cube, usually small (seed claim 6).
+/// B-spline of its own over the unit cube, usually small (claim 6 of Lin & Gao's patent).
 struct Threshold {
   double constant = 0;
   std::optional<BSplineVolume> spline = {};
 };
 
-/// A structure as seed 003 stores it (ITDF, itdf.hpp).
+/// A structure as an ITDF file stores it (itdf.hpp).
 struct PorousStructure {
   BSplineVolume field;  ///< C over the unit cube
   FieldSign sign = FieldSign::Unknown;
@@ -62,9 +62,10 @@ struct PorousStructure {
   Placement placement = Placement::Stretch;
 };
 
-/// A threshold from its own discrete grid (seed claim 6: a w1 × h1 × d1 field of the unit
-/// cube, independent of C's grid), fitted as C is with `counts` coefficients per axis (at
-/// most the grid's cells; thresholds vary slowly, so a few suffice).
+/// A threshold from its own discrete grid (claim 6 of Lin & Gao's patent: a w1 × h1 × d1
+/// field of the unit cube, independent of C's grid), fitted as C is with `counts`
+/// coefficients per axis (at most the grid's cells; thresholds vary slowly, so a few
+/// suffice).
 /// @throws InputError  as fit_bspline
 Threshold fitted_threshold(const ScalarVolume& grid, std::array<int, 3> counts);
 

@@ -1,21 +1,22 @@
 /// @file solid_slice.hpp
-/// @brief Direct slicing of a fitted solid, and its iso-material surfaces (seed 001 §3 and
-/// §4.3, issue 18): no tessellated solid, only G and M.
+/// @brief Direct slicing of a fitted solid, and its iso-material surfaces (Li & Fu 2021, §3
+/// and §4.3): no tessellated solid, only G and M.
 ///
 /// A level set of a scalar of the parameter cube, f = G_z − ẑ for a layer at height ẑ or
 /// f = M − m for an iso-material surface, is found by an octree in the parameter cube:
-///  1. Cells of the initial level (seed: 1) whose f may change sign are kept: the 8 corners'
-///     signs differ, or the cell is no deeper than the basis's leaf there and ẑ lies within the
-///     range of the B-spline coefficients of f over it (B-splines are non-negative and sum to
-///     one, so f over a leaf lies within its 64 local coefficients: no crossing is missed down
-///     to the basis's own leaves; below them only the corners decide, the seed's rule).
+///  1. Cells of the initial level (Li & Fu 2021: 1) whose f may change sign are kept: the 8
+///     corners' signs differ, or the cell is no deeper than the basis's leaf there and ẑ lies
+///     within the range of the B-spline coefficients of f over it (B-splines are non-negative
+///     and sum to one, so f over a leaf lies within its 64 local coefficients: no crossing is
+///     missed down to the basis's own leaves; below them only the corners decide, as in
+///     Li & Fu 2021).
 ///  2. A kept cell whose Euclidean volume (its 8 mapped corners as 6 tets) exceeds τ is split
 ///     into its 8 children, which are kept by the same rule, until every kept cell is within τ
 ///     or at the deepest level.
-///  3. No cracks: every kept cell is split down to the deepest level kept (the seed leaves
-///     neighbours of different levels; the notes' remedy), so that marching cubes (tpmsfill's
-///     tables and asymptotic decider) sees one level and neighbouring cells share each edge's
-///     vertex by the edge's id.
+///  3. No cracks: every kept cell is split down to the deepest level kept (Li & Fu 2021 leave
+///     neighbours of different levels), so that marching cubes (tpmsfill's tables and
+///     asymptotic decider) sees one level and neighbouring cells share each edge's vertex by
+///     the edge's id.
 ///  4. On each crossed edge the point where f = 0 is found by iterated linear interpolation
 ///     (regula falsi, Illinois variant) to 10⁻⁹ of the solid's size, mapped through G and M.
 /// A slice is the filled cross-section: triangles in the plane z = ẑ with the material at every
@@ -29,17 +30,17 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/slice.hpp"
-#include "tpmsfill/solid_spline.hpp"
+#include "tpmsfill/solid/solid_spline.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
 
 struct SolidSliceOptions {
-  /// Split cells while their Euclidean volume exceeds this, mm³ (seed: 10, 1, 0.1 on a femur's
-  /// end); 0: default_slice_tau() of the control points' box (which holds the solid).
+  /// Split cells while their Euclidean volume exceeds this, mm³ (Li & Fu 2021 use 10, 1, 0.1
+  /// on a femur's end); 0: default_slice_tau() of the control points' box (which holds the
+  /// solid).
   double tau = 0;
-  int initial_level = 1;  ///< the uniform start (seed: 1)
+  int initial_level = 1;  ///< the uniform start (as in Li & Fu 2021)
   /// Never split below this level (256 cells per axis). Every crossed cell of a layer is
   /// split to the deepest level any needs (no cracks), so a layer costs up to about
   /// 4^max_level cells where τ is small: level 10 made 4.7 million triangles in 49 s on one

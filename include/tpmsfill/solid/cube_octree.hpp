@@ -1,9 +1,9 @@
 /// @file cube_octree.hpp
-/// @brief The adaptive octree over the parameter cube on which seed 001's splines live (§2.3.1,
-/// issue 18): start from a uniform level, split every cell that holds more than a few tets
-/// (the seed: 5) until none does or the deepest level is reached, then split until
-/// neighbouring cells differ by at most one level (2:1 balance, which keeps every spline basis
-/// function's support a few cells wide).
+/// @brief The adaptive octree over the parameter cube on which a heterogeneous solid's splines
+/// live (Li & Fu 2021, §2.3.1): start from a uniform level, split every cell that holds more
+/// than a few tets (Li & Fu use 5) until none does or the deepest level is reached, then split
+/// until neighbouring cells differ by at most one level (2:1 balance, which keeps every spline
+/// basis function's support a few cells wide).
 ///
 /// A tet is counted in the cell that holds its parametric centroid (the mean of its corners'
 /// (u, v, w)). Cell (level, i, j, k) is [i, i + 1] × [j, j + 1] × [k, k + 1] / 2^level.
@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/cube_map.hpp"
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/cube_map.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill {
 
@@ -25,8 +25,8 @@ struct OctreeCell {
 };
 
 struct CubeOctreeOptions {
-  int initial_level = 2;  ///< uniform start: 2^level cells per axis (seed: 1 for slicing)
-  int max_per_cell = 5;   ///< split while a cell holds more tets than this (seed: 5)
+  int initial_level = 2;  ///< uniform start: 2^level cells per axis (Li & Fu 2021: 1 for slicing)
+  int max_per_cell = 5;   ///< split while a cell holds more tets than this (as in Li & Fu 2021)
   int max_level = 8;      ///< never split below this level (256 cells per axis)
   bool balance = true;    ///< 2:1 balance across faces, edges and corners
 };
@@ -52,7 +52,7 @@ CubeOctree build_cube_octree(const std::vector<std::array<double, 3>>& points,
 
 /// `octree` with the leaves numbered in `chosen` split into their eight children (those already
 /// at options.max_level are kept), then balanced when options.balance says so; `points` (the
-/// points the octree was built over) are counted again. Progressive refinement (issue 18).
+/// points the octree was built over) are counted again. For progressive refinement.
 /// @throws InputError  a leaf number past octree.leaves
 CubeOctree split_octree_leaves(const CubeOctree& octree, const std::vector<std::size_t>& chosen,
                                const std::vector<std::array<double, 3>>& points,

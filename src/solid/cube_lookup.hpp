@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "tpmsfill/cube_map.hpp"
-#include "tpmsfill/tet_mesh.hpp"
+#include "tpmsfill/solid/cube_map.hpp"
+#include "tpmsfill/solid/tet_mesh.hpp"
 
 namespace tpmsfill {
 
