@@ -1,5 +1,5 @@
 // fill()'s slab path: the grid a few node planes at a time, for jobs whose grid does not fit
-// in memory. Each slab's φ is what the whole grid's would be (detail/field_planes), marching
+// in memory. Each slab's φ is what the whole grid's would be (lattice/field_planes), marching
 // cubes numbers its points as the whole grid's would (SlabMarchingCubes), and islands get the
 // inside and solid masks as runs: the mesh comes out bit for bit the same.
 #include <algorithm>

@@ -6,7 +6,7 @@
 //    joins their labels in one union-find over labels (small: a few per component per record).
 // 2. islands: one read of the records gives every component's figures in triangle order, with
 //    mesh_components' arithmetic, so islands are judged exactly as fill() judges them.
-// 3. validate and write: each record is validated as a window (detail/validate_window) with
+// 3. validate and write: each record is validated as a window (mesh/validate_window) with
 //    the layers of its neighbours that its items touch, its kept points and triangles written
 //    by MeshWriter as they pass. Validation's sums run in fill()'s triangle order and chunks.
 // A record's triangles read the next record's first node layer, so passes 2 and 3 hold three
@@ -45,7 +45,7 @@ constexpr std::uint32_t kNone = kNoIndex;
 constexpr std::uint64_t kRecordTriangles = std::uint64_t{1} << 18;
 constexpr std::size_t kSumChunk = 4096;  // validate_mesh()'s chunk for its sums
 
-// The spill: a scratch file beside the output (detail/file_bytes), buffered.
+// The spill: a scratch file beside the output (io/file_bytes), buffered.
 class SpillFile {
  public:
   explicit SpillFile(const std::filesystem::path& output) : output_(output) {

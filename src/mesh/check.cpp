@@ -1,4 +1,4 @@
-// Stage "check": plain-data topology (detail/soup_topology) for the counts, then CGAL PMP on
+// Stage "check": plain-data topology (mesh/soup_topology) for the counts, then CGAL PMP on
 // the repaired, oriented soup for what needs geometry or a halfedge mesh: holes (border
 // cycles), self-intersections and whether the shells bound a volume.
 #include "tpmsfill/check.hpp"

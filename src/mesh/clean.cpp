@@ -1,6 +1,6 @@
 // Stage "clean": merge, drop, orient, turn outward, cap (see clean.hpp for the why).
 //
-// Everything works on the plain-data topology of detail/soup_topology (sorted flat keys, no
+// Everything works on the plain-data topology of mesh/soup_topology (sorted flat keys, no
 // hashing), so the result is the same whatever the thread count. A border is measured as a
 // chain: each undirected edge gets the sum of its oriented uses (+1 walked a → b, −1 b → a);
 // an edge is a border where that sum is not zero. The border of any set of triangles is a

@@ -5,7 +5,7 @@
 // - duplicate points by sorting position hashes; components by union-find
 //   (detail::triangle_components);
 // - sums (area, volume) per fixed chunk, added in chunk order (detail::deterministic_sum);
-// - self-intersections in detail/self_intersections (exact predicates, by grid cells or by
+// - self-intersections in mesh/internal/self_intersections (exact predicates, by grid cells or by
 //   CGAL's box intersection search).
 // Every parallel loop runs over fixed chunks whose results are merged in chunk order, so the
 // report is the same for any thread count.
