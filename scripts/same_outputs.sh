@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs one job of each command with two builds of tpmsfill and compares what they write, byte
-# for byte: the meshes, layers, fields and models, and the JSON reports less what differs from
-# run to run (times, peak memory, paths). For refactors that must not change behaviour.
+# for byte: the meshes, layers, fields and models, and the JSON reports (keys in order) less
+# what differs from run to run (times, peak memory, paths). For refactors that must not change
+# behaviour.
 #   bash scripts/same_outputs.sh BEFORE_BINARY AFTER_BINARY [WORK_DIR]
 # Exit 0 when every output is identical; otherwise the differing files are listed and it exits 1.
 set -euo pipefail
@@ -76,7 +77,7 @@ def clean(v):
         return [clean(x) for x in v]
     return v
 try:
-    print(json.dumps(clean(json.load(open(sys.argv[1]))), indent=1, sort_keys=True))
+    print(json.dumps(clean(json.load(open(sys.argv[1]))), indent=1))  # key order compared too
 except ValueError:
     print(open(sys.argv[1], errors="replace").read())
 PY

@@ -77,10 +77,11 @@ struct MeshCheck {
   /// Connected through edges shared by exactly two triangles, repeated-corner and duplicate
   /// triangles left out: the connected components of the mesh CGAL builds (see holes).
   std::uint64_t edge_components = 0;
-  /// Self-intersecting triangle pairs, found with exact predicates (PMP::self_intersections)
-  /// on the mesh CGAL builds (see holes): pairs that share an edge or vertex count only if
-  /// they meet elsewhere too; collinear triangles are counted as degenerate, not here.
-  /// Unset when not searched for.
+  /// Self-intersecting triangle pairs, decided as validate_mesh() decides them (one exact pair
+  /// test, validate.hpp) with shared corners taken by position: sharing an edge, only if they
+  /// overlap; sharing one corner, only if they also meet elsewhere; otherwise if they meet at
+  /// all. Degenerate and duplicate triangles are counted above and left out. Unset when not
+  /// searched for.
   std::optional<std::uint64_t> self_intersecting_pairs;
   double area = 0;  ///< total triangle area, mm^2
   /// Set only when closed, manifold and consistently oriented (and some triangle has three

@@ -142,9 +142,10 @@ struct ConformalResult {
   ConformalOptions layer;  ///< the layer as it ran
 };
 
-/// Lays `surface` out (parameterize_surface), maps the slab design onto it and fills the layer
-/// over its box with fill(), then measures the output's heights.
-/// @throws as parameterize_surface, require_valid, fill()
+/// Lays `surface` out (parameterize_surface), maps the slab design onto it and meshes the
+/// layer's own field over its box with fill_field() (the vertex map: fill() of the flat slab,
+/// carried over), then measures the output's heights.
+/// @throws as parameterize_surface, require_valid, fill_field(), fill()
 ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOptions& options);
 
 /// The fill's report (report.hpp's to_json) with a "conformal" object: the layer's settings,

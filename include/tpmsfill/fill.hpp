@@ -129,6 +129,20 @@ struct FillResult {
 /// @throws Cancelled        options.progress cancelled the job
 FillResult fill(const TriangleSoup& model, const FillOptions& options);
 
+/// The design's own field meshed over the grid of `bounds` (make_grid(bounds, options.grid)),
+/// with no model to clip it: for a design that bounds its solid itself, such as a lattice
+/// layer's field (FillOptions::design.custom, conformal.hpp). The grid's outermost nodes are
+/// taken as outside, so the mesh is closed where the solid reaches them. Islands are judged
+/// over the whole grid as one part; the mesh is validated as fill()'s. The report has no
+/// input (no triangles, no rays; its box is `bounds`) and no model volume.
+/// @param[in] bounds  mm (options.units must be mm)
+/// @throws InputError       as fill(); units other than mm, a skin or a depth ramp (they
+///                          follow a model's surface)
+/// @throws ResourceError    the whole grid does not fit the memory budget (no slabs without a
+///                          model)
+/// @throws ValidationError, Cancelled  as fill()
+FillResult fill_field(const Box3& bounds, const FillOptions& options);
+
 /// fill(), with the mesh written to `path` instead of returned (result.mesh stays empty): the
 /// same bytes as write_mesh(path, fill(model, options).mesh, write), and as atomic. A job whose
 /// grid and mesh fit options.memory_budget runs as fill() does and is written at the end;

@@ -1,5 +1,6 @@
 /// @file report.hpp
-/// @brief Stage "report": what fill() did and produced, as data, JSON and a human summary.
+/// @brief Stage "report": what a job on a lattice's field did (JobReport) and what fill() made
+/// of it (FillReport), as data, JSON and a human summary.
 #pragma once
 
 #include <array>
@@ -29,7 +30,10 @@ struct RemovedIsland {
   Box3 bbox;          ///< mm
 };
 
-struct FillReport {
+/// What every job on a lattice's field reports, whatever it extracts from the field (fill's
+/// mesh, slice's layers): provenance, input, settings, grid, inside/outside, memory, stage
+/// times and warnings.
+struct JobReport {
   // --- provenance: set by the caller (the CLI), as the recipe is; empty: null in to_json ---
   std::string input_path;    ///< the file read
   std::string input_sha256;  ///< of its bytes as stored (hex)
@@ -59,7 +63,6 @@ struct FillReport {
   std::uint64_t samples = 0;           ///< grid nodes
   std::uint64_t band_nodes = 0;        ///< nodes with an exact distance
   std::uint64_t distance_queries = 0;  ///< closest-point queries made
-  bool full_field = false;             ///< distances at every node (--full-field)
   std::uint64_t rows = 0;              ///< grid rows classified, one ray each
   std::uint64_t crossings = 0;         ///< ray/triangle crossings counted
   std::uint64_t odd_rows = 0;          ///< rows with an odd crossing count (input not closed)
@@ -72,25 +75,32 @@ struct FillReport {
   /// The clean stage ran (winding; auto when the input needed it).
   bool cleaned() const { return clean.input_triangles > 0; }
   std::uint64_t estimated_memory_bytes = 0;
-  /// 0: the whole grid was held at once; else node planes per slab (FillOptions::slab_planes)
-  int slab_planes = 0;
-  /// Processes the field and marching cubes were split among (fill_parts; MPI ranks)
+  /// Processes the field and its extraction were split among (fill_parts; MPI ranks)
   int ranks = 1;
-  // --- output (the written mesh's figures are its validation's) -------------------------
   double model_volume = 0;  ///< mm^3, enclosed by the input (measured along the rays)
   /// Of the infinite lattice (one cell, sampled); NaN (JSON null) when a grading varies the
   /// porosity, level or thickness through the part.
   double unclipped_porosity = 0;
+  std::vector<StageTime> stages;      ///< in pipeline order
+  std::vector<std::string> warnings;  ///< one sentence each
+
+  double total_seconds() const;
+};
+
+/// What fill() reports: the job, and the mesh it made (the written mesh's figures are its
+/// validation's).
+struct FillReport : JobReport {
+  bool full_field = false;  ///< distances at every node (--full-field)
+  /// 0: the whole grid was held at once; else node planes per slab (FillOptions::slab_planes)
+  int slab_planes = 0;
   std::uint64_t islands_removed = 0;  ///< floating pieces dropped (not with --keep-islands)
   double islands_volume = 0;          ///< their volume, mm^3
   /// The largest removed islands, largest first (at most 10).
   std::vector<RemovedIsland> largest_islands;
   std::optional<LatticeMeasures> measures;  ///< pores, walls, labyrinths (FillOptions::measure)
-  std::uint64_t cavities = 0;         ///< closed voids in the output (negative-volume surfaces)
-  double cavities_volume = 0;         ///< their volume, mm^3
-  ValidationReport validation;        ///< of the written mesh
-  std::vector<StageTime> stages;      ///< in pipeline order
-  std::vector<std::string> warnings;  ///< one sentence each
+  std::uint64_t cavities = 0;   ///< closed voids in the output (negative-volume surfaces)
+  double cavities_volume = 0;   ///< their volume, mm^3
+  ValidationReport validation;  ///< of the written mesh
 
   std::uint64_t vertices() const { return validation.vertices; }
   std::uint64_t triangles() const { return validation.triangles; }
@@ -105,7 +115,6 @@ struct FillReport {
   }
   /// Surface area per model volume, mm⁻¹ (surface density of the filled part).
   double surface_density() const { return model_volume > 0 ? surface_area() / model_volume : 0.0; }
-  double total_seconds() const;
 };
 
 /// The JSON object of `tpmsfill fill --report` (2-space indent; field list in docs/cli.md).

@@ -78,12 +78,11 @@ struct LayerSummary {
 };
 
 struct SliceReport {
-  /// The job as fill() would report it up to the field: input, units, design, grading, skin,
-  /// grid (its x and y nodes are the planes' nodes), inside rule, clean, the model's volume
-  /// (each layer's section measured along the rays, as fill measures it, times the layer),
-  /// stage times and warnings. The mesh figures (validation, islands) stay empty: no mesh is
-  /// made. samples counts the nodes sampled: plane nodes × layers.
-  FillReport job;
+  /// The job as fill() reports it: input, units, design, grading, skin, grid (its x and y
+  /// nodes are the planes' nodes), inside rule, clean, the model's volume (each layer's section
+  /// measured along the rays, as fill measures it, times the layer), stage times and warnings.
+  /// samples counts the nodes sampled: plane nodes × layers.
+  JobReport job;
   /// The options as the job ran them, the design resolved (as FillResult::resolved):
   /// recipe_json(resolved) reproduces the job.
   FillOptions resolved;

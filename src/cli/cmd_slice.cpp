@@ -136,7 +136,7 @@ int run_slice(SliceArgs a) {
   SliceReport& report = *on_ranks;
   if (progress) progress->clear();
 
-  FillReport& job = report.job;
+  JobReport& job = report.job;
   job.recipe = recipe_json(report.resolved);
   record_provenance(job, a.input);
   const std::string json = to_json(report);

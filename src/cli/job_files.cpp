@@ -176,7 +176,7 @@ const std::string& command_line() {
   return stored_command_line();
 }
 
-void record_provenance(FillReport& report, const std::string& input) {
+void record_provenance(JobReport& report, const std::string& input) {
   report.input_path = input;
   report.input_sha256 = sha256_of_file(input);
   report.command_line = command_line();

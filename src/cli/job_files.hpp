@@ -79,7 +79,7 @@ class StagedFolder {
 std::string sha256_of_file(const std::filesystem::path& path);
 
 /// Where a report came from: the input's path and SHA-256, the command line, the version.
-void record_provenance(FillReport& report, const std::string& input);
+void record_provenance(JobReport& report, const std::string& input);
 
 /// One "tpmsfill: warning: ..." line on stderr for each.
 void print_warnings(const std::vector<std::string>& warnings);

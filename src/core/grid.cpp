@@ -13,16 +13,17 @@ namespace {
 void require_valid(const Box3& bounds, const GridOptions& options) {
   if (!(options.voxel_size > 0) || !std::isfinite(options.voxel_size))
     throw InputError("the voxel size must be a positive number of millimetres");
-  if (options.padding < 2) throw InputError("the grid padding must be at least 2 voxels");
+  if (options.padding < 0) throw InputError("the grid padding must not be negative");
   if (bounds.empty() || !std::isfinite(bounds.min.x) || !std::isfinite(bounds.min.y) ||
       !std::isfinite(bounds.min.z) || !std::isfinite(bounds.max.x) ||
       !std::isfinite(bounds.max.y) || !std::isfinite(bounds.max.z))
     throw InputError("the model has no finite bounding box");
 }
 
-// Nodes along one axis: enough cells to cover the extent, plus the padding on both sides.
+// Nodes along one axis: enough cells to cover the extent, plus the padding on both sides. The
+// quotient's rounding (1.1 / 0.1 = 11.000000000000002) does not add a cell.
 double nodes_along(double extent, const GridOptions& options) {
-  return std::ceil(extent / options.voxel_size) + 1.0 + 2.0 * options.padding;
+  return std::ceil(extent / options.voxel_size - 1e-9) + 1.0 + 2.0 * options.padding;
 }
 
 }  // namespace

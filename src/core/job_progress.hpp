@@ -5,7 +5,7 @@
 ///
 /// Use: make a JobProgress from the caller's Progress and the plan; pass get() to the stage
 /// functions as their Progress; around each stage call begin_stage(name) and end_stage()
-/// (fill's StageClock does both); finish() when the job is done. The stage functions' own
+/// (the field job's StageClock does both); finish() when the job is done. The stage functions' own
 /// begin() calls arrive here and are forwarded as parts (StageInfo::step) of the planned stage,
 /// or dropped when they repeat its name; their report() calls are forwarded with the overall.
 #pragma once

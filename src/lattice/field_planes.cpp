@@ -10,7 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/stage_progress.hpp"
-#include "lattice/job_settings.hpp"
+#include "lattice/field_job.hpp"
 #include "tpmsfill/lattice/compose.hpp"
 #include "tpmsfill/sampling/distance.hpp"
 #include "tpmsfill/sampling/voxel.hpp"

@@ -76,7 +76,7 @@ struct IndexedModel {
 /// `stage(name, work)` runs and times each step.
 /// @throws InputError  nothing is left after cleaning
 template <class Stage>
-void index_cleaned(const TriangleSoup& model, IndexedModel& m, FillReport& report, Stage&& stage) {
+void index_cleaned(const TriangleSoup& model, IndexedModel& m, JobReport& report, Stage&& stage) {
   m.tree.reset();
   stage("clean", [&] { m.cleaned.emplace(clean_soup(model, {})); });
   report.clean = m.cleaned->report;
@@ -105,7 +105,7 @@ std::vector<PlannedStage> index_stages(const FillOptions& options);
 /// across processes). `stage(name, work)` runs and times each step.
 template <class Stage>
 void index_for_rule(const TriangleSoup& model, const FillOptions& o, IndexedModel& m,
-                    FillReport& report, Stage&& stage, std::uint64_t count,
+                    JobReport& report, Stage&& stage, std::uint64_t count,
                     const std::function<Grid(std::uint64_t)>& grid_of,
                     const std::function<bool(bool)>& agree, Progress* progress) {
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);

@@ -1,7 +1,6 @@
 // The whole pipeline, stage by stage, timing each into the report.
 #include "tpmsfill/fill.hpp"
 
-#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,38 +14,39 @@
 #include <tuple>
 #include <utility>
 
-#include "core/index_limits.hpp"
 #include "core/job_progress.hpp"
-#include "core/parallel.hpp"
+#include "lattice/field_job.hpp"
 #include "lattice/field_planes.hpp"
 #include "lattice/fill_job.hpp"
-#include "lattice/job_settings.hpp"
 #include "lattice/review.hpp"
 #include "sampling/rounded_grid.hpp"
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/field.hpp"
 #include "tpmsfill/lattice/compose.hpp"
+#include "tpmsfill/lattice/design.hpp"
 #include "tpmsfill/lattice/measure.hpp"
 #include "tpmsfill/mesh/clean.hpp"
-#include "tpmsfill/mesh/components.hpp"
 #include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/sampling/classify.hpp"
 #include "tpmsfill/sampling/distance.hpp"
 #include "tpmsfill/sampling/marching_cubes.hpp"
 #include "tpmsfill/sampling/spatial.hpp"
-#include "tpmsfill/scan/porous.hpp"
 
 namespace tpmsfill {
 namespace {
 
 using detail::Job;
-using detail::StageClock;
 
 // Bytes per grid node at the peak: occupancy, the band stage's three temporary masks, and the
 // composed field (plus the full distance field with --full-field).
 constexpr double kBytesPerNode = 8.0;
 constexpr double kBytesPerFullFieldNode = 4.0;
+using detail::Count;
 using detail::kBytesPerInputTriangle;
 using detail::kFixedBytes;
+using detail::model_size;
+using detail::ModelSize;
+using detail::output_area;
 // Bytes per output triangle: indices, half a vertex, validation's edge table and buckets
 // (the peak of a shark of mechanical holes at 10.4 million triangles is 149 a triangle over
 // the fixed share, docs/benchmarks.md §27).
@@ -54,73 +54,6 @@ constexpr double kBytesPerOutputTriangle = 160.0;
 // Bytes per triangle while the field is held: marching cubes' mesh and the islands' labels and
 // components (56 measured).
 constexpr double kBytesPerMeshedTriangle = 60.0;
-
-// What the estimates know of the model (mm): its box, triangles, and the volume and area its
-// lattice's surface scales with.
-struct ModelSize {
-  Box3 bounds;
-  std::uint64_t triangles = 0;
-  double volume = 0;  ///< enclosed, as far as the soup tells; at most the box's
-  double area = 0;    ///< of its surface (a scan's overlapping shells count twice: more is safe)
-};
-
-// The soup's size. Its signed volume is the enclosed volume for a closed, consistently
-// oriented mesh, the same about any reference point. Holes and flipped faces make it depend on
-// the point (by the volume of the cones from it over the holes, or twice over the flipped
-// faces), so the difference between two references, the box's opposite corners, bounds how far
-// it may be off: the volume is taken as the larger of the two plus that difference, at most
-// the box. A dragon with two small holes keeps its own volume; a rounded block with 397 of its
-// 840 faces flipped is taken as its box (it fills 85 % of it; the quarter of the box assumed
-// before left its estimate below its peak), and a closed femur is no longer taken as the
-// quarter of its box it does not fill (15 %: its lattice looked 1.6 times larger).
-ModelSize model_size(const TriangleSoup& model) {
-  ModelSize m{bounding_box(model), model.triangles.size()};
-  const Vec3 low = m.bounds.min, high = m.bounds.max;
-  double six_v_low = 0, six_v_high = 0, twice_a = 0;
-  for (const Triangle& t : model.triangles) {
-    const Vec3 a = model.points[t[0]], b = model.points[t[1]], c = model.points[t[2]];
-    six_v_low += dot(a - low, cross(b - low, c - low));
-    six_v_high += dot(a - high, cross(b - high, c - high));
-    twice_a += norm(cross(b - a, c - a));
-  }
-  if (model.triangles.empty()) return m;
-  const Vec3 s = m.bounds.size();
-  const double box = s.x * s.y * s.z;
-  const double off = std::fabs(six_v_low - six_v_high);
-  m.volume = std::fmin((std::fmax(std::fabs(six_v_low), std::fabs(six_v_high)) + off) / 6, box);
-  m.area = 0.5 * twice_a;
-  return m;
-}
-
-// A TPMS's surface area per unit volume times its cell size, at porosities near a half, as
-// measured in a 20 mm cube of 2 mm cells (docs/benchmarks.md §27): network, then sheet (two
-// walls, a little less than twice the network's).
-double area_per_volume(const TpmsOptions& t) {
-  static constexpr double kNetwork[] = {3.1, 2.2, 3.8, 3.6, 3.3, 4.8, 6.1, 5.2};
-  static constexpr double kSheet[] = {5.5, 4.3, 6.6, 6.2, 6.1, 7.6, 8.3, 8.1};
-  const auto type = static_cast<std::size_t>(t.type);
-  return (t.style == TpmsStyle::Sheet ? kSheet : kNetwork)[type] /
-         std::fmin(t.cell.x, std::fmin(t.cell.y, t.cell.z));
-}
-
-// How output_triangles reads: the count to expect (the preflight), or a bound on it (memory).
-enum class Count { Expected, Bound };
-
-// The output's area: the lattice's (area_per_volume of the densest layer, blends and cell
-// grading included, over the model's volume) plus the model's surface where cut cells meet it
-// (about half of it on a thick part, its solid fraction 1 - porosity: 0.15 to 0.64 measured
-// over 22 meshes at the gyroid network's 0.5, docs/benchmarks.md §27). Expected: half the
-// surface; Bound: all of it, since a shark of mechanical holes at 0.7 of it made 1.10 times
-// the count (its thin walls carry more lattice than their volume's share).
-double output_area(const ModelSize& m, const FillOptions& o, Count count) {
-  double density = area_per_volume(o.design);
-  for (const Blend& b : o.design.blends) density = std::fmax(density, area_per_volume(b.tpms));
-  // Cells graded smaller than the base cell pack more surface: the smallest counts.
-  for (const Grading& g : o.design.grading)
-    if (g.what == Graded::Cell && std::fmin(g.ramp.start, g.ramp.end) > 0)
-      density *= std::fmax(1.0, o.design.cell.x / std::fmin(g.ramp.start, g.ramp.end));
-  return density * m.volume + (count == Count::Bound ? 1.0 : 0.5) * m.area;
-}
 
 // Output triangles: the output's area over a², times marching cubes' triangles per a² of
 // surface (with its centroid fans 3.3 to 4.6, measured over the eight types, network and sheet,
@@ -288,102 +221,6 @@ std::vector<detail::PlannedStage> plan_stages(const FillOptions& o, bool slabs,
   return plan;
 }
 
-// What islands are judged by: which nodes are solid (φ < 0), the model's parts (26-connected
-// regions of inside nodes) and, on demand, the solid's pieces (6-connected regions of solid
-// nodes). The whole-grid path reads them from φ and the occupancy, the slab path from runs.
-struct IslandMasks {
-  std::function<bool(int, int, int)> solid;
-  Regions parts;
-  std::function<Regions()> pieces;
-};
-
-// The masks of the path the job took.
-IslandMasks island_masks(const Job& job) {
-  if (job.slab_planes == 0) {
-    const Field& phi = job.phi;
-    return {[&phi](int i, int j, int k) { return phi.values[phi.grid.index(i, j, k)] < 0; },
-            label_regions(job.occupancy.inside),
-            [&phi] {
-              Mask solid{phi.grid, std::vector<std::uint8_t>(phi.values.size())};
-              detail::parallel_for(solid.values.size(), std::size_t{1} << 16,
-                                   [&](std::size_t b, std::size_t e) {
-                                     for (std::size_t n = b; n < e; ++n)
-                                       solid.values[n] = phi.values[n] < 0;
-                                   });
-              return label_regions(solid, Connectivity::Face);
-            }};
-  }
-  return {
-      [&job](int i, int j, int k) { return job.solid_runs.region_at(i, j, k) != detail::kNoIndex; },
-      label_runs(job.inside_runs),
-      [&job] { return label_runs(job.solid_runs, Connectivity::Face); }};
-}
-
-// Islands: lattice components that are not the largest piece within their part of the model
-// (a 26-connected region of inside nodes). A component is located by a solid corner (φ < 0
-// implies the node is inside) of the cell holding its first triangle: its node index, or none.
-std::vector<std::uint64_t> solid_nodes(const std::vector<Vec3>& first_centroid, const Grid& g,
-                                       const IslandMasks& masks) {
-  std::vector<std::uint64_t> node(first_centroid.size(), UINT64_MAX);
-  for (std::size_t c = 0; c < first_centroid.size(); ++c) {
-    const Vec3 centroid = first_centroid[c];
-    int cell[3];
-    for (int axis = 0; axis < 3; ++axis)
-      cell[axis] =
-          std::clamp(static_cast<int>(std::floor((centroid[axis] - g.origin[axis]) / g.spacing)), 0,
-                     g.dims[axis] - 2);
-    for (int corner = 0; corner < 8 && node[c] == UINT64_MAX; ++corner) {
-      const int i = cell[0] + (corner & 1), j = cell[1] + (corner >> 1 & 1),
-                k = cell[2] + (corner >> 2 & 1);
-      if (masks.solid(i, j, k)) node[c] = g.index(i, j, k);
-    }
-  }
-  return node;
-}
-
-std::vector<bool> main_bodies(const detail::ComponentFacts& comps, const Grid& g,
-                              const IslandMasks& masks) {
-  const std::uint32_t none = detail::kNoIndex;
-  const std::vector<std::uint64_t> node = solid_nodes(comps.first_centroid, g, masks);
-  auto region_of = [&](const Regions& r, std::size_t c) {
-    if (node[c] == UINT64_MAX) return none;
-    const std::uint64_t n = node[c], nx = g.dims[0], ny = g.dims[1];
-    return r.region_at(static_cast<int>(n % nx), static_cast<int>(n / nx % ny),
-                       static_cast<int>(n / (nx * ny)));
-  };
-  std::vector<std::uint32_t> part(comps.info.size(), none);
-  for (std::size_t c = 0; c < comps.info.size(); ++c) part[c] = region_of(masks.parts, c);
-  std::vector<std::size_t> largest(masks.parts.count, std::numeric_limits<std::size_t>::max());
-  for (std::size_t c = 0; c < comps.info.size(); ++c) {
-    if (part[c] == none || comps.info[c].volume < 0) continue;
-    std::size_t& best = largest[part[c]];
-    if (best == std::numeric_limits<std::size_t>::max() ||
-        std::fabs(comps.info[c].volume) > std::fabs(comps.info[best].volume))
-      best = c;
-  }
-  std::vector<bool> keep(comps.info.size(), false);
-  bool cavity = false, removed = false;
-  for (std::size_t c = 0; c < comps.info.size(); ++c) {
-    cavity = cavity || comps.info[c].volume < 0;
-    keep[c] = part[c] == none || largest[part[c]] == c || comps.info[c].volume < 0;
-    removed = removed || !keep[c];
-  }
-  if (!cavity || !removed) return keep;
-  // A component of negative volume bounds a cavity (the pore inside a shell, a void a skin
-  // encloses): it goes with the solid around it, which the shell's outer surface bounds too.
-  // It stays only if a kept positive component bounds the same solid (6-connected φ < 0).
-  const Regions pieces = masks.pieces();
-  std::vector<bool> kept_piece(pieces.count, false);
-  for (std::size_t c = 0; c < comps.info.size(); ++c)
-    if (const std::uint32_t p = region_of(pieces, c);
-        keep[c] && comps.info[c].volume > 0 && p != none)
-      kept_piece[p] = true;
-  for (std::size_t c = 0; c < comps.info.size(); ++c)
-    if (const std::uint32_t p = region_of(pieces, c); comps.info[c].volume < 0 && p != none)
-      keep[c] = kept_piece[p];
-  return keep;
-}
-
 // The forecast of a job (FillForecast): its samples and triangles, the planned peak, and the
 // time on the cores TBB may use.
 FillForecast forecast(const ModelSize& m, const FillOptions& o, const detail::MemoryPlan& plan) {
@@ -491,90 +328,6 @@ void compose(Job& job) {
   job.tree.reset();  // the tree is no longer needed: give its memory back
 }
 
-// Sealed voids hold unfused powder or resin: say how many, whatever sealed them. Voids
-// smaller than a voxel are marching cubes' specks between nearly touching surfaces, not pores.
-void warn_cavities(const FillOptions& o, const detail::ComponentFacts& comps,
-                   const std::vector<bool>& keep, double voxel, FillReport& r) {
-  std::uint64_t count = 0;
-  double volume = 0;
-  for (std::size_t c = 0; c < comps.info.size(); ++c)
-    if (keep[c] && -comps.info[c].volume >= voxel * voxel * voxel)
-      ++count, volume -= comps.info[c].volume;
-  if (!count) return;
-  char figures[96];
-  std::snprintf(figures, sizeof figures, "%llu void(s) (%.3g mm3)",
-                static_cast<unsigned long long>(count), volume);
-  const std::string drain = ", where unfused powder or resin cannot drain";
-  if (o.skin > 0 && !o.skin_windows)
-    r.warnings.push_back("the closed skin seals " + std::string(figures) + " in" + drain +
-                         " (--skin-windows opens the skin at the pores)");
-  else if (o.skin > 0)
-    r.warnings.push_back("the skin windows left " + std::string(figures) + " sealed" + drain +
-                         " (pores that never reach the skin; a thinner --skin or a larger --cell "
-                         "opens more)");
-  else
-    r.warnings.push_back("the lattice encloses " + std::string(figures) + drain);
-}
-
-// Islands that are whole features: removal of more than 5 % of the lattice, or of any piece
-// larger than a cell, is not the tidying it is meant to be.
-void warn_islands(const FillOptions& o, double lattice_before, FillReport& r) {
-  const double fraction = lattice_before > 0 ? r.islands_volume / lattice_before : 0;
-  const Vec3 c = r.cell;
-  const double largest = r.largest_islands.empty() ? 0 : r.largest_islands.front().volume;
-  if (fraction <= 0.05 && largest <= c.x * c.y * c.z) return;
-  const Vec3 s = r.largest_islands.front().bbox.size();
-  char text[320];
-  std::snprintf(text, sizeof text,
-                "removing %llu island(s) took %.3g mm3, %.1f %% of the lattice (the largest "
-                "%.3g mm3, %.3g x %.3g x %.3g mm)",
-                static_cast<unsigned long long>(r.islands_removed), r.islands_volume,
-                100 * fraction, largest, s.x, s.y, s.z);
-  // Over half: the lattice itself falls apart (a level near its limit); else the islands
-  // are parts of the model too thin for the lattice to join.
-  const std::string apart =
-      o.design.structure
-          ? ": the structure falls apart into pieces at these thresholds; widen them (a lower "
-            "--porosity) or --keep-islands keeps them"
-          : ": the lattice falls apart into pieces at this level or thickness; move it towards "
-            "0 (or --porosity nearer 0.5)";
-  if (o.design.structure && fraction <= 0.5) {
-    r.warnings.push_back(std::string(text) +
-                         ": they are pieces of the structure that touch no larger piece "
-                         "within the model; --keep-islands keeps them");
-    return;
-  }
-  r.warnings.push_back(
-      std::string(text) +
-      (fraction > 0.5 ? apart
-                      : std::string(": they are features of the model too thin for the lattice "
-                                    "to join; a smaller --cell") +
-                            (o.skin > 0 ? "" : ", a --skin") + " or --keep-islands keeps them"));
-}
-
-// Islands of the mesh held whole: its components, judged, and the islands dropped.
-void remove_islands(Job& job) {
-  const Components comps = mesh_components(job.mesh);
-  detail::ComponentFacts facts;
-  facts.info = comps.info;
-  for (const Components::Info& c : comps.info) {
-    const Triangle& t = job.mesh.triangles[c.first_triangle];
-    const TriangleSoup& m = job.mesh;
-    facts.first_centroid.push_back((1.0 / 3.0) *
-                                   (m.points[t[0]] + m.points[t[1]] + m.points[t[2]]));
-  }
-  facts.boxes = [&](const std::vector<bool>& keep) {
-    std::vector<Box3> box(comps.info.size());
-    for (std::size_t t = 0; t < job.mesh.triangles.size(); ++t)
-      if (const std::uint32_t c = comps.triangle_component[t]; !keep[c])
-        for (std::uint32_t v : job.mesh.triangles[t]) box[c].extend(job.mesh.points[v]);
-    return box;
-  };
-  const std::vector<bool> keep = detail::judge_islands(job, facts);
-  if (std::find(keep.begin(), keep.end(), false) != keep.end())
-    job.mesh = keep_components(job.mesh, comps, keep);
-}
-
 // Nothing is returned that failed validation.
 void validate(Job& job) {
   const FillOptions& o = job.options;
@@ -588,185 +341,6 @@ void validate(Job& job) {
   });
   detail::require_valid_lattice(r.validation);
 }
-
-// A structure's porosity is solved over its whole unit cube; the part sees only what the
-// model covers of it, which may be mostly void or mostly solid. Say so with the numbers.
-}  // namespace
-
-namespace detail {
-
-std::string memory_text(double bytes) {
-  // Binary units, as --memory reads 512M and 8G: a budget of 150M shows as 150 MiB.
-  constexpr double kMiB = 1024.0 * 1024.0, kGiB = 1024.0 * kMiB;
-  char s[32];
-  if (bytes >= kGiB)
-    std::snprintf(s, sizeof s, "%.3g GiB", bytes / kGiB);
-  else if (bytes >= kMiB)
-    std::snprintf(s, sizeof s, "%.3g MiB", bytes / kMiB);
-  else
-    std::snprintf(s, sizeof s, "%.0f byte%s", bytes, bytes == 1 ? "" : "s");
-  return s;
-}
-
-void require_valid_lattice(const ValidationReport& v) {
-  if (v.valid()) return;
-  std::string why;
-  for (const std::string& p : v.problems()) why += (why.empty() ? "" : "; ") + p;
-  throw ValidationError("the lattice failed validation, nothing was written: " + why);
-}
-
-// Cavities are counted (a closed skin seals them in); islands, the pieces that are not the
-// main body of their part of the model, are to be removed unless kept, the largest listed.
-std::vector<bool> judge_islands(const Job& job, const ComponentFacts& comps) {
-  const FillOptions& o = job.options;
-  FillReport& r = job.report;
-  double lattice_before = 0;
-  for (const auto& c : comps.info) lattice_before += c.volume;
-  std::vector<bool> keep(comps.info.size(), true);
-  if (!o.keep_islands && comps.info.size() >= 2)
-    keep = main_bodies(comps, job.grid, island_masks(job));
-  for (std::size_t c = 0; c < keep.size(); ++c)
-    if (keep[c] && comps.info[c].volume < 0)
-      ++r.cavities, r.cavities_volume -= comps.info[c].volume;
-  warn_cavities(o, comps, keep, job.grid.spacing, r);
-  if (std::find(keep.begin(), keep.end(), false) == keep.end()) return keep;
-  // An island is a removed piece of positive volume; the cavities it enclosed go with it, so
-  // the volume removed is the signed sum.
-  const std::vector<Box3> box = comps.boxes(keep);
-  for (std::size_t c = 0; c < keep.size(); ++c)
-    if (!keep[c]) {
-      r.islands_volume += comps.info[c].volume;
-      if (comps.info[c].volume < 0) continue;
-      ++r.islands_removed;
-      r.largest_islands.push_back({comps.info[c].volume, box[c]});
-    }
-  // Largest first; equal volumes keep component order, so the list is deterministic.
-  std::stable_sort(
-      r.largest_islands.begin(), r.largest_islands.end(),
-      [](const RemovedIsland& a, const RemovedIsland& b) { return a.volume > b.volume; });
-  if (r.largest_islands.size() > 10) r.largest_islands.resize(10);
-  if (r.islands_removed) warn_islands(o, lattice_before, r);
-  return keep;
-}
-
-namespace {
-
-// Share of the model's volume within `skin` mm of its surface, measured at the inside nodes of
-// a coarse grid over the model (about 200,000 nodes; finer once when fewer than 20,000 fall
-// inside), at most 50,000 of them, by their distance d to the surface. The grid is offset half
-// a step from the model's box, so that its nodes tile the volume (on a CAD part's flat faces
-// too: nodes on a face would leave its outer half step unsampled), and each node counts the
-// share of its step that lies in the skin, clamp((skin - d) / h + ½): a shell of any thickness
-// comes out within a few per cent of its volume.
-double skin_share(const MeshIndex& tree, InsideRule rule, const Box3& box, double skin) {
-  const Vec3 size = box.size();
-  double h = std::cbrt(std::max(size.x * size.y * size.z, 1e-300) / 2e5);
-  std::vector<Vec3> inside;
-  for (int attempt = 0; attempt < 2 && inside.size() < 20000; ++attempt, h /= 2) {
-    Grid g = make_grid(box, {.voxel_size = h, .padding = 2});
-    g.origin = g.origin + Vec3{0.5 * h, 0.5 * h, 0.5 * h};
-    const Occupancy occupancy = classify_grid(tree, g, {.rule = rule});
-    inside.clear();
-    for (int k = 0; k < g.dims[2]; ++k)
-      for (int j = 0; j < g.dims[1]; ++j)
-        for (int i = 0; i < g.dims[0]; ++i)
-          if (occupancy.inside.values[g.index(i, j, k)]) inside.push_back(g.node(i, j, k));
-  }
-  if (inside.empty()) return 0;
-  h *= 2;  // the step of the grid that was sampled
-  std::vector<Vec3> sample;
-  const std::size_t stride = (inside.size() + 49999) / 50000;
-  for (std::size_t n = 0; n < inside.size(); n += stride) sample.push_back(inside[n]);
-  const std::vector<Vec3> nearest = closest_points(tree, sample);
-  double in_skin = 0;
-  for (std::size_t n = 0; n < sample.size(); ++n)
-    in_skin += std::clamp((skin - norm(nearest[n] - sample[n])) / h + 0.5, 0.0, 1.0);
-  return in_skin / static_cast<double>(sample.size());
-}
-
-// Whether the design is one TPMS whose porosity is the same everywhere (no grading of how solid
-// it is, no blends, no structure or custom field): then a porosity asked is the part's.
-bool one_porosity(const LatticeDesign& d) {
-  if (d.structure || d.custom || !d.blends.empty()) return false;
-  return std::all_of(d.grading.begin(), d.grading.end(),
-                     [](const Grading& g) { return g.what == Graded::Cell; });
-}
-
-// The most porous a lattice layer is solved to: the review refuses layers under 1 % solid and
-// warns under 3 %.
-constexpr double kMostPorousLattice = 0.97;
-
-}  // namespace
-
-std::optional<FillPart::SolvedPorosity> solve_porosity_with_skin(const FillOptions& o,
-                                                                 const MeshIndex& tree,
-                                                                 LatticeDesign& d, FillReport& r) {
-  if (!(o.skin > 0) || !d.porosity || !one_porosity(d)) return std::nullopt;
-  // The part's solid is the skin (share s of its volume) and the lattice in the rest, so a part
-  // porosity p needs a lattice porosity of p / (1 - s).
-  const double asked = *d.porosity;
-  const double share =
-      skin_share(tree, o.inside.value_or(InsideRule::Winding), r.input_bbox, o.skin);
-  FillPart::SolvedPorosity s;
-  s.lattice_porosity = share < 1 ? asked / (1 - share) : 1;
-  if (s.lattice_porosity > kMostPorousLattice) {
-    s.lattice_porosity = kMostPorousLattice;
-    char text[400];
-    std::snprintf(text, sizeof text,
-                  "the %.3g mm skin is %.1f %% of the part's volume: with it the part can be at "
-                  "most %.1f %% porous, not the %.1f %% asked (a thinner --skin, or --skin-windows "
-                  "to open it at the pores)",
-                  o.skin, 100 * share, 100 * kMostPorousLattice * (1 - share), 100 * asked);
-    s.warnings.push_back(text);
-  }
-  LatticeDesign solved = o.design;
-  solved.porosity = s.lattice_porosity;
-  solved = resolve_design(solved, r.input_bbox);
-  s.level = solved.level;
-  s.thickness = solved.thickness;
-  apply_solved_porosity(s, d, r);
-  return s;
-}
-
-void apply_solved_porosity(const FillPart::SolvedPorosity& s, LatticeDesign& d, FillReport& r) {
-  // The level (or thickness) is now fixed: a porosity left set would be solved again for the
-  // lattice alone. The report keeps the part's target; the echoed recipe the level, which
-  // reruns the job exactly.
-  d.level = s.level;
-  d.thickness = s.thickness;
-  d.porosity.reset();
-  r.level = s.level;
-  r.thickness = s.thickness;
-  r.unclipped_porosity = s.lattice_porosity;
-  r.warnings.insert(r.warnings.end(), s.warnings.begin(), s.warnings.end());
-}
-
-void warn_porosity(const LatticeDesign& d, double got, FillReport& r) {
-  if (!r.porosity_target || !(d.structure || one_porosity(d))) return;
-  // A skin that leaves no room was warned about with its own numbers (solve_porosity_with_skin).
-  if (r.skin > 0 && r.unclipped_porosity >= kMostPorousLattice) return;
-  const double asked = *r.porosity_target;
-  if (std::fabs(got - asked) <= 0.05) return;
-  const char* side = got > asked ? "more void than the rest" : "more solid than the rest";
-  const char* ask = got > asked ? "a lower porosity" : "a higher porosity";
-  char why[300];
-  if (d.structure)
-    std::snprintf(why, sizeof why,
-                  "the structure's porosity is solved over its whole cube, and the model covers "
-                  "parts of the cube that are %s; tile it (--cell) or ask for %s",
-                  side, ask);
-  else
-    std::snprintf(why, sizeof why,
-                  "the lattice is clipped to a part only a few cells across, where its cut cells "
-                  "are %s; ask for %s, or use smaller cells",
-                  side, ask);
-  char text[450];
-  std::snprintf(text, sizeof text, "the part's porosity is %.1f %%, not the %.1f %% asked: %s",
-                100 * got, 100 * asked, why);
-  r.warnings.push_back(text);
-}
-
-namespace {
 
 // "0.061 mm at (1.2, 3.4, 5.6), ..." for the first three.
 std::string worst_places(const std::vector<SizeSample>& smallest) {
@@ -814,8 +388,6 @@ void warn_below(const SizeDistribution& d, double limit, const char* what, const
   r.warnings.push_back(sentence + text);
 }
 
-}  // namespace
-
 void warn_printability(const FillOptions& o, double voxel, FillReport& r) {
   if (!r.measures) return;
   warn_below(r.measures->wall, o.min_wall, "walls", "--min-wall",
@@ -826,81 +398,7 @@ void warn_printability(const FillOptions& o, double voxel, FillReport& r) {
              voxel, r);
 }
 
-LatticeDesign describe_job(const TriangleSoup& model, const FillOptions& o, FillReport& r) {
-  r.min_wall = o.min_wall;
-  r.min_pore = o.min_pore;
-  r.units = units_name(o.units.units);
-  r.scale = o.units.scale;
-  r.mm_per_unit = o.units.factor();
-  r.input_triangles = model.triangles.size();
-  r.input_bbox = bounding_box(model);
-  LatticeDesign d = resolve_design(o.design, r.input_bbox);
-  r.design = d.structure ? structure_label(*d.structure)
-             : d.custom  ? std::string("custom field")
-                         : tpms_label(d);
-  for (const Blend& b : d.blends) r.design += " + " + tpms_label(b.tpms);
-  for (const Grading& g : d.grading)
-    r.grading += (r.grading.empty() ? "" : "; ") + grading_label(g);
-  r.rotation_degrees = euler_from_rotation(d.rotation);
-  if (!d.structure) r.cell = d.cell;
-  r.level = d.level;
-  r.thickness = d.thickness;
-  r.full_field = o.full_field;
-  r.skin = o.skin;
-  r.porosity_target = d.porosity;
-  r.sheet = d.style == TpmsStyle::Sheet;
-  if (d.structure) {  // its "cell" is the unit cube as placed: the model's box or the tile
-    const std::array<double, 3> cube = unit_cube_map(*d.structure, r.input_bbox).extent;
-    r.unclipped_porosity = 1.0 - porous_solid_share(*d.structure, cube);
-    r.cell = {cube[0], cube[1], cube[2]};
-  } else if (!d.custom) {
-    r.unclipped_porosity = 1.0 - tpms_solid_fraction(d);
-    // A graded porosity, level or thickness has no one unclipped porosity: say so, rather than
-    // the base lattice's.
-    for (const Grading& g : d.grading)
-      if (g.what != Graded::Cell) r.unclipped_porosity = std::nan("");
-  }
-  return d;
-}
-
-void record_classification(const FillOptions& o, const Occupancy::PlaneCounts& c, bool any_inside,
-                           FillReport& r) {
-  r.rows = c.rows;
-  r.crossings = c.crossings;
-  r.odd_rows = c.odd_rows;
-  r.overlap_rows = c.overlap_rows;
-  r.parity_disagreements = c.parity_disagreements;
-  r.cap_evaluations = c.cap_evaluations;
-  r.model_volume = c.volume;
-  if (o.inside == InsideRule::Parity && c.odd_rows)
-    r.warnings.push_back(std::to_string(c.odd_rows) +
-                         " grid rows crossed the surface an odd number of times: the input is "
-                         "not closed, so inside and outside may be wrong near its holes "
-                         "(--inside winding handles holes)");
-  if (!any_inside)
-    throw InputError(
-        "the mesh encloses no volume: no grid node is inside it (an open sheet, or a shell "
-        "thinner than the voxel size)");
-}
-
-int band_width(const FillOptions& o, double spacing) {
-  return std::max(o.band.width, skin_band_width(o.skin, spacing));
-}
-
-ComposeOptions compose_options(const FillOptions& o, Progress* progress) {
-  return {.skin = o.skin, .skin_windows = o.skin_windows, .progress = progress};
-}
-
-double depth_reach(const LatticeDesign& design) {
-  double reach = 0;
-  for (const Grading& g : design.grading)
-    if (g.ramp.shape == RampShape::Depth)
-      reach = std::fmax(
-          reach, std::fmax(std::fabs(g.ramp.from.value_or(0)), std::fabs(g.ramp.to.value_or(0))));
-  return reach;
-}
-
-}  // namespace detail
+}  // namespace
 
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
@@ -915,17 +413,6 @@ std::uint64_t estimate_fill_memory(const TriangleSoup& model, const FillOptions&
   return plan_memory(m, options, resolve_design(options.design, m.bounds), false).bytes;
 }
 
-std::pair<double, double> detail::seconds_range(double on_two) {
-  const auto cores = static_cast<double>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-  const double middle = on_two * 2.0 / std::max(cores, 1.0);
-  return {0.5 * middle, 2.0 * middle};
-}
-
-double detail::expected_output_area(const TriangleSoup& model, const FillOptions& options) {
-  return output_area(model_size(model), options, Count::Expected);
-}
-
 FillForecast forecast_fill(const TriangleSoup& model, const FillOptions& options) {
   require_valid(options.units);
   const ModelSize m =
@@ -937,43 +424,40 @@ FillForecast forecast_fill(const TriangleSoup& model, const FillOptions& options
 
 namespace {
 
-// What every entry point settles first: the options checked, the model in millimetres (a copy
-// only when the input is in another unit), the design resolved, the memory plan.
+// What every entry point settles first: the field job (the options checked, the model in
+// millimetres, the design resolved), fill's own options checked, the memory plan.
 struct Setup {
-  std::optional<TriangleSoup> in_mm;
-  const TriangleSoup* model = nullptr;
+  detail::FieldJob field;
   detail::MemoryPlan plan;
+  const TriangleSoup& model() const { return field.model(); }
 };
 
 void set_up(const TriangleSoup& input, const FillOptions& options, FillResult& result, Setup& s,
             bool streamed = false) {
-  require_valid(options.units);
-  require_valid(options.design);
-  require_valid(ComposeOptions{.skin = options.skin});  // fail before any work
+  s.field = detail::start_field_job(input, options, result.report);
   for (const double limit : {options.min_wall, options.min_pore})
     if (!(limit >= 0 && std::isfinite(limit)))
       throw InputError("min_wall and min_pore must be finite and not negative (0: no limit)");
   if ((options.min_wall > 0 || options.min_pore > 0) && !options.measure)
     throw InputError("min_wall and min_pore are checked against the measures: set measure too");
-  if (options.units.factor() != 1) s.in_mm = to_millimetres(input, options.units);
-  s.model = s.in_mm ? &*s.in_mm : &input;
+  result.report.full_field = options.full_field;
   result.resolved = options;
-  result.resolved.design = detail::describe_job(*s.model, options, result.report);
-  s.plan = plan_memory(model_size(*s.model), options, result.resolved.design, streamed);
+  result.resolved.design = s.field.design;
+  s.plan = plan_memory(model_size(s.model()), options, result.resolved.design, streamed);
 }
 
 // Islands, measures, validation: the mesh as the field's stages left it, finished.
 void finish(Job& job) {
   FillResult& result = job.result;
   const FillOptions& options = job.options;
-  job.stage("islands", [&] { remove_islands(job); });
+  job.stage("islands", [&] { detail::remove_islands(job); });
   if (options.measure) {
     result.report.measures = job.stage("measure", [&] {
       return measure_lattice(
           job.phi, job.occupancy.inside,
           {.min_wall = options.min_wall, .min_pore = options.min_pore, .progress = job.progress});
     });
-    detail::warn_printability(options, job.grid.spacing, result.report);
+    warn_printability(options, job.grid.spacing, result.report);
   }
   job.phi = Field{};
   job.occupancy = Occupancy{};
@@ -987,7 +471,7 @@ void finish(Job& job) {
 
 // The job with its mesh held: the whole grid, or slabs.
 void fill_in_memory(const FillOptions& options, const Setup& s, FillResult& result) {
-  Job job(*s.model, options, result, plan_stages(options, s.plan.slab_planes > 0),
+  Job job(s.model(), options, result, plan_stages(options, s.plan.slab_planes > 0),
           s.plan.slab_planes);
   resolve(job, s.plan);
   if (job.slab_planes > 0) {
@@ -1009,6 +493,60 @@ FillResult fill(const TriangleSoup& input, const FillOptions& options) {
   Setup s;
   set_up(input, options, result, s);
   fill_in_memory(options, s, result);
+  return result;
+}
+
+namespace {
+
+// The design's own field on the job's grid, its outermost nodes taken as outside so that the
+// mesh closes there.
+Field design_field(const Job& job) {
+  Field phi = sample_field(design_source(job.result.resolved.design), job.grid, job.progress);
+  const Grid& g = phi.grid;
+  const auto outside = static_cast<float>(g.spacing);
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i)
+        if (i == 0 || j == 0 || k == 0 || i == g.dims[0] - 1 || j == g.dims[1] - 1 ||
+            k == g.dims[2] - 1) {
+          float& v = phi.values[g.index(i, j, k)];
+          v = std::fmax(v, outside);
+        }
+  return phi;
+}
+
+}  // namespace
+
+FillResult fill_field(const Box3& bounds, const FillOptions& options) {
+  FillResult result;
+  Setup s;
+  s.field = detail::start_field_job(bounds, options, result.report);
+  result.resolved = options;
+  result.resolved.design = s.field.design;
+  const Vec3 size = bounds.size();
+  const ModelSize m{bounds, 0, size.x * size.y * size.z, 0};
+  s.plan = plan_memory(m, options, result.resolved.design, false);
+  if (s.plan.refusal.empty() && s.plan.slab_planes > 0)
+    s.plan.refusal =
+        "a field meshed without a model needs the whole grid, about " +
+        detail::memory_text(estimate_bytes(m, options)) + ", more than the memory budget (" +
+        detail::memory_text(static_cast<double>(options.memory_budget ? options.memory_budget
+                                                                      : default_memory_budget())) +
+        "); a larger voxel size fits";
+  s.plan.slab_planes = 0;
+  std::vector<detail::PlannedStage> plan{
+      {"review", 0.5}, {"field", 30}, {"marching cubes", 7}, {"islands", 6}};
+  if (options.measure) plan.push_back({"measure", 35});
+  plan.push_back({"validate", 46});
+  Job job(s.model(), options, result, std::move(plan), 0);
+  resolve(job, s.plan);
+  result.report.inside_rule = "none (no model: the design's own field)";
+  job.phi = job.stage("field", [&] { return design_field(job); });
+  job.occupancy.inside = Mask{job.grid, std::vector<std::uint8_t>(job.phi.values.size(), 1)};
+  job.mesh = job.stage("marching cubes", [&] {
+    return marching_cubes(job.phi, {.progress = job.progress, .rounding = options.rounding});
+  });
+  finish(job);
   return result;
 }
 
@@ -1058,7 +596,7 @@ FillResult fill_to_file(const TriangleSoup& input, const FillOptions& given,
     write_held(result, path, write);
     return result;
   }
-  Job job(*s.model, options, result, plan_stages(options, true, true), s.plan.slab_planes);
+  Job job(s.model(), options, result, plan_stages(options, true, true), s.plan.slab_planes);
   resolve(job, s.plan);
   detail::fill_streamed(job, path, write);
   return result;
@@ -1081,7 +619,7 @@ FillPart fill_part(const TriangleSoup& input, const FillOptions& options,
   const auto t0 = std::chrono::steady_clock::now();
   // The share goes in slabs as thick as the whole job's plan allows, or whole.
   const int share = part.end_plane - part.first_plane;
-  Job job(*s.model, options, result, plan_stages(options, true),
+  Job job(s.model(), options, result, plan_stages(options, true),
           s.plan.slab_planes > 0 ? std::min(s.plan.slab_planes, std::max(share, 1))
                                  : std::max(share, 1));
   resolve(job, s.plan);
@@ -1102,7 +640,7 @@ FillResult fill_parts(const TriangleSoup& input, const FillOptions& options,
   set_up(input, options, result, s);
   int thickest = 1;
   for (const FillPart& p : parts) thickest = std::max(thickest, p.end_plane - p.first_plane);
-  Job job(*s.model, options, result,
+  Job job(s.model(), options, result,
           {{"review", 0.5}, {"join", 5}, {"islands", 6}, {"validate", 46}},
           s.plan.slab_planes > 0 ? s.plan.slab_planes : thickest);
   resolve(job, s.plan);
@@ -1130,7 +668,7 @@ FillResult fill_parts_to_file(const TriangleSoup& input, const FillOptions& give
     write_held(result, path, write);
     return result;
   }
-  Job job(*s.model, options, result,
+  Job job(s.model(), options, result,
           {{"review", 0.5}, {"join", 5}, {"islands", 6}, {detail::kValidateAndWrite, 46}},
           s.plan.slab_planes);
   resolve(job, s.plan);

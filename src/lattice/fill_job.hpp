@@ -1,18 +1,19 @@
 /// @file fill_job.hpp
-/// @brief fill()'s state between its stages, shared by the whole-grid path (fill.cpp) and the
-/// slab path (fill_slabs.cpp).
+/// @brief fill()'s state between its stages, shared by the whole-grid path (fill.cpp), the slab
+/// path (fill_slabs.cpp), the streamed path (fill_stream.cpp) and the islands stage
+/// (fill_islands.cpp).
 #pragma once
 
-#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "core/job_progress.hpp"
+#include "lattice/field_job.hpp"
+#include "tpmsfill/error.hpp"
 #include "tpmsfill/fill.hpp"
 #include "tpmsfill/io.hpp"
 #include "tpmsfill/mesh/components.hpp"
@@ -24,37 +25,6 @@
 #include "tpmsfill/sampling/voxel.hpp"
 
 namespace tpmsfill::detail {
-
-// Times each stage into the report and announces its start and end to the job's progress
-// (which checks for cancelling at both, also for stages that report nothing themselves).
-class StageClock {
- public:
-  StageClock(FillReport& report, detail::JobProgress& progress)
-      : report_(report), progress_(progress) {}
-  template <class F>
-  auto operator()(const char* name, F&& work) {
-    progress_.begin_stage(name);
-    const auto t0 = std::chrono::steady_clock::now();
-    if constexpr (std::is_void_v<decltype(work())>) {
-      work();
-      record(name, t0);
-      progress_.end_stage();
-    } else {
-      auto result = work();
-      record(name, t0);
-      progress_.end_stage();
-      return result;
-    }
-  }
-
- private:
-  void record(const char* name, std::chrono::steady_clock::time_point t0) {
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    report_.stages.push_back({name, s, peak_memory_mb()});
-  }
-  FillReport& report_;
-  detail::JobProgress& progress_;
-};
 
 // The job's state between stages: what later stages need of earlier ones.
 struct Job {
@@ -127,12 +97,21 @@ inline constexpr const char* kEmptyLattice =
     "voxel size (try a smaller --voxel or a larger --cell)";
 
 /// @throws ValidationError  `v` is not valid: nothing is written (the problems, one sentence)
-void require_valid_lattice(const ValidationReport& v);
+inline void require_valid_lattice(const ValidationReport& v) {
+  if (v.valid()) return;
+  std::string why;
+  for (const std::string& p : v.problems()) why += (why.empty() ? "" : "; ") + p;
+  throw ValidationError("the lattice failed validation, nothing was written: " + why);
+}
 
 /// Which components stay: cavities counted, islands (pieces that are not the main body of
 /// their part of the model) dropped unless kept; the report's island and cavity figures and
-/// warnings (fill.cpp).
+/// warnings (fill_islands.cpp).
 std::vector<bool> judge_islands(const Job& job, const ComponentFacts& comps);
+
+/// The islands stage on the mesh held whole (job.mesh): its components judged, the islands
+/// dropped (fill_islands.cpp).
+void remove_islands(Job& job);
 
 /// The slab path with the mesh streamed to `path` rather than held: slabs' triangles spill to
 /// a temporary file beside `path`; components are labelled across slabs; islands are judged;

@@ -6,9 +6,9 @@
 #include <optional>
 
 #include "core/stage_progress.hpp"
+#include "lattice/field_job.hpp"
 #include "lattice/field_planes.hpp"
 #include "lattice/fill_job.hpp"
-#include "lattice/job_settings.hpp"
 #include "tpmsfill/sampling/marching_cubes.hpp"
 
 namespace tpmsfill::detail {

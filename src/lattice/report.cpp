@@ -1,4 +1,5 @@
-// Stage "report": FillReport as JSON (nlohmann, kept private) and as a human summary.
+// Stage "report": the job's report and fill's as JSON (nlohmann, kept private) and as a human
+// summary.
 #include "tpmsfill/report.hpp"
 
 #include <sys/resource.h>
@@ -29,15 +30,15 @@ json sizes(const SizeDistribution& d) {
       {"counts", d.counts},   {"smallest", smallest}};
 }
 
-// The printability check: the limits and how many samples fell below them (null: no limits).
-json printability(const FillReport& r) {
+// The printability check: the limits and how many of the measured samples (`m`, null: none
+// taken) fell below them; null without limits.
+json printability(const JobReport& r, const LatticeMeasures* m) {
   if (r.min_wall <= 0 && r.min_pore <= 0) return nullptr;
   const auto limit = [](double v) { return v > 0 ? json(v) : json(nullptr); };
   const auto below = [&](const SizeDistribution* d, double v) {
     if (!d || v <= 0) return json(nullptr);
     return json{{"inside", d->below_limit}, {"at_surface", d->below_limit_at_surface}};
   };
-  const LatticeMeasures* m = r.measures ? &*r.measures : nullptr;
   return {{"min_wall", limit(r.min_wall)},
           {"min_pore", limit(r.min_pore)},
           {"walls_below", below(m ? &m->wall : nullptr, r.min_wall)},
@@ -46,7 +47,7 @@ json printability(const FillReport& r) {
 
 using detail::format;
 
-std::string inside_summary(const FillReport& r) {
+std::string inside_summary(const JobReport& r) {
   if (r.inside_rule != "winding") return "parity of ray crossings";
   const CleanReport& c = r.clean;
   std::string s = r.cleaned() ? "winding number"
@@ -76,7 +77,7 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-double FillReport::total_seconds() const {
+double JobReport::total_seconds() const {
   double s = 0;
   for (const StageTime& t : stages) s += t.seconds;
   return s;
@@ -98,15 +99,14 @@ json islands(const std::vector<RemovedIsland>& list) {
 
 }  // namespace
 
-std::string to_json(const FillReport& r) {
-  const ValidationReport& v = r.validation;
+namespace detail {
+
+json job_json(const JobReport& r) {
   json stages = json::array();
   for (const StageTime& t : r.stages)
     stages.push_back(
         {{"name", t.name}, {"seconds", t.seconds}, {"peak_memory_mb", t.peak_memory_mb}});
-  json j = {
-      {"valid", v.valid()},
-      {"problems", v.problems()},
+  return {
       {"warnings", r.warnings},
       {"provenance",
        {{"input", nullable(r.input_path)},
@@ -137,7 +137,6 @@ std::string to_json(const FillReport& r) {
         {"samples", r.samples}}},
       {"band_nodes", r.band_nodes},
       {"distance_queries", r.distance_queries},
-      {"full_field", r.full_field},
       {"rays", r.rows},
       {"crossings", r.crossings},
       {"odd_rays", r.odd_rows},
@@ -159,58 +158,81 @@ std::string to_json(const FillReport& r) {
         {"parity_disagreements", r.parity_disagreements},
         {"cap_evaluations", r.cap_evaluations}}},
       {"estimated_memory_bytes", r.estimated_memory_bytes},
-      {"slab_planes", r.slab_planes ? json(r.slab_planes) : json(nullptr)},
       {"ranks", r.ranks},
-      {"output",
-       {{"vertices", r.vertices()},
-        {"triangles", r.triangles()},
-        {"components", r.components()},
-        {"surface_area", r.surface_area()}}},
-      {"lattice_volume", r.lattice_volume()},
       {"model_volume", r.model_volume},
-      {"porosity", r.porosity()},
       {"unclipped_porosity", r.unclipped_porosity},
-      {"specific_surface", r.specific_surface()},
-      {"surface_density", r.surface_density()},
-      {"islands_removed", r.islands_removed},
-      {"islands_volume", r.islands_volume},
-      {"largest_islands", islands(r.largest_islands)},
-      {"measures", !r.measures
-                       ? json(nullptr)
-                       : json{{"pore_diameter", sizes(r.measures->pore)},
-                              {"wall_thickness", sizes(r.measures->wall)},
-                              {"void_components", r.measures->void_components},
-                              {"labyrinths", r.measures->labyrinths},
-                              {"largest_void_fraction", r.measures->largest_void_fraction}}},
-      {"printability", printability(r)},
-      {"cavities", r.cavities},
-      {"cavities_volume", r.cavities_volume},
-      {"validation",
-       {{"closed", v.closed()},
-        {"manifold", v.manifold()},
-        {"border_edges", v.border_edges},
-        {"non_manifold_edges", v.non_manifold_edges},
-        {"non_manifold_vertices", v.non_manifold_vertices},
-        {"inconsistent_edges", v.inconsistent_edges},
-        {"degenerate_triangles", v.degenerate_triangles},
-        {"duplicate_points", v.duplicate_points},
-        {"self_intersecting_pairs",
-         v.self_intersecting_pairs ? json(*v.self_intersecting_pairs) : json(nullptr)},
-        {"self_intersection_search", !v.self_intersecting_pairs ? json(nullptr)
-                                     : v.searched_by_cells      ? json("cells")
-                                                                : json("general")},
-        {"outward", v.outward}}},
+      {"printability", printability(r, nullptr)},
       {"stages", stages},
       {"total_seconds", r.total_seconds()},
       {"peak_memory_mb", peak_memory_mb()},
       {"recipe", r.recipe.empty() ? json(nullptr) : json::parse(r.recipe)},
   };
+}
+
+}  // namespace detail
+
+std::string to_json(const FillReport& r) {
+  const ValidationReport& v = r.validation;
+  // The mesh's figures, each after the job's key it follows in the report (docs/cli.md).
+  const std::pair<const char*, json> mesh[] = {
+      {"distance_queries", {{"full_field", r.full_field}}},
+      {"estimated_memory_bytes",
+       {{"slab_planes", r.slab_planes ? json(r.slab_planes) : json(nullptr)}}},
+      {"ranks",
+       {{"output",
+         {{"vertices", r.vertices()},
+          {"triangles", r.triangles()},
+          {"components", r.components()},
+          {"surface_area", r.surface_area()}}},
+        {"lattice_volume", r.lattice_volume()}}},
+      {"model_volume", {{"porosity", r.porosity()}}},
+      {"unclipped_porosity",
+       {{"specific_surface", r.specific_surface()},
+        {"surface_density", r.surface_density()},
+        {"islands_removed", r.islands_removed},
+        {"islands_volume", r.islands_volume},
+        {"largest_islands", islands(r.largest_islands)},
+        {"measures", !r.measures
+                         ? json(nullptr)
+                         : json{{"pore_diameter", sizes(r.measures->pore)},
+                                {"wall_thickness", sizes(r.measures->wall)},
+                                {"void_components", r.measures->void_components},
+                                {"labyrinths", r.measures->labyrinths},
+                                {"largest_void_fraction", r.measures->largest_void_fraction}}}}},
+      {"printability",
+       {{"cavities", r.cavities},
+        {"cavities_volume", r.cavities_volume},
+        {"validation",
+         {{"closed", v.closed()},
+          {"manifold", v.manifold()},
+          {"border_edges", v.border_edges},
+          {"non_manifold_edges", v.non_manifold_edges},
+          {"non_manifold_vertices", v.non_manifold_vertices},
+          {"inconsistent_edges", v.inconsistent_edges},
+          {"degenerate_triangles", v.degenerate_triangles},
+          {"duplicate_points", v.duplicate_points},
+          {"self_intersecting_pairs",
+           v.self_intersecting_pairs ? json(*v.self_intersecting_pairs) : json(nullptr)},
+          {"self_intersection_search", !v.self_intersecting_pairs ? json(nullptr)
+                                       : v.searched_by_cells      ? json("cells")
+                                                                  : json("general")},
+          {"outward", v.outward}}}}},
+  };
+  const json job = detail::job_json(r);
+  json j = {{"valid", v.valid()}, {"problems", v.problems()}};
+  for (const auto& [key, value] : job.items()) {
+    j[key] = value;
+    for (const auto& [after, figures] : mesh)
+      if (key == after)
+        for (const auto& [name, figure] : figures.items()) j[name] = figure;
+  }
+  j["printability"] = printability(r, r.measures ? &*r.measures : nullptr);
   return j.dump(2) + "\n";
 }
 
 namespace detail {
 
-std::string settings_text(const FillReport& r) {
+std::string settings_text(const JobReport& r) {
   std::string s;
   s += "lattice      " + r.design + format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z);
   // A porous structure's porosity moves its thresholds, shown in its label, not a level.
@@ -234,7 +256,7 @@ std::string settings_text(const FillReport& r) {
   return s;
 }
 
-std::string closing_text(const FillReport& r) {
+std::string closing_text(const JobReport& r) {
   std::string s;
   for (const std::string& w : r.warnings) s += "warning      " + w + "\n";
   // The names' column is as wide as the longest name (at least 14).
@@ -250,7 +272,7 @@ std::string closing_text(const FillReport& r) {
   return s;
 }
 
-std::string inside_text(const FillReport& r) {
+std::string inside_text(const JobReport& r) {
   return inside_summary(r);
 }
 

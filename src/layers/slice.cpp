@@ -15,9 +15,8 @@
 
 #include "core/job_progress.hpp"
 #include "core/stage_progress.hpp"
+#include "lattice/field_job.hpp"
 #include "lattice/field_planes.hpp"
-#include "lattice/fill_job.hpp"
-#include "lattice/job_settings.hpp"
 #include "lattice/review.hpp"
 #include "sampling/rounded_grid.hpp"
 #include "tpmsfill/error.hpp"
@@ -323,7 +322,7 @@ void require_budget(const FillOptions& options, SliceReport& report, std::size_t
 
 // Layers that start above the model's bottom leave its lowest part out, ones far below it are
 // empty, and layers a millimetre thick are no printer's (a thickness meant in µm): say so.
-void warn_layers(double start, double L, FillReport& r) {
+void warn_layers(double start, double L, JobReport& r) {
   const double bottom = r.input_bbox.min.z, top = r.input_bbox.max.z;
   if (start < top && start + 0.5 * L > top) {
     char text[240];
@@ -385,7 +384,7 @@ void record_layer(const Layer& layer, const detail::SampledPlanes& plane, double
   report.holes += s.holes;
   report.points += s.points;
   report.volume += layer.area * L;
-  FillReport& r = report.job;
+  JobReport& r = report.job;
   Occupancy::PlaneCounts c = plane.counts.front();
   c.volume *= L / layer.field.grid.spacing;  // the section's area × L
   totals += c;
@@ -437,17 +436,12 @@ void slice_layers(const detail::FieldPlanes& job, const Grid& grid, double start
 
 SliceReport slice(const TriangleSoup& input, const FillOptions& options,
                   const SliceOptions& slice_options, const LayerSink& sink) {
-  require_valid(options.units);
-  require_valid(options.design);
-  require_valid(ComposeOptions{.skin = options.skin});
   const double L = slice_options.layer;
   require_valid(slice_options);  // before any work
-  std::optional<TriangleSoup> in_mm;
-  if (options.units.factor() != 1) in_mm = to_millimetres(input, options.units);
-  const TriangleSoup& model = in_mm ? *in_mm : input;
-
   SliceReport report;
-  FillReport& r = report.job;
+  JobReport& r = report.job;
+  const detail::FieldJob field = detail::start_field_job(input, options, r);
+  const TriangleSoup& model = field.model();
   report.layer = L;
   const InsideRule rule = options.inside.value_or(InsideRule::Winding);
   std::vector<detail::PlannedStage> plan{{"review", 0.5}};
@@ -457,10 +451,10 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
   detail::StageClock stage(r, job);
 
   report.resolved = options;
+  report.resolved.design = field.design;
   LatticeDesign& design = report.resolved.design;
   Grid grid;
   stage("review", [&] {
-    design = detail::describe_job(model, options, r);
     grid = make_grid(r.input_bbox, options.grid);
     for (std::string& w : review_design(
              design, r.input_bbox, {.voxel = grid.spacing, .input_units = options.units.units}))
@@ -490,7 +484,9 @@ SliceReport slice(const TriangleSoup& input, const FillOptions& options,
                  model.triangles.size());
   if (slice_options.preflight) {
     SliceForecast f{.layers = count, .samples = report.plane_nodes * count};
-    f.points = detail::expected_output_area(model, report.resolved) / (L * grid.spacing);
+    f.points =
+        detail::output_area(detail::model_size(model), report.resolved, detail::Count::Expected) /
+        (L * grid.spacing);
     // Seconds on 2 cores (docs/benchmarks.md §26: the femur and the tube of §4 sliced).
     std::tie(f.seconds_low, f.seconds_high) = detail::seconds_range(
         kSliceSecondsPerSample * static_cast<double>(f.samples) + kSliceSecondsPerPoint * f.points +

@@ -1,5 +1,5 @@
-// Stage "slice": its report as JSON (fill's report for the settings, less the mesh's figures,
-// plus the layers) and as a human summary.
+// Stage "slice": its report as JSON (the job's report, as fill writes it, plus the layers) and
+// as a human summary.
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -19,14 +19,9 @@ using detail::format;
 }  // namespace
 
 std::string to_json(const SliceReport& r) {
-  // The job's settings are fill's; what only a mesh has (output, validation, islands,
-  // cavities, measures) is left out rather than reported as zero.
-  json job = json::parse(to_json(r.job));
-  for (const char* mesh_only :
-       {"valid", "problems", "output", "lattice_volume", "porosity", "specific_surface",
-        "surface_density", "islands_removed", "islands_volume", "largest_islands", "measures",
-        "cavities", "cavities_volume", "validation", "full_field", "slab_planes"})
-    job.erase(mesh_only);
+  // The job's part, as fill reports it; what only a mesh has (output, validation, islands,
+  // cavities, measures) is not a slice's to report.
+  json job = detail::job_json(r.job);
   json layers = json::array();
   for (const LayerSummary& l : r.layers)
     layers.push_back({{"z", l.z},
@@ -52,7 +47,7 @@ std::string to_json(const SliceReport& r) {
 }
 
 std::string to_text(const SliceReport& r) {
-  const FillReport& j = r.job;
+  const JobReport& j = r.job;
   std::string s = detail::settings_text(j);
   s += format("planes       %.0f x %.0f nodes at %g mm", j.grid.dims[0], j.grid.dims[1],
               j.grid.spacing) +

@@ -1,13 +1,13 @@
-// Stage "check": plain-data topology (mesh/soup_topology) for the counts, then CGAL PMP on
-// the repaired, oriented soup for what needs geometry or a halfedge mesh: holes (border
-// cycles), self-intersections and whether the shells bound a volume.
+// Stage "check": plain-data topology (mesh/soup_topology) for the counts; self-intersections
+// by validation's search (mesh/internal/self_intersections); then CGAL PMP on the repaired,
+// oriented soup for what needs a halfedge mesh: holes (border cycles) and whether the shells
+// bound a volume.
 #include "tpmsfill/check.hpp"
 
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +17,7 @@
 
 #include "mesh/cgal_types.hpp"
 #include "mesh/internal/problem_text.hpp"
+#include "mesh/internal/self_intersections.hpp"
 #include "mesh/mesh_measures.hpp"
 #include "mesh/soup_indices.hpp"
 #include "mesh/soup_topology.hpp"
@@ -88,12 +89,15 @@ void record_input(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& to
 struct FaceFacts {
   bool any_collinear = false;
   std::uint64_t surface_triangles = 0;  ///< not repeated-corner
+  /// Per triangle: degenerate or a duplicate, left out of the self-intersection search.
+  std::vector<std::uint8_t> left_out;
 };
 
 /// Faces: degenerate and duplicate triangles (with examples), area.
 FaceFacts record_faces(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& topo,
                        std::size_t max_examples) {
   FaceFacts faces;
+  faces.left_out.assign(soup.triangles.size(), 0);
   for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
     const Triangle& tri = soup.triangles[t];
     bool degenerate = (topo.flags[t] & SoupTopology::kRepeatedCorner) != 0;
@@ -110,6 +114,7 @@ FaceFacts record_faces(MeshCheck& c, const TriangleSoup& soup, const SoupTopolog
       c.degenerate_triangle_examples.push_back(static_cast<std::uint32_t>(t));
     if ((topo.flags[t] & SoupTopology::kDuplicate) && c.duplicate_triangles++ < max_examples)
       c.duplicate_triangle_examples.push_back(static_cast<std::uint32_t>(t));
+    faces.left_out[t] = degenerate || topo.flags[t] != 0;
     c.area += 0.5 * detail::double_area(soup, tri);
   }
   return faces;
@@ -159,23 +164,19 @@ detail::SurfaceMesh build_mesh(RepairedSoup& repaired, const MeshCheck& c) {
   return mesh;
 }
 
-/// Self-intersecting pairs of the CGAL mesh, as (i < j) input triangle indices.
-void record_self_intersections(MeshCheck& c, const RepairedSoup& repaired,
-                               const detail::SurfaceMesh& mesh, std::size_t max_examples) {
-  std::vector<std::array<std::uint32_t, 2>> pairs;
-  if (!repaired.polygons.empty()) {
-    using Face = detail::SurfaceMesh::Face_index;
-    std::vector<std::pair<Face, Face>> faces;
-    PMP::self_intersections<CGAL::Parallel_if_available_tag>(mesh.faces(), mesh,
-                                                             std::back_inserter(faces));
-    pairs.reserve(faces.size());
-    for (const auto& [f, g] : faces) {
-      if (f == g) continue;  // CGAL's mark for a degenerate face, counted above
-      std::uint32_t i = repaired.input_triangle[f.idx()], j = repaired.input_triangle[g.idx()];
-      pairs.push_back({std::min(i, j), std::max(i, j)});
-    }
-    std::sort(pairs.begin(), pairs.end());  // the parallel search reports in any order
-  }
+/// Self-intersecting pairs, as (i < j) input triangle indices: the search validation runs
+/// (the same exact pair test), on the soup with its bit-identical points merged, so shared
+/// corners are decided by position; degenerate and duplicate triangles left out.
+void record_self_intersections(MeshCheck& c, const TriangleSoup& soup, const SoupTopology& topo,
+                               const FaceFacts& faces, std::size_t max_examples) {
+  TriangleSoup merged;
+  merged.points.reserve(topo.vertex_count);
+  for (std::uint32_t v = 0; v < topo.vertex_count; ++v)
+    merged.points.push_back(soup.points[topo.merge.first_point[v]]);
+  merged.triangles.assign(topo.corners.begin(), topo.corners.end());
+  detail::ProgressCounter none(nullptr, "check", 1);
+  std::vector<detail::TrianglePair> pairs =
+      detail::find_self_intersections(merged, faces.left_out, std::nullopt, none).pairs;
   c.self_intersecting_pairs = pairs.size();
   pairs.resize(std::min(pairs.size(), max_examples));
   c.self_intersection_examples = std::move(pairs);
@@ -280,7 +281,7 @@ MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
     c.holes = cycles.size();
   }
   if (options.self_intersections)
-    record_self_intersections(c, repaired, mesh, options.max_examples);
+    record_self_intersections(c, soup, topo, faces, options.max_examples);
   record_closed_shape(c, soup, topo, mesh, faces);
   facts_in_millimetres(c, options.units.factor());
   return c;

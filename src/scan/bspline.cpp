@@ -1,10 +1,12 @@
-// Trivariate B-spline: per-axis bases (Cox–de Boor), separable contractions, and the two fits.
+// Trivariate B-spline: per-axis bases (core/bspline_basis.hpp), separable contractions, and the
+// two fits.
 #include "tpmsfill/scan/bspline.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "core/bspline_basis.hpp"
 #include "core/parallel.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -27,39 +29,16 @@ int find_span(const std::vector<double>& knots, int degree, int count, double t)
   return static_cast<int>(it - knots.begin()) - 1;
 }
 
-// N_{span−p .. span, p}(t) (The NURBS Book, A2.2).
-void basis_values(const std::vector<double>& knots, int span, int p, double t, double* n) {
-  std::array<double, kMaxDegree + 2> left{}, right{};
-  n[0] = 1;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - knots[span + 1 - j];
-    right[j] = knots[span + j] - t;
-    double saved = 0;
-    for (int r = 0; r < j; ++r) {
-      const double denom = right[r + 1] + left[j - r];
-      const double temp = denom != 0 ? n[r] / denom : 0;
-      n[r] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    n[j] = saved;
-  }
-}
-
 BasisRow basis_row(const std::vector<double>& knots, int degree, int count, double t) {
   t = std::clamp(t, 0.0, 1.0);
   const int span = find_span(knots, degree, count, t);
+  double ders[2][kMaxDegree + 1];
+  detail::basis_derivatives([&knots](std::ptrdiff_t q) { return knots[q]; }, span, degree, t, 1,
+                            ders);
   BasisRow row;
   row.first = span - degree;
-  basis_values(knots, span, degree, t, row.value.data());
-  // N'_{i,p} = p (N_{i,p−1} / (u_{i+p} − u_i) − N_{i+1,p−1} / (u_{i+p+1} − u_{i+1})).
-  std::array<double, kMaxDegree + 1> lower{};
-  if (degree > 0) basis_values(knots, span, degree - 1, t, lower.data());
-  for (int r = 0; r <= degree; ++r) {
-    const int i = span - degree + r;
-    const double a = r >= 1 ? lower[r - 1] : 0, b = r < degree ? lower[r] : 0;
-    const double d1 = knots[i + degree] - knots[i], d2 = knots[i + degree + 1] - knots[i + 1];
-    row.derivative[r] = degree * ((d1 > 0 ? a / d1 : 0) - (d2 > 0 ? b / d2 : 0));
-  }
+  std::copy(ders[0], ders[0] + degree + 1, row.value.begin());
+  std::copy(ders[1], ders[1] + degree + 1, row.derivative.begin());
   return row;
 }
 
@@ -222,11 +201,8 @@ std::vector<double> clamped_uniform_knots(int count, int degree) {
     throw InputError("a B-spline of degree " + std::to_string(degree) + " needs more than " +
                      std::to_string(degree) + " coefficients per axis");
   std::vector<double> k(static_cast<std::size_t>(count + degree + 1));
-  const int spans = count - degree;
-  for (std::size_t i = 0; i < k.size(); ++i) {
-    const int j = static_cast<int>(i) - degree;
-    k[i] = j <= 0 ? 0.0 : j >= spans ? 1.0 : static_cast<double>(j) / spans;
-  }
+  for (std::size_t q = 0; q < k.size(); ++q)
+    k[q] = detail::clamped_uniform_knot(std::ptrdiff_t(q), degree, count - degree);
   return k;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "tpmsfill/error.hpp"
+#include "tpmsfill/grid.hpp"
 #include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/sampling/marching_cubes.hpp"
 #include "tpmsfill/scan/porous.hpp"
@@ -14,16 +15,12 @@ OpenSurface porous_surface_mesh(const PorousStructure& s, const Box3& box, doubl
   if (!(voxel > 0) || !std::isfinite(voxel)) throw InputError("the voxel size must be > 0");
   PorousStructure open = s;
   open.sheet_thickness = 0;
-  Grid grid;
-  grid.origin = box.min;
-  grid.spacing = voxel;
-  for (int a = 0; a < 3; ++a) {
-    const double extent = box.max[a] - box.min[a];
-    if (!(extent > 0)) throw InputError("the box to mesh the surface in is empty");
-    const double cells = std::ceil(extent / voxel - 1e-9);
-    if (cells > 1 << 15) throw InputError("the voxel size is too small for the box");
-    grid.dims[a] = static_cast<int>(cells) + 1;
-  }
+  for (int a = 0; a < 3; ++a)
+    if (!(box.max[a] - box.min[a] > 0)) throw InputError("the box to mesh the surface in is empty");
+  // No padding: the surface is cut open at the box's faces.
+  const Grid grid = make_grid(box, {.voxel_size = voxel, .padding = 0});
+  for (int a = 0; a < 3; ++a)
+    if (grid.dims[a] > (1 << 15) + 1) throw InputError("the voxel size is too small for the box");
   const FieldSource source = porous_source(open, unit_cube_map(open, box));
   OpenSurface out;
   out.mesh = marching_cubes(source, grid);

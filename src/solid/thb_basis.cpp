@@ -8,6 +8,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "core/bspline_basis.hpp"
 #include "solid/internal/spline_terms.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -18,7 +19,7 @@ constexpr int kDegree = 3;
 
 // Knot q of the clamped uniform cubic knots with `spans` spans: four 0s, s / spans, four 1s.
 double knot(std::int64_t q, std::uint32_t spans) {
-  return std::clamp(double(q - 3) / spans, 0.0, 1.0);
+  return detail::clamped_uniform_knot(q, kDegree, spans);
 }
 
 std::vector<double> level_knots(std::uint32_t spans) {
@@ -28,51 +29,11 @@ std::vector<double> level_knots(std::uint32_t spans) {
 }
 
 // The four B-splines of span `span` (knot span + 3 ≤ t < knot span + 4) at t, and their
-// first `n` derivatives (The NURBS Book, A2.3): ders[k][r] = kth derivative of B_{span + r}.
+// first `n` derivatives: ders[k][r] = kth derivative of B_{span + r}.
 void basis_derivatives(std::uint32_t spans, std::uint32_t span, double t, int n,
-                       double ders[3][4]) {
-  constexpr int p = kDegree;
-  const std::int64_t at = span + 3;
-  double ndu[4][4], left[4], right[4];
-  ndu[0][0] = 1;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - knot(at + 1 - j, spans);
-    right[j] = knot(at + j, spans) - t;
-    double saved = 0;
-    for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];  // a knot difference covering the span: > 0
-      const double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
-  }
-  for (int r = 0; r <= p; ++r) ders[0][r] = ndu[r][p];
-  for (int r = 0; r <= p; ++r) {
-    double a[2][4] = {{1, 0, 0, 0}, {0, 0, 0, 0}};
-    int s1 = 0, s2 = 1;
-    for (int k = 1; k <= n; ++k) {
-      double d = 0;
-      const int rk = r - k, pk = p - k;
-      if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
-      }
-      const int j1 = rk >= -1 ? 1 : -rk, j2 = r - 1 <= pk ? k - 1 : p - r;
-      for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
-      }
-      if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
-      }
-      ders[k][r] = d;
-      std::swap(s1, s2);
-    }
-  }
-  for (int k = 1, factor = p; k <= n; factor *= p - k, ++k)
-    for (int r = 0; r <= p; ++r) ders[k][r] *= factor;
+                       double (&ders)[3][4]) {
+  detail::basis_derivatives([spans](std::ptrdiff_t q) { return knot(q, spans); },
+                            std::ptrdiff_t(span) + 3, kDegree, t, n, ders);
 }
 
 std::uint32_t span_of(double t, std::uint32_t spans) {

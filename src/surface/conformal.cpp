@@ -414,7 +414,8 @@ FillOptions fill_options(const ConformalJobOptions& options) {
   return f;
 }
 
-// The field-space map: fill() over the surface's box grown by the layer, with the layer's field.
+// The field-space map: the layer's own field (it bounds the layer) meshed over the surface's
+// box grown by the layer.
 FillResult fill_through_field(std::shared_ptr<const SurfaceLayer> layer,
                               const SurfaceParameterization& layout,
                               const ConformalJobOptions& options) {
@@ -424,11 +425,12 @@ FillResult fill_through_field(std::shared_ptr<const SurfaceLayer> layer,
   Box3 box = bounding_box(layout.mesh);
   const double grow = options.layer.height + options.grid.voxel_size;
   box.min = box.min - Vec3{grow, grow, grow}, box.max = box.max + Vec3{grow, grow, grow};
-  return fill(box_soup(box), f);
+  return fill_field(box, f);
 }
 
-// The seed's vertex map: fill() of the slab box with the design, carried over vertex by
-// vertex, then validated again (it may fold, which the field map cannot).
+// The seed's vertex map: fill() of the flat slab (a box part: the lattice cut to the slab's
+// faces) with the design, carried over vertex by vertex, then validated again (it may fold,
+// which the field map cannot).
 FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& options,
                             std::array<double, 2> lengths, const Box3& slab) {
   if (options.layer.skin_surface > 0 || options.layer.skin_top > 0)

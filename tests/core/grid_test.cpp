@@ -43,8 +43,24 @@ TEST(Grid, RejectsBadOptionsAndBoxes) {
   EXPECT_THROW(make_grid(box, {.voxel_size = 0}), InputError);
   EXPECT_THROW(make_grid(box, {.voxel_size = -1}), InputError);
   EXPECT_THROW(make_grid(box, {.voxel_size = std::nan("")}), InputError);
-  EXPECT_THROW(make_grid(box, {.voxel_size = 0.1, .padding = 1}), InputError);
+  EXPECT_THROW(make_grid(box, {.voxel_size = 0.1, .padding = -1}), InputError);
   EXPECT_THROW(make_grid(Box3{}, {}), InputError);
   EXPECT_THROW(make_grid(box, {.voxel_size = 1e-12}), InputError);     // > 2^31 nodes per axis
   EXPECT_EQ(grid_node_count(box, {.voxel_size = 1e-12}), UINT64_MAX);  // saturates
+}
+
+// A box a whole number of voxels long gets that many cells, whatever the quotient's rounding:
+// without padding its first and last nodes sit on its faces, on a printer's bed or a CAD
+// assembly's position (where the box's own coordinates round by far less than 10⁻⁹ voxels).
+TEST(Grid, AWholeNumberOfVoxelsIsThatManyCells) {
+  for (const double origin : {0.0, 150.0, -1000.0, 350.0})
+    for (int cells = 1; cells <= 40; ++cells)
+      for (const double voxel : {0.1, 0.05, 0.3, 0.7, 0.01}) {
+        const Box3 box{{origin, origin, origin},
+                       {origin + cells * voxel, origin + 1, origin + cells * voxel}};
+        const Grid g = make_grid(box, {.voxel_size = voxel, .padding = 0});
+        EXPECT_EQ(g.dims[0], cells + 1) << cells << " x " << voxel << " at " << origin;
+        EXPECT_NEAR(g.node(g.dims[0] - 1, 0, 0).x, box.max.x, 1e-9 * voxel);
+        EXPECT_EQ(make_grid(box, {.voxel_size = voxel}).dims[2], cells + 5);
+      }
 }

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <tpmsfill/check.hpp>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/mesh/validate.hpp>
 
 #include "test_util.hpp"
 
@@ -152,6 +153,42 @@ TEST(CheckMesh, BowTieHasOneNonManifoldVertex) {
   EXPECT_EQ(c.non_manifold_vertex_examples[0], (Vec3{0, 0, 0}));
   EXPECT_FALSE(c.volume);
   EXPECT_TRUE(mentions(c, "1 non-manifold vertex"));
+  // The two tetrahedra only touch at the apex they share: a pinched vertex, not an intersection.
+  EXPECT_EQ(c.self_intersecting_pairs, std::uint64_t{0});
+}
+
+// check and validate decide self-intersections with one pair test: on soups whose points are
+// already shared (validate takes the indices as given), they find the same pairs, wherever the
+// soup sits, and shapes that only touch (a shared edge or corner) are not pairs.
+TEST(CheckMesh, FindsTheSelfIntersectionsValidationFinds) {
+  const TriangleSoup crossing =
+      concat(test::make_sphere({0, 0, 0}, 1, 3), test::make_torus(0.8, 0.3, 32, 16));
+  const TriangleSoup boxes = concat(kBox, make_box({5, 5, 5}, {15, 25, 35}));
+  // Two boxes along one edge, x = 10 and y = 20: touching, not crossing. Their copies of the
+  // edge's points are separate points, which check merges and validate does not.
+  const TriangleSoup touching = concat(kBox, make_box({10, 20, 0}, {20, 40, 30}));
+  for (const Vec3 at : {Vec3{0, 0, 0}, Vec3{150, 150, 0}, Vec3{0, 0, -1000}, Vec3{-350, 20, 400},
+                        Vec3{1e5, -1e5, 3e4}}) {
+    for (const TriangleSoup* shape : {&crossing, &boxes, &touching}) {
+      TriangleSoup soup = *shape;
+      for (Vec3& p : soup.points) p = p + at;
+      const MeshCheck c = check_mesh(soup, {.max_examples = 1000000});
+      ASSERT_TRUE(c.self_intersecting_pairs);
+      if (shape == &touching) {
+        EXPECT_EQ(*c.self_intersecting_pairs, 0u);
+        EXPECT_EQ(c.non_manifold_edges, 1u);
+        continue;
+      }
+      ValidateOptions every;
+      every.max_examples = 1000000;
+      const ValidationReport v = validate_mesh(soup, every);
+      ASSERT_TRUE(v.self_intersecting_pairs);
+      EXPECT_GT(*c.self_intersecting_pairs, 0u);
+      EXPECT_EQ(*c.self_intersecting_pairs, *v.self_intersecting_pairs)
+          << "at (" << at.x << ", " << at.y << ", " << at.z << ")";
+      EXPECT_EQ(c.self_intersection_examples, v.self_intersection_examples);
+    }
+  }
 }
 
 TEST(CheckMesh, OneFlippedFaceGivesThreeInconsistentEdges) {
