@@ -126,14 +126,14 @@ constexpr int kMinSlabPlanes = 4;
 // slabs as thick as fit; when nothing fits, the refusal to throw after the review, naming a
 // voxel size that fits.
 detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const LatticeDesign& d,
-                               bool streamed) {
+                               bool streamed, bool whole_only = false) {
   const Box3& bounds = m.bounds;
   const std::uint64_t triangles = m.triangles;
   const double budget =
       static_cast<double>(o.memory_budget ? o.memory_budget : default_memory_budget());
   const double whole = estimate_bytes(m, o);
   const int nz = make_grid(bounds, o.grid).dims[2];
-  if (o.slab_planes > 0) {
+  if (o.slab_planes > 0 && !whole_only) {
     if (o.measure)
       throw InputError(
           "measures need the whole grid: they cannot be taken in slabs "
@@ -144,7 +144,8 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   if (whole <= budget) return {0, saturated_bytes(whole), {}};
   // The thickest slabs that fit (bytes grow with the thickness until validation's peak, the
   // output's, dominates): bisect.
-  int fit = slab_bytes(m, o, d, kMinSlabPlanes, streamed) <= budget ? kMinSlabPlanes : 0;
+  int fit =
+      !whole_only && slab_bytes(m, o, d, kMinSlabPlanes, streamed) <= budget ? kMinSlabPlanes : 0;
   if (fit) {
     int lo = kMinSlabPlanes, hi = nz;
     if (slab_bytes(m, o, d, hi, streamed) <= budget) lo = hi;
@@ -164,8 +165,8 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
   auto least = [&](double voxel) {
     FillOptions t = o;
     t.grid.voxel_size = voxel;
-    // Measures need the whole grid: only its estimate counts for them.
-    return o.measure
+    // Measures, and a field without a model, need the whole grid: only its estimate counts.
+    return o.measure || whole_only
                ? estimate_bytes(m, t)
                : std::fmin(estimate_bytes(m, t), slab_bytes(m, t, d, kMinSlabPlanes, streamed));
   };
@@ -525,15 +526,8 @@ FillResult fill_field(const Box3& bounds, const FillOptions& options) {
   result.resolved.design = s.field.design;
   const Vec3 size = bounds.size();
   const ModelSize m{bounds, 0, size.x * size.y * size.z, 0};
-  s.plan = plan_memory(m, options, result.resolved.design, false);
-  if (s.plan.refusal.empty() && s.plan.slab_planes > 0)
-    s.plan.refusal =
-        "a field meshed without a model needs the whole grid, about " +
-        detail::memory_text(estimate_bytes(m, options)) + ", more than the memory budget (" +
-        detail::memory_text(static_cast<double>(options.memory_budget ? options.memory_budget
-                                                                      : default_memory_budget())) +
-        "); a larger voxel size fits";
-  s.plan.slab_planes = 0;
+  // No slabs without a model: the whole grid, or a refusal naming a voxel size that fits.
+  s.plan = plan_memory(m, options, result.resolved.design, false, true);
   std::vector<detail::PlannedStage> plan{
       {"review", 0.5}, {"field", 30}, {"marching cubes", 7}, {"islands", 6}};
   if (options.measure) plan.push_back({"measure", 35});
