@@ -505,14 +505,17 @@ Field design_field(const Job& job) {
   Field phi = sample_field(design_source(job.result.resolved.design), job.grid, job.progress);
   const Grid& g = phi.grid;
   const auto outside = static_cast<float>(g.spacing);
-  for (int k = 0; k < g.dims[2]; ++k)
-    for (int j = 0; j < g.dims[1]; ++j)
-      for (int i = 0; i < g.dims[0]; ++i)
-        if (i == 0 || j == 0 || k == 0 || i == g.dims[0] - 1 || j == g.dims[1] - 1 ||
-            k == g.dims[2] - 1) {
-          float& v = phi.values[g.index(i, j, k)];
-          v = std::fmax(v, outside);
-        }
+  // Only the shell is visited: whole rows on the bottom, top and side faces, the two end
+  // nodes of every other row.
+  const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const bool face = k == 0 || k == nz - 1 || j == 0 || j == ny - 1;
+      for (int i = 0; i < nx; i += face || i == nx - 1 ? 1 : nx - 1) {
+        float& v = phi.values[g.index(i, j, k)];
+        v = std::fmax(v, outside);
+      }
+    }
   return phi;
 }
 
