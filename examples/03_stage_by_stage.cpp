@@ -34,12 +34,12 @@ int main(int argc, char** argv) {
     const FieldSource lattice = tpms_source({.type = TpmsType::Diamond, .cell = {4, 4, 4}});
     const Field phi = compose_field(occupancy.inside, band, distance, lattice);  // eq. 5, 10
     const TriangleSoup mesh = marching_cubes(phi);                               // iso-surface
-    const ValidationReport check = validate_mesh(mesh, {.cell_grid = grid});     // proof
+    const MeshValidity check = validate_mesh(mesh, {.cell_grid = grid});         // proof
     std::printf(
         "grid %d x %d x %d, %zu band nodes of %zu, %zu triangles, volume %.1f of %.1f "
         "mm3: %s\n",
         grid.dims[0], grid.dims[1], grid.dims[2], band.nodes.size(), grid.node_count(),
-        mesh.triangles.size(), check.volume, occupancy.volume,
+        mesh.triangles.size(), check.volume.value_or(0), occupancy.volume,
         check.valid() ? "valid" : check.problems().front().c_str());
     if (argc > 2 && check.valid()) write_mesh(argv[2], mesh);
     return check.valid() ? 0 : 1;

@@ -93,7 +93,7 @@ struct DecimateReport {
   std::vector<std::uint64_t> invalid_pairs;
   DecimateStop stop = DecimateStop::Tolerance;
   double seconds = 0;                 ///< wall time of the whole stage
-  ValidationReport validation;        ///< of the result
+  MeshValidity validation;            ///< of the result
   std::vector<std::string> warnings;  ///< one sentence each
 
   /// (V_after − V_before) / |V_before|.

@@ -129,6 +129,12 @@ struct FillResult {
 /// @throws Cancelled        options.progress cancelled the job
 FillResult fill(const TriangleSoup& model, const FillOptions& options);
 
+/// Fills a box part, such as a test coupon or a flat slab: fill() of the box's surface (its
+/// twelve triangles), so the lattice is cut to the box's faces exactly as to any model's.
+/// @param[in] box  in options.units; @pre not empty
+/// @throws as fill()
+FillResult fill_box(const Box3& box, const FillOptions& options);
+
 /// The design's own field meshed over the grid of `bounds` (make_grid(bounds, options.grid)),
 /// with no model to clip it: for a design that bounds its solid itself, such as a lattice
 /// layer's field (FillOptions::design.custom, conformal.hpp). The grid's outermost nodes are

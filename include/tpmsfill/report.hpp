@@ -98,15 +98,15 @@ struct FillReport : JobReport {
   /// The largest removed islands, largest first (at most 10).
   std::vector<RemovedIsland> largest_islands;
   std::optional<LatticeMeasures> measures;  ///< pores, walls, labyrinths (FillOptions::measure)
-  std::uint64_t cavities = 0;   ///< closed voids in the output (negative-volume surfaces)
-  double cavities_volume = 0;   ///< their volume, mm^3
-  ValidationReport validation;  ///< of the written mesh
+  std::uint64_t cavities = 0;  ///< closed voids in the output (negative-volume surfaces)
+  double cavities_volume = 0;  ///< their volume, mm^3
+  MeshValidity validation;     ///< of the written mesh
 
   std::uint64_t vertices() const { return validation.vertices; }
   std::uint64_t triangles() const { return validation.triangles; }
   std::uint64_t components() const { return validation.components; }
-  double lattice_volume() const { return validation.volume; }  ///< mm^3
-  double surface_area() const { return validation.area; }      ///< mm^2
+  double lattice_volume() const { return validation.volume.value_or(0); }  ///< mm^3
+  double surface_area() const { return validation.area; }                  ///< mm^2
   /// 1 − lattice_volume / model_volume (0 without a model volume).
   double porosity() const { return model_volume > 0 ? 1.0 - lattice_volume() / model_volume : 0.0; }
   /// Surface area per solid volume, mm⁻¹ (scaffold designers' specific surface area).

@@ -94,8 +94,7 @@ inline Box3 bounding_box(const TriangleSoup& soup) {
   return box;
 }
 
-/// The box as a closed mesh: 8 corners, 12 outward triangles (a model that lets fill() clip a
-/// field to a box: `field mesh`, conformal layers).
+/// The box as a closed mesh: 8 corners, 12 outward triangles (the model fill_box() fills).
 inline TriangleSoup box_soup(const Box3& b) {
   TriangleSoup box;
   for (int c = 0; c < 8; ++c)

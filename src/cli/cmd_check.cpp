@@ -73,11 +73,11 @@ void print_text(const std::string& path, const MeshFile& file, const MeshCheck& 
   // can have some: say so rather than print "0 border edges in 2 holes".
   if (!c.closed())
     std::printf("  closed           no (%" PRIu64 " border edges in %" PRIu64 " holes)\n",
-                c.border_edges, c.holes);
-  else if (c.holes > 0)
+                c.border_edges, c.holes.value_or(0));
+  else if (c.holes.value_or(0) > 0)
     std::printf("  closed           yes (0 border edges; %" PRIu64
                 " holes once its non-manifold edges are split)\n",
-                c.holes);
+                *c.holes);
   else
     std::printf("  closed           yes (0 border edges)\n");
   std::printf("  2-manifold       %s (%" PRIu64 " non-manifold edges, %" PRIu64

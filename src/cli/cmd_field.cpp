@@ -326,7 +326,7 @@ int run_mesh(const FieldArgs& a) {
   std::unique_ptr<TerminalProgress> progress;
   if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   o.progress = progress.get();
-  FillResult r = fill(box_soup(Box3{{0, 0, 0}, {size[0], size[1], size[2]}}), o);
+  FillResult r = fill_box(Box3{{0, 0, 0}, {size[0], size[1], size[2]}}, o);
   if (progress) progress->clear();
   write_mesh(a.output, r.mesh);
   if (!a.quiet) {

@@ -521,6 +521,10 @@ Field design_field(const Job& job) {
 
 }  // namespace
 
+FillResult fill_box(const Box3& box, const FillOptions& options) {
+  return fill(box_soup(box), options);
+}
+
 FillResult fill_field(const Box3& bounds, const FillOptions& options) {
   FillResult result;
   Setup s;

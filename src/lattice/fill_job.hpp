@@ -97,7 +97,7 @@ inline constexpr const char* kEmptyLattice =
     "voxel size (try a smaller --voxel or a larger --cell)";
 
 /// @throws ValidationError  `v` is not valid: nothing is written (the problems, one sentence)
-inline void require_valid_lattice(const ValidationReport& v) {
+inline void require_valid_lattice(const MeshValidity& v) {
   if (v.valid()) return;
   std::string why;
   for (const std::string& p : v.problems()) why += (why.empty() ? "" : "; ") + p;

@@ -337,8 +337,7 @@ Tally tally_components(SpillFile& file, Spiller& spill, Progress* progress) {
 
 // What the windows found, summed in the order validate_mesh() reports it.
 struct WindowSums {
-  ValidationReport r;
-  std::vector<std::array<Vec3, 2>> border, non_manifold, inconsistent;
+  MeshValidity r;
   std::vector<std::array<std::uint32_t, 2>> pairs;
   bool by_cells = true;
   void add(const WindowValidation& w, const std::vector<std::uint32_t>& final_index,
@@ -350,16 +349,21 @@ struct WindowSums {
     r.non_manifold_vertices += w.pinched;
     r.duplicate_points += w.duplicates;
     for (std::uint32_t t : w.degenerate_examples)
-      if (r.degenerate_examples.size() < max_examples)
-        r.degenerate_examples.push_back(final_index[t]);
+      if (r.degenerate_triangle_examples.size() < max_examples)
+        r.degenerate_triangle_examples.push_back(final_index[t]);
     r.degenerate_triangles += w.degenerate;
     auto append = [&](auto& to, const auto& from) {
       for (const auto& e : from)
         if (to.size() < max_examples) to.push_back(e);
     };
-    append(border, w.border_examples);
-    append(non_manifold, w.non_manifold_examples);
-    append(inconsistent, w.inconsistent_examples);
+    auto append_edges = [&](std::vector<EdgeLocation>& to, const std::vector<EdgeLocation>& from) {
+      for (const EdgeLocation& e : from)
+        if (to.size() < max_examples) to.push_back({e.ends, final_index[e.triangle]});
+    };
+    append_edges(r.border_edge_examples, w.border_examples);
+    append_edges(r.non_manifold_edge_examples, w.non_manifold_examples);
+    append_edges(r.inconsistent_edge_examples, w.inconsistent_examples);
+    append(r.non_manifold_vertex_examples, w.pinched_examples);
     if (searched) {
       r.self_intersecting_pairs = r.self_intersecting_pairs.value_or(0) + w.intersecting_pairs;
       by_cells = by_cells && w.searched_by_cells;
@@ -455,17 +459,16 @@ class ValidatingWriter {
   }
 
   // The whole mesh's report, once every record was visited.
-  ValidationReport report() {
-    ValidationReport v = std::move(sums_.r);
+  MeshValidity report() {
+    MeshValidity v = std::move(sums_.r);
     v.triangles = written_;
-    v.volume = (volume_ + chunk_volume_) / 6;
+    const double volume = (volume_ + chunk_volume_) / 6;
+    v.volume = volume;
     v.area = (area_ + chunk_area_) / 2;
     for (std::size_t c = 0; c < keep_.size(); ++c) v.components += keep_[c];
-    v.outward = v.components > 0 && v.volume > 0;
+    v.outward = v.components > 0 && volume > 0;
     for (std::size_t c = 0; c < keep_.size(); ++c)
       if (keep_[c] && component_volume_[c] == 0) v.outward = false;
-    for (auto* examples : {&sums_.border, &sums_.non_manifold, &sums_.inconsistent})
-      v.bad_edge_examples.insert(v.bad_edge_examples.end(), examples->begin(), examples->end());
     if (job_.options.check_self_intersections) {
       v.searched_by_cells = sums_.by_cells;
       std::sort(sums_.pairs.begin(), sums_.pairs.end());

@@ -172,7 +172,7 @@ json job_json(const JobReport& r) {
 }  // namespace detail
 
 std::string to_json(const FillReport& r) {
-  const ValidationReport& v = r.validation;
+  const MeshValidity& v = r.validation;
   // The mesh's figures, each after the job's key it follows in the report (docs/cli.md).
   const std::pair<const char*, json> mesh[] = {
       {"distance_queries", {{"full_field", r.full_field}}},
@@ -216,7 +216,7 @@ std::string to_json(const FillReport& r) {
           {"self_intersection_search", !v.self_intersecting_pairs ? json(nullptr)
                                        : v.searched_by_cells      ? json("cells")
                                                                   : json("general")},
-          {"outward", v.outward}}}}},
+          {"outward", v.outward == true}}}}},
   };
   const json job = detail::job_json(r);
   json j = {{"valid", v.valid()}, {"problems", v.problems()}};
@@ -279,7 +279,7 @@ std::string inside_text(const JobReport& r) {
 }  // namespace detail
 
 std::string to_text(const FillReport& r) {
-  const ValidationReport& v = r.validation;
+  const MeshValidity& v = r.validation;
   std::string s = detail::settings_text(r);
   s += format("grid         %.0f x %.0f x %.0f", r.grid.dims[0], r.grid.dims[1], r.grid.dims[2]) +
        format(" nodes at %g mm (%.3g samples)\n", r.grid.spacing, static_cast<double>(r.samples));
@@ -345,7 +345,7 @@ std::string to_text(const FillReport& r) {
 
 MeshMetadata lattice_metadata(const FillReport& r, MeshMetadata given) {
   if (given.description.empty()) {
-    const ValidationReport& v = r.validation;
+    const MeshValidity& v = r.validation;
     given.description =
         "TPMS lattice (" + r.design +
         format(", cell %g x %g x %g mm", r.cell.x, r.cell.y, r.cell.z) +

@@ -16,7 +16,6 @@
 #include <utility>
 
 #include "mesh/cgal_types.hpp"
-#include "mesh/internal/problem_text.hpp"
 #include "mesh/internal/self_intersections.hpp"
 #include "mesh/mesh_measures.hpp"
 #include "mesh/soup_indices.hpp"
@@ -221,30 +220,6 @@ void record_closed_shape(MeshCheck& c, const TriangleSoup& soup, const SoupTopol
 
 }  // namespace
 
-bool MeshCheck::valid() const {
-  return triangles > 0 && closed() && manifold() && consistently_oriented() && outward == true &&
-         degenerate_triangles == 0 && duplicate_triangles == 0 &&
-         self_intersecting_pairs.value_or(0) == 0;
-}
-
-std::vector<std::string> MeshCheck::problems() const {
-  namespace sentence = detail::sentence;
-  std::vector<std::string> p;
-  if (triangles == 0) p.push_back(sentence::no_triangles());
-  // Holes are counted once non-manifold edges are split, which can add border edges.
-  if (!closed()) p.push_back(sentence::border_edges(border_edges, holes));
-  if (non_manifold_edges > 0) p.push_back(sentence::non_manifold_edges(non_manifold_edges));
-  if (non_manifold_vertices > 0)
-    p.push_back(sentence::non_manifold_vertices(non_manifold_vertices));
-  if (!consistently_oriented()) p.push_back(sentence::inconsistent_edges(inconsistent_edges));
-  if (outward == false) p.push_back(sentence::shells_not_outward(volume));
-  if (degenerate_triangles > 0) p.push_back(sentence::degenerate_triangles(degenerate_triangles));
-  if (duplicate_triangles > 0) p.push_back(sentence::duplicate_triangles(duplicate_triangles));
-  if (self_intersecting_pairs.value_or(0) > 0)
-    p.push_back(sentence::self_intersections(*self_intersecting_pairs));
-  return p;
-}
-
 namespace {
 
 // Lengths, areas, volumes and locations × f, f², f³ (f: millimetres per model unit).
@@ -265,6 +240,7 @@ MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
   require_valid(options.units);
   detail::require_32bit_mesh(soup, "check");
   MeshCheck c;
+  c.merged_points = true;
   const SoupTopology topo = detail::analyze_soup(soup);
   record_input(c, soup, topo);
   const FaceFacts faces = record_faces(c, soup, topo, options.max_examples);
@@ -275,11 +251,9 @@ MeshCheck check_mesh(const TriangleSoup& soup, const CheckOptions& options) {
   // CGAL, on the soup it would repair: holes, self-intersections, bounded volume.
   RepairedSoup repaired = repaired_soup(soup, topo);
   const detail::SurfaceMesh mesh = build_mesh(repaired, c);
-  if (!repaired.polygons.empty()) {
-    std::vector<detail::SurfaceMesh::Halfedge_index> cycles;
-    PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
-    c.holes = cycles.size();
-  }
+  std::vector<detail::SurfaceMesh::Halfedge_index> cycles;
+  if (!repaired.polygons.empty()) PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
+  c.holes = cycles.size();
   if (options.self_intersections)
     record_self_intersections(c, soup, topo, faces, options.max_examples);
   record_closed_shape(c, soup, topo, mesh, faces);

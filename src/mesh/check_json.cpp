@@ -56,7 +56,7 @@ std::string to_json(const MeshCheck& c) {
       {"duplicate_triangles", c.duplicate_triangles},
       {"edges", c.edges},
       {"border_edges", c.border_edges},
-      {"holes", c.holes},
+      {"holes", c.holes.value_or(0)},
       {"non_manifold_edges", c.non_manifold_edges},
       {"non_manifold_vertices", c.non_manifold_vertices},
       {"inconsistent_edges", c.inconsistent_edges},

@@ -687,15 +687,15 @@ RoundResult simplify(const TriangleSoup& input, const std::vector<std::uint8_t>&
 /// Result points that take part in what made `v` fail: corners of self-intersecting pairs and
 /// degenerate triangles, and points sharing a position. Empty when the failure is of a kind
 /// that cannot be put on points (topology, orientation).
-std::vector<std::uint32_t> offending_points(const TriangleSoup& mesh, const ValidationReport& v) {
+std::vector<std::uint32_t> offending_points(const TriangleSoup& mesh, const MeshValidity& v) {
   std::vector<std::uint32_t> points;
   const bool topology = v.border_edges > 0 || !v.manifold() || v.inconsistent_edges > 0 ||
-                        !v.outward || v.triangles == 0;
+                        v.outward != true || v.triangles == 0;
   if (topology) return points;
   for (const auto& pair : v.self_intersection_examples)
     for (std::uint32_t t : pair)
       for (std::uint32_t p : mesh.triangles[t]) points.push_back(p);
-  for (std::uint32_t t : v.degenerate_examples)
+  for (std::uint32_t t : v.degenerate_triangle_examples)
     for (std::uint32_t p : mesh.triangles[t]) points.push_back(p);
   if (v.duplicate_points > 0) {
     std::vector<std::uint32_t> order(mesh.points.size());
@@ -846,7 +846,7 @@ DecimateResult decimate(const TriangleSoup& mesh, const DecimateOptions& options
   } else {
     welded = weld(mesh);
   }
-  const ValidationReport before = validate_mesh(welded.mesh, round_validation(options, false));
+  const MeshValidity before = validate_mesh(welded.mesh, round_validation(options, false));
   if (!before.valid()) {
     std::string why;
     for (const std::string& p : before.problems()) why += (why.empty() ? "" : "; ") + p;
@@ -862,7 +862,7 @@ DecimateResult decimate(const TriangleSoup& mesh, const DecimateOptions& options
   r.triangles_before = before.triangles;
   r.vertices_before = before.vertices;
   r.merged_points = welded.merged;
-  r.volume_before = before.volume;
+  r.volume_before = before.volume.value_or(0);
   r.area_before = before.area;
 
   RoundsOutcome outcome = run_rounds(welded.mesh, options, r);
@@ -889,7 +889,7 @@ DecimateResult decimate(const TriangleSoup& mesh, const DecimateOptions& options
   }
   r.triangles_after = r.validation.triangles;
   r.vertices_after = r.validation.vertices;
-  r.volume_after = r.validation.volume;
+  r.volume_after = r.validation.volume.value_or(0);
   r.area_after = r.validation.area;
   add_warnings(r);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

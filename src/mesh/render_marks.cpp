@@ -185,8 +185,8 @@ std::vector<LegendEntry> defect_legend(const MeshCheck& check, const CleanResult
   std::string border =
       count_text("border edges", check.border_edges, check.border_edge_examples.size());
   // As check's text says it: holes without border edges open where non-manifold edges split.
-  if (check.holes > 0)
-    border += (check.border_edges > 0 ? ", " : "; ") + std::to_string(check.holes) +
+  if (check.holes.value_or(0) > 0)
+    border += (check.border_edges > 0 ? ", " : "; ") + std::to_string(*check.holes) +
               (check.border_edges > 0 ? " holes" : " holes once its non-manifold edges are split");
   legend.push_back({colours.border_edge, border});
   legend.push_back(

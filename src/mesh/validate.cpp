@@ -44,7 +44,8 @@ using detail::repeated_corner;
 
 struct EdgeFacts {
   std::uint64_t border = 0, non_manifold = 0, inconsistent = 0, pinched_vertices = 0;
-  std::vector<std::array<Vec3, 2>> border_examples, non_manifold_examples, inconsistent_examples;
+  std::vector<EdgeLocation> border_examples, non_manifold_examples, inconsistent_examples;
+  std::vector<Vec3> pinched_examples;
 };
 
 /// The corners around each vertex: the slots 3t + k of triangle t's corner k at vertex v lie
@@ -80,12 +81,12 @@ struct Use {
 };
 
 /// Counts edge v-w (v < w) whose m uses start at `use`, in the direction its first triangle
-/// walks it.
-void record_edge(EdgeFacts& f, const TriangleSoup& mesh, std::size_t v, const Use* use,
-                 std::size_t m, std::size_t max_examples) {
+/// (the lowest-index one: v's corners are listed by slot) walks it.
+void record_edge(EdgeFacts& f, const TriangleSoup& mesh, const CornerTable& table, std::size_t v,
+                 const Use* use, std::size_t m, std::size_t max_examples) {
   const Vec3 pv = mesh.points[v], pw = mesh.points[use[0].other];
-  const std::array<Vec3, 2> ends =
-      use[0].out ? std::array<Vec3, 2>{pv, pw} : std::array<Vec3, 2>{pw, pv};
+  const EdgeLocation ends{use[0].out ? std::array<Vec3, 2>{pv, pw} : std::array<Vec3, 2>{pw, pv},
+                          table.corners[table.first[v] + use[0].local] / 3};
   if (m == 1) {
     if (f.border++ < max_examples) f.border_examples.push_back(ends);
   } else if (m >= 3) {
@@ -144,19 +145,18 @@ void classify_vertex(const TriangleSoup& mesh, const CornerTable& table, std::si
         const std::uint32_t a = find(uses[i].local), b = find(uses[u].local);
         parent[std::max(a, b)] = std::min(a, b);
       }
-    if (uses[i].other > v) record_edge(f, mesh, v, &uses[i], m, max_examples);
+    if (uses[i].other > v) record_edge(f, mesh, table, v, &uses[i], m, max_examples);
     i = j;
   }
   std::uint32_t fans = 0;
   for (std::uint32_t l = 0; l < d; ++l) fans += find(l) == l;
-  if (fans > 1) ++f.pinched_vertices;
+  if (fans > 1 && f.pinched_vertices++ < max_examples) f.pinched_examples.push_back(mesh.points[v]);
 }
 
 /// The chunks' facts in chunk order, at most max_examples examples of each kind.
 EdgeFacts merge(const std::vector<EdgeFacts>& partial, std::size_t max_examples) {
   EdgeFacts all;
-  auto append = [&](std::vector<std::array<Vec3, 2>>& to,
-                    const std::vector<std::array<Vec3, 2>>& from) {
+  auto append = [&](auto& to, const auto& from) {
     for (const auto& e : from)
       if (to.size() < max_examples) to.push_back(e);
   };
@@ -168,6 +168,7 @@ EdgeFacts merge(const std::vector<EdgeFacts>& partial, std::size_t max_examples)
     append(all.border_examples, f.border_examples);
     append(all.non_manifold_examples, f.non_manifold_examples);
     append(all.inconsistent_examples, f.inconsistent_examples);
+    append(all.pinched_examples, f.pinched_examples);
   }
   return all;
 }
@@ -250,30 +251,31 @@ std::vector<std::uint8_t> degenerate_flags(const TriangleSoup& mesh) {
 }
 
 /// Degenerate triangles: per triangle a flag.
-std::vector<std::uint8_t> record_degenerates(ValidationReport& r, const TriangleSoup& mesh,
+std::vector<std::uint8_t> record_degenerates(MeshValidity& r, const TriangleSoup& mesh,
                                              std::size_t max_examples) {
   std::vector<std::uint8_t> degenerate = degenerate_flags(mesh);
   for (std::size_t t = 0; t < degenerate.size(); ++t)
     if (degenerate[t] && r.degenerate_triangles++ < max_examples)
-      r.degenerate_examples.push_back(static_cast<std::uint32_t>(t));
+      r.degenerate_triangle_examples.push_back(static_cast<std::uint32_t>(t));
   return degenerate;
 }
 
 /// Border, non-manifold and inconsistent edges, pinched vertices.
-void record_edges(ValidationReport& r, const TriangleSoup& mesh, std::size_t max_examples,
+void record_edges(MeshValidity& r, const TriangleSoup& mesh, std::size_t max_examples,
                   detail::ProgressCounter& progress) {
   EdgeFacts edges = edge_facts(mesh, 0, mesh.points.size(), max_examples, progress);
   r.border_edges = edges.border;
   r.non_manifold_edges = edges.non_manifold;
   r.inconsistent_edges = edges.inconsistent;
   r.non_manifold_vertices = edges.pinched_vertices;
-  for (auto* examples :
-       {&edges.border_examples, &edges.non_manifold_examples, &edges.inconsistent_examples})
-    r.bad_edge_examples.insert(r.bad_edge_examples.end(), examples->begin(), examples->end());
+  r.border_edge_examples = std::move(edges.border_examples);
+  r.non_manifold_edge_examples = std::move(edges.non_manifold_examples);
+  r.inconsistent_edge_examples = std::move(edges.inconsistent_examples);
+  r.non_manifold_vertex_examples = std::move(edges.pinched_examples);
 }
 
 /// Components, area, volume (about the centre of the used points' box) and orientation.
-void record_volume(ValidationReport& r, const TriangleSoup& mesh,
+void record_volume(MeshValidity& r, const TriangleSoup& mesh,
                    const std::vector<std::uint8_t>& used) {
   const std::size_t nt = mesh.triangles.size();
   const detail::TriangleComponents components = detail::triangle_components(mesh);
@@ -284,20 +286,22 @@ void record_volume(ValidationReport& r, const TriangleSoup& mesh,
     for (std::size_t t = b; t < e; ++t)
       six_v[t] = detail::six_volume(mesh, mesh.triangles[t], centre);
   });
-  r.volume = detail::deterministic_sum(nt, kChunk, [&](std::size_t t) { return six_v[t]; }) / 6;
+  const double volume =
+      detail::deterministic_sum(nt, kChunk, [&](std::size_t t) { return six_v[t]; }) / 6;
+  r.volume = volume;
   r.area =
       detail::deterministic_sum(
           nt, kChunk, [&](std::size_t t) { return detail::double_area(mesh, mesh.triangles[t]); }) /
       2;
   std::vector<double> component_volume(r.components, 0.0);
   for (std::size_t t = 0; t < nt; ++t) component_volume[components.of_triangle[t]] += six_v[t];
-  r.outward = r.components > 0 && r.volume > 0 &&
+  r.outward = r.components > 0 && volume > 0 &&
               std::none_of(component_volume.begin(), component_volume.end(),
                            [](double v) { return v == 0; });
 }
 
 /// Intersecting pairs among the non-degenerate triangles.
-void record_self_intersections(ValidationReport& r, const TriangleSoup& mesh,
+void record_self_intersections(MeshValidity& r, const TriangleSoup& mesh,
                                const std::vector<std::uint8_t>& degenerate,
                                const ValidateOptions& options, detail::ProgressCounter& progress) {
   detail::SelfIntersections found =
@@ -310,32 +314,37 @@ void record_self_intersections(ValidationReport& r, const TriangleSoup& mesh,
 
 }  // namespace
 
-bool ValidationReport::valid() const {
-  return triangles > 0 && closed() && manifold() && inconsistent_edges == 0 &&
-         degenerate_triangles == 0 && duplicate_points == 0 &&
-         self_intersecting_pairs.value_or(0) == 0 && outward;
+bool MeshValidity::valid() const {
+  return triangles > 0 && closed() && manifold() && consistently_oriented() && outward == true &&
+         degenerate_triangles == 0 && duplicate_triangles == 0 &&
+         (merged_points || duplicate_points == 0) && self_intersecting_pairs.value_or(0) == 0;
 }
 
-std::vector<std::string> ValidationReport::problems() const {
+std::vector<std::string> MeshValidity::problems() const {
   namespace sentence = detail::sentence;
   std::vector<std::string> p;
   if (triangles == 0) p.push_back(sentence::no_triangles());
-  if (border_edges > 0) p.push_back(sentence::border_edges(border_edges, std::nullopt));
+  // Holes are counted once non-manifold edges are split, which can add border edges.
+  if (!closed()) p.push_back(sentence::border_edges(border_edges, holes));
   if (non_manifold_edges > 0) p.push_back(sentence::non_manifold_edges(non_manifold_edges));
   if (non_manifold_vertices > 0)
     p.push_back(sentence::non_manifold_vertices(non_manifold_vertices));
-  if (inconsistent_edges > 0) p.push_back(sentence::inconsistent_edges(inconsistent_edges));
-  if (triangles > 0 && !outward) p.push_back(sentence::components_not_outward(volume));
+  if (!consistently_oriented()) p.push_back(sentence::inconsistent_edges(inconsistent_edges));
+  if (triangles > 0 && outward == false)
+    p.push_back(merged_points ? sentence::shells_not_outward(volume)
+                              : sentence::components_not_outward(volume.value_or(0)));
   if (degenerate_triangles > 0) p.push_back(sentence::degenerate_triangles(degenerate_triangles));
-  if (duplicate_points > 0) p.push_back(sentence::duplicate_points(duplicate_points));
+  if (duplicate_triangles > 0) p.push_back(sentence::duplicate_triangles(duplicate_triangles));
+  if (!merged_points && duplicate_points > 0)
+    p.push_back(sentence::duplicate_points(duplicate_points));
   if (self_intersecting_pairs.value_or(0) > 0)
     p.push_back(sentence::self_intersections(*self_intersecting_pairs));
   return p;
 }
 
-ValidationReport validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options) {
+MeshValidity validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options) {
   detail::require_32bit_mesh(mesh, "validate");
-  ValidationReport r;
+  MeshValidity r;
   const std::size_t nt = mesh.triangles.size(), np = mesh.points.size();
   r.triangles = nt;
   detail::ProgressCounter progress(options.progress, "validate",
@@ -380,6 +389,7 @@ WindowValidation validate_window(const TriangleSoup& window,
   w.border_examples = std::move(edges.border_examples);
   w.non_manifold_examples = std::move(edges.non_manifold_examples);
   w.inconsistent_examples = std::move(edges.inconsistent_examples);
+  w.pinched_examples = std::move(edges.pinched_examples);
   w.duplicates = duplicate_points(window, used, pb, pe);
   if (self_intersections) {
     SelfIntersections found = find_self_intersections(window, degenerate, cell_grid, none);

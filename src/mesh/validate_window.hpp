@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mesh/internal/self_intersections.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill::detail {
@@ -21,7 +22,9 @@ struct WindowValidation {
   std::uint64_t vertices = 0;  ///< owned points that some triangle uses
   std::uint64_t degenerate = 0, border = 0, non_manifold = 0, inconsistent = 0, pinched = 0;
   std::uint64_t duplicates = 0, intersecting_pairs = 0;
-  std::vector<std::array<Vec3, 2>> border_examples, non_manifold_examples, inconsistent_examples;
+  /// Edges name the window's triangles.
+  std::vector<EdgeLocation> border_examples, non_manifold_examples, inconsistent_examples;
+  std::vector<Vec3> pinched_examples;
   std::vector<std::uint32_t> degenerate_examples;
   std::vector<TrianglePair> intersection_examples;
   bool searched_by_cells = false;

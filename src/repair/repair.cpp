@@ -931,7 +931,7 @@ void mark_remaining(std::vector<RepairAction>& actions, const MeshCheck& left,
       {"inconsistently oriented edges", left.inconsistent_edges},
       {"degenerate triangles", left.degenerate_triangles},
       {"duplicate triangles", left.duplicate_triangles},
-      {"holes", left.closed() ? 0 : left.holes},
+      {"holes", left.closed() ? 0 : left.holes.value_or(0)},
       {"self-intersecting triangle pairs", left.self_intersecting_pairs.value_or(0)}};
   for (RepairAction& a : actions)
     for (const auto& [defect, count] : remaining)

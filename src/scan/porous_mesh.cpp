@@ -24,7 +24,7 @@ OpenSurface porous_surface_mesh(const PorousStructure& s, const Box3& box, doubl
   const FieldSource source = porous_source(open, unit_cube_map(open, box));
   OpenSurface out;
   out.mesh = marching_cubes(source, grid);
-  const ValidationReport v = validate_mesh(out.mesh, {.cell_grid = grid});
+  const MeshValidity v = validate_mesh(out.mesh, {.cell_grid = grid});
   if (!v.manifold() || v.inconsistent_edges || v.degenerate_triangles ||
       v.self_intersecting_pairs.value_or(0))
     throw ValidationError("the open surface is not a valid 2-manifold with boundary");

@@ -4,7 +4,6 @@
 
 #if defined(CGAL_EIGEN3_ENABLED)
 #include <Eigen/Dense>
-#include <Eigen/SparseLU>
 #endif
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 
 #include "core/disjoint_sets.hpp"
 #include "core/stage_progress.hpp"
+#include "mesh/dirichlet.hpp"
 #include "mesh/exact_orientation.hpp"
 #include "solid/internal/harmonic.hpp"
 #include "tpmsfill/error.hpp"
@@ -460,70 +460,28 @@ std::array<std::vector<std::uint32_t>, 6> split_patches(const std::vector<Triang
   return patches;
 }
 
-// tan(θ/2) for the angle θ between e1 and e2, as |e1 × e2| / (|e1||e2| + e1 · e2).
-double half_angle_tangent(Vec3 e1, Vec3 e2) {
-  const double scale = norm(e1) * norm(e2);
-  return norm(cross(e1, e2)) / std::max(scale + dot(e1, e2), 1e-30 * scale);
-}
-
-#if defined(CGAL_EIGEN3_ENABLED)
 // One patch onto its cube face by mean-value coordinates: Σ_j w_ij (f_j − f_i) = 0 at each
 // vertex not on a curve, for the face's two free coordinates.
 void map_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
                const std::vector<std::uint32_t>& patch, int face, const std::vector<char>& fixed,
                std::vector<Uvw>& uvw) {
   const int axis = face / 2, b = (axis + 1) % 3, c = (axis + 2) % 3;
-  std::unordered_map<std::uint32_t, int> unknown;
-  std::vector<std::uint32_t> vertices;
+  std::vector<double> values(2 * uvw.size());
+  for (std::size_t v = 0; v < uvw.size(); ++v)
+    values[2 * v] = uvw[v][b], values[2 * v + 1] = uvw[v][c];
+  detail::solve_dirichlet(detail::mean_value_operator(mesh.points, faces, patch),
+                          detail::Symmetry::General, fixed, 2, values,
+                          "the mean-value system of cube face " + std::to_string(face) +
+                              " is singular (degenerate boundary triangles?)");
   for (std::uint32_t f : patch)
     for (std::uint32_t v : faces[f])
-      if (!fixed[v] && unknown.emplace(v, static_cast<int>(vertices.size())).second)
-        vertices.push_back(v);
-  if (vertices.empty()) return;
-  std::vector<Eigen::Triplet<double>> entries;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(vertices.size()), 2);
-  for (std::uint32_t f : patch)
-    for (int i = 0; i < 3; ++i) {
-      const auto row = unknown.find(faces[f][i]);
-      if (row == unknown.end()) continue;
-      const Vec3 xi = mesh.points[faces[f][i]];
-      const std::uint32_t j = faces[f][(i + 1) % 3], k = faces[f][(i + 2) % 3];
-      const double t = half_angle_tangent(mesh.points[j] - xi, mesh.points[k] - xi);
-      for (std::uint32_t other : {j, k}) {
-        const double w = t / norm(mesh.points[other] - xi);
-        entries.emplace_back(row->second, row->second, -w);
-        const auto col = unknown.find(other);
-        if (col != unknown.end()) {
-          entries.emplace_back(row->second, col->second, w);
-        } else {
-          rhs(row->second, 0) -= w * uvw[other][b];
-          rhs(row->second, 1) -= w * uvw[other][c];
-        }
+      if (!fixed[v]) {
+        Uvw& p = uvw[v];
+        p[axis] = face % 2;
+        p[b] = values[2 * v];
+        p[c] = values[2 * v + 1];
       }
-    }
-  const auto n = static_cast<Eigen::Index>(vertices.size());
-  Eigen::SparseMatrix<double> matrix(n, n);
-  matrix.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-  solver.compute(matrix);
-  if (solver.info() != Eigen::Success)
-    throw InputError("the mean-value system of cube face " + std::to_string(face) +
-                     " is singular (degenerate boundary triangles?)");
-  const Eigen::MatrixXd solution = solver.solve(rhs);
-  for (std::size_t i = 0; i < vertices.size(); ++i) {
-    Uvw& p = uvw[vertices[i]];
-    p[axis] = face % 2;
-    p[b] = solution(static_cast<Eigen::Index>(i), 0);
-    p[c] = solution(static_cast<Eigen::Index>(i), 1);
-  }
 }
-
-#else
-void map_patch(const TetMesh&, const std::vector<Triangle>&, const std::vector<std::uint32_t>&, int,
-               const std::vector<char>&, std::vector<Uvw>&) {
-  throw InputError("this tpmsfill was built without Eigen, which the cube map needs");
-}
-#endif
 
 // The interior by the P1 harmonic map, for the three coordinates.
 void map_interior(const TetMesh& mesh, const std::vector<char>& fixed, CubeMap& map) {

@@ -428,7 +428,7 @@ FillResult fill_through_field(std::shared_ptr<const SurfaceLayer> layer,
   return fill_field(box, f);
 }
 
-// The seed's vertex map: fill() of the flat slab (a box part: the lattice cut to the slab's
+// The seed's vertex map: the flat slab filled as a box part (the lattice cut to the slab's
 // faces) with the design, carried over vertex by vertex, then validated again (it may fold,
 // which the field map cannot).
 FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& options,
@@ -439,7 +439,7 @@ FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& optio
   f.design = options.design;
   // The flat slab is carried over before it is written: rounded after the map, not before.
   f.rounding = CoordinateRounding::None;
-  FillResult filled = fill(box_soup(slab), f);
+  FillResult filled = fill_box(slab, f);
   const auto t0 = std::chrono::steady_clock::now();
   filled.mesh = map_slab_vertices(filled.mesh, r.layout, lengths, options.layer, options.vertex_map,
                                   &r.vertex_map);

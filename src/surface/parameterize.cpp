@@ -1,9 +1,8 @@
 // Stage "parameterize": mean-value coordinates on the unit square (parameterize.hpp).
 //
 // The topology (welding, manifold and orientation checks, loops, the seam cut, corners) is
-// plain index work on directed edges; CGAL's Surface_mesh_parameterization only solves the
-// linear systems, on a Surface_mesh whose vertex i is point i of the laid-out mesh.
-#define EIGEN_NO_DEBUG 1  // Eigen's checks abort() rather than throw: leave them out
+// plain index work on directed edges; the mean-value system is the one Dirichlet solve
+// (mesh/dirichlet.hpp) that the cube map's patches use too.
 
 #include "tpmsfill/surface/parameterize.hpp"
 
@@ -18,14 +17,7 @@
 
 #include "tpmsfill/error.hpp"
 
-#if defined(CGAL_EIGEN3_ENABLED)
-#include <CGAL/Surface_mesh_parameterization/Error_code.h>
-#include <CGAL/Surface_mesh_parameterization/Mean_value_coordinates_parameterizer_3.h>
-#include <CGAL/Surface_mesh_parameterization/Square_border_parameterizer_3.h>
-#include <CGAL/Surface_mesh_parameterization/parameterize.h>
-
-#include "mesh/cgal_types.hpp"
-#endif
+#include "mesh/dirichlet.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -365,41 +357,41 @@ double path_length(const TriangleSoup& m, const std::vector<std::uint32_t>& loop
   return length;
 }
 
-#if defined(CGAL_EIGEN3_ENABLED)
-// Mean-value coordinates with the boundary on the square, corners as given (in boundary
-// order, surface on the left). CGAL walks the boundary the other way, so it lays the corners
-// out mirrored; swapping u and v undoes that and keeps the surface's orientation.
+// Mean-value coordinates with the boundary on the unit square: the corners (in boundary
+// order, surface on the left) at (0, 0), (1, 0), (1, 1) and (0, 1), the points between two
+// corners by arc length along that side.
 std::vector<std::array<double, 2>> solve_mvc(const TriangleSoup& m,
+                                             const std::vector<std::uint32_t>& loop,
                                              const std::array<std::uint32_t, 4>& c) {
-  namespace SMP = CGAL::Surface_mesh_parameterization;
-  using Mesh = detail::SurfaceMesh;
-  using VI = Mesh::Vertex_index;
-  Mesh mesh;
-  for (const Vec3& p : m.points) mesh.add_vertex(detail::to_cgal(p));
-  for (const Triangle& t : m.triangles)
-    if (mesh.add_face(VI(t[0]), VI(t[1]), VI(t[2])) == Mesh::null_face())
-      throw InputError("the surface cannot be laid out: a triangle breaks its manifold (internal)");
-  Mesh::Halfedge_index start;
-  for (Mesh::Halfedge_index h : mesh.halfedges())
-    if (mesh.is_border(h) && mesh.source(h) == VI(c[0])) start = h;
-  using Border = SMP::Square_border_arc_length_parameterizer_3<Mesh>;
-  using Parameterizer = SMP::Mean_value_coordinates_parameterizer_3<Mesh, Border>;
-  Parameterizer parameterizer{Border{VI(c[0]), VI(c[3]), VI(c[2]), VI(c[1])}};
-  auto uvmap = mesh.add_property_map<VI, detail::Kernel::Point_2>("v:uv").first;
-  const SMP::Error_code status = SMP::parameterize(mesh, parameterizer, start, uvmap);
-  if (status != SMP::OK)
-    throw InputError(std::string("the surface cannot be laid out: ") +
-                     SMP::get_error_message(status));
+  constexpr std::array<std::array<double, 2>, 5> square{{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}}};
+  std::vector<double> values(2 * m.points.size(), 0.0);
+  std::vector<char> fixed(m.points.size(), 0);
+  std::size_t i = std::find(loop.begin(), loop.end(), c[0]) - loop.begin();
+  for (int side = 0; side < 4; ++side) {
+    std::vector<std::pair<std::uint32_t, double>> run{{loop[i], 0.0}};  // point, length so far
+    for (; loop[i] != c[(side + 1) % 4]; i = (i + 1) % loop.size())
+      run.push_back(
+          {loop[(i + 1) % loop.size()],
+           run.back().second + norm(m.points[loop[(i + 1) % loop.size()]] - m.points[loop[i]])});
+    const double total = run.back().second;
+    if (!(total > 0))
+      throw InputError("the surface cannot be laid out: two of its corners are at one point");
+    run.pop_back();  // the next side's first corner
+    for (const auto& [v, length] : run) {
+      const double t = length / total;
+      fixed[v] = 1;
+      for (int k = 0; k < 2; ++k)
+        values[2 * v + k] = square[side][k] + t * (square[side + 1][k] - square[side][k]);
+    }
+  }
+  detail::solve_dirichlet(detail::mean_value_operator(m.points, m.triangles),
+                          detail::Symmetry::General, fixed, 2, values,
+                          "the surface cannot be laid out: its mean-value system is singular "
+                          "(degenerate triangles?)");
   std::vector<std::array<double, 2>> uv(m.points.size());
-  for (VI v : mesh.vertices()) uv[v.idx()] = {uvmap[v].y(), uvmap[v].x()};
+  for (std::size_t v = 0; v < uv.size(); ++v) uv[v] = {values[2 * v], values[2 * v + 1]};
   return uv;
 }
-#else
-std::vector<std::array<double, 2>> solve_mvc(const TriangleSoup&,
-                                             const std::array<std::uint32_t, 4>&) {
-  throw InputError("this tpmsfill was built without Eigen, which laying out surfaces needs");
-}
-#endif
 
 }  // namespace
 
@@ -462,7 +454,7 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
                         : default_corners(w.mesh, loops[0]);
   }
   p.corners = c;
-  p.uv = solve_mvc(w.mesh, c);
+  p.uv = solve_mvc(w.mesh, boundary, c);
   const std::vector<std::uint32_t>& loop = boundary;
   p.length_u =
       0.5 * (path_length(w.mesh, loop, c[0], c[1]) + path_length(w.mesh, loop, c[2], c[3]));

@@ -101,7 +101,7 @@ TEST(FieldCli, FitInfoMeshAndFill) {
                 &out),
             0)
       << out;
-  const ValidationReport open = validate_mesh(read_mesh(dir / "open.ply"));
+  const MeshValidity open = validate_mesh(read_mesh(dir / "open.ply"));
   EXPECT_TRUE(open.manifold());
   EXPECT_GT(open.border_edges, 0u);
   EXPECT_EQ(open.inconsistent_edges, 0u);

@@ -185,11 +185,11 @@ TEST(ThreeMf, FilledLatticeIsOneValidObjectWithItsMetadata) {
 
   const MeshFile back = read_mesh_file(dir / "ball.3mf");
   EXPECT_EQ(back.soup.triangles.size(), r.report.triangles());
-  const ValidationReport v = validate_mesh(back.soup);
+  const MeshValidity v = validate_mesh(back.soup);
   EXPECT_TRUE(v.valid()) << (v.problems().empty() ? "" : v.problems().front());
   ASSERT_TRUE(v.self_intersecting_pairs.has_value());
   EXPECT_EQ(*v.self_intersecting_pairs, 0u);
-  EXPECT_NEAR(v.volume, r.report.lattice_volume(), 1e-9 * r.report.lattice_volume());
+  EXPECT_NEAR(*v.volume, r.report.lattice_volume(), 1e-9 * r.report.lattice_volume());
   // The same job writes the same bytes: the attached report holds no seconds or peak memory.
   fs::create_directories(dir / "again");
   fill_to_file(test::make_sphere({0.3, 0.1, -0.2}, 5, 4), test::gyroid_options(2.5, 0.2),

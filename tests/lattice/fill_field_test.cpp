@@ -37,12 +37,12 @@ TEST(FillField, ATorusIsOneClosedShellOfGenusOneWithItsVolumeWhereverItSits) {
     };
     const FillResult f =
         fill_field(Box3{at - Vec3{9, 9, 3}, at + Vec3{9, 9, 3}}, field_options(torus, 0.1));
-    const ValidationReport& v = f.report.validation;
+    const MeshValidity& v = f.report.validation;
     ASSERT_TRUE(v.valid()) << v.problems().front();
     EXPECT_EQ(v.components, 1u);
     EXPECT_EQ(2 * v.vertices, v.triangles) << "not genus 1";
     const double volume = 2 * std::numbers::pi * std::numbers::pi * R * r * r;
-    EXPECT_NEAR(v.volume, volume, 0.01 * volume);
+    EXPECT_NEAR(*v.volume, volume, 0.01 * volume);
     EXPECT_EQ(f.report.input_triangles, 0u);
     EXPECT_EQ(f.report.rows, 0u);
     EXPECT_EQ(f.report.model_volume, 0.0);
@@ -57,7 +57,7 @@ TEST(FillField, ASolidReachingTheGridsEdgeIsClosedThere) {
   const auto below = [=](Vec3 p) { return static_cast<float>(p.z - at.z); };
   const FillResult f =
       fill_field(Box3{at - Vec3{5, 5, 5}, at + Vec3{5, 5, 5}}, field_options(below, 0.25));
-  const ValidationReport& v = f.report.validation;
+  const MeshValidity& v = f.report.validation;
   ASSERT_TRUE(v.valid()) << v.problems().front();
   EXPECT_EQ(v.components, 1u);
   EXPECT_EQ(2 * v.vertices, v.triangles + 4) << "not genus 0";
@@ -81,7 +81,7 @@ TEST(FillField, TheSmallerOfTwoBallsIsAnIslandUnlessKept) {
   const FillResult dropped = fill_field(box, o);
   EXPECT_EQ(dropped.report.validation.components, 1u);
   EXPECT_EQ(dropped.report.islands_removed, 1u);
-  EXPECT_NEAR(dropped.report.validation.volume, 4 * std::numbers::pi * 27 / 3, 1.0);
+  EXPECT_NEAR(*dropped.report.validation.volume, 4 * std::numbers::pi * 27 / 3, 1.0);
   o.keep_islands = true;
   EXPECT_EQ(fill_field(box, o).report.validation.components, 2u);
 }

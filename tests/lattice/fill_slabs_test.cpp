@@ -248,7 +248,7 @@ void expect_streamed_as_held(const TriangleSoup& model, FillOptions o, int plane
     EXPECT_TRUE(s.mesh.triangles.empty());
     EXPECT_EQ(s.report.slab_planes, std::min(planes, held.report.grid.dims[2]));
     EXPECT_TRUE(test::read_file(streamed) == test::read_file(expected));
-    const ValidationReport &a = held.report.validation, &b = s.report.validation;
+    const MeshValidity &a = held.report.validation, &b = s.report.validation;
     EXPECT_TRUE(b.valid());
     EXPECT_EQ(a.vertices, b.vertices);
     EXPECT_EQ(a.triangles, b.triangles);

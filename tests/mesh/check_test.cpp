@@ -31,7 +31,7 @@ void expect_valid(const MeshCheck& c) {
   EXPECT_EQ(c.outward, true);
 }
 
-bool mentions(const MeshCheck& c, const std::string& words) {
+bool mentions(const MeshValidity& c, const std::string& words) {
   for (const std::string& p : c.problems())
     if (p.find(words) != std::string::npos) return true;
   return false;
@@ -181,7 +181,7 @@ TEST(CheckMesh, FindsTheSelfIntersectionsValidationFinds) {
       }
       ValidateOptions every;
       every.max_examples = 1000000;
-      const ValidationReport v = validate_mesh(soup, every);
+      const MeshValidity v = validate_mesh(soup, every);
       ASSERT_TRUE(v.self_intersecting_pairs);
       EXPECT_GT(*c.self_intersecting_pairs, 0u);
       EXPECT_EQ(*c.self_intersecting_pairs, *v.self_intersecting_pairs)
@@ -189,6 +189,66 @@ TEST(CheckMesh, FindsTheSelfIntersectionsValidationFinds) {
       EXPECT_EQ(c.self_intersection_examples, v.self_intersection_examples);
     }
   }
+}
+
+// check and validate report through one type with one verdict: on meshes whose points are
+// already shared, the validity facts agree wherever the mesh sits; where a soup repeats its
+// points, check merges them (valid) and validate, taking the indices as given, names them.
+TEST(CheckMesh, CheckAndValidateGiveOneVerdict) {
+  TriangleSoup hollow = kBox;  // a box with a box-shaped cavity
+  TriangleSoup inner = flip(make_box({2, 2, 2}, {8, 18, 28}));
+  hollow = concat(hollow, inner);
+  TriangleSoup torn = kBox;  // one missing triangle
+  torn.triangles.pop_back();
+  const std::vector<TriangleSoup> shapes = {
+      kBox,
+      test::make_sphere({0, 0, 0}, 1, 3),
+      test::make_torus(3, 1, 48, 24),
+      hollow,
+      torn,
+      flip(kBox),
+      flip(kBox, 4),
+      test::make_bow_tie(),
+      concat(kBox, make_box({5, 5, 5}, {15, 25, 35})),
+      concat(test::make_sphere({0, 0, 0}, 1, 3), test::make_torus(0.8, 0.3, 32, 16))};
+  for (const Vec3 at : {Vec3{0, 0, 0}, Vec3{150, 150, 0}, Vec3{-350, 20, 400}}) {
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+      TriangleSoup soup = shapes[i];
+      for (Vec3& p : soup.points) p = p + at;
+      SCOPED_TRACE("shape " + std::to_string(i) + " at x = " + std::to_string(at.x));
+      const MeshCheck c = check_mesh(soup);
+      const MeshValidity v = validate_mesh(soup);
+      EXPECT_TRUE(c.merged_points);
+      EXPECT_FALSE(v.merged_points);
+      EXPECT_EQ(c.valid(), v.valid());
+      EXPECT_EQ(c.problems().empty(), v.problems().empty());
+      EXPECT_EQ(c.problems().size(), v.problems().size());
+      EXPECT_EQ(c.border_edges, v.border_edges);
+      EXPECT_EQ(c.non_manifold_edges, v.non_manifold_edges);
+      EXPECT_EQ(c.non_manifold_vertices, v.non_manifold_vertices);
+      EXPECT_EQ(c.inconsistent_edges, v.inconsistent_edges);
+      EXPECT_EQ(c.degenerate_triangles, v.degenerate_triangles);
+      EXPECT_EQ(c.self_intersecting_pairs, v.self_intersecting_pairs);
+      EXPECT_EQ(c.components, v.components);
+      EXPECT_EQ(c.border_edge_examples, v.border_edge_examples);
+      EXPECT_EQ(c.inconsistent_edge_examples, v.inconsistent_edge_examples);
+      EXPECT_EQ(c.non_manifold_vertex_examples, v.non_manifold_vertex_examples);
+      EXPECT_NEAR(c.area, v.area, 1e-12 * c.area);
+      if (c.volume) {
+        EXPECT_NEAR(*c.volume, *v.volume, 1e-9 * std::fabs(*c.volume));
+      }
+      EXPECT_TRUE(!c.outward || c.outward == v.outward);
+    }
+  }
+  // The same box with every triangle's own points (as STL stores it).
+  const TriangleSoup stl = test::unshare_points(kBox);
+  const MeshCheck c = check_mesh(stl);
+  const MeshValidity v = validate_mesh(stl);
+  EXPECT_TRUE(c.valid());
+  EXPECT_EQ(c.duplicate_points, 28u);
+  EXPECT_FALSE(v.valid());
+  EXPECT_EQ(v.duplicate_points, 28u);
+  EXPECT_TRUE(mentions(v, "28 duplicate points"));
 }
 
 TEST(CheckMesh, OneFlippedFaceGivesThreeInconsistentEdges) {

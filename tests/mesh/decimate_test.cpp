@@ -114,7 +114,7 @@ double slack(double tolerance) {
 void expect_valid_within(const TriangleSoup& input, const DecimateResult& r, double tolerance) {
   EXPECT_TRUE(r.report.validation.valid())
       << testing::PrintToString(r.report.validation.problems());
-  const ValidationReport v = validate_mesh(r.mesh);
+  const MeshValidity v = validate_mesh(r.mesh);
   EXPECT_TRUE(v.valid()) << testing::PrintToString(v.problems());
   EXPECT_EQ(v.self_intersecting_pairs.value_or(1), 0u);
   const MeshCheck c = check_mesh(r.mesh);  // the independent checker
@@ -128,7 +128,7 @@ void expect_valid_within(const TriangleSoup& input, const DecimateResult& r, dou
   // The volume moves by at most the tolerance over the surface (a shell of width tolerance).
   EXPECT_LE(std::abs(r.report.volume_after - r.report.volume_before),
             tolerance * r.report.area_before);
-  EXPECT_NEAR(r.report.volume_after, v.volume, 1e-9 * std::abs(v.volume));
+  EXPECT_NEAR(r.report.volume_after, *v.volume, 1e-9 * std::abs(*v.volume));
 }
 
 }  // namespace

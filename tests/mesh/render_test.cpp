@@ -486,7 +486,7 @@ TEST(CheckPicture, LegendSaysWhyFacesAreFlippedAndWhereHolesAre) {
   ASSERT_GT(t.holes, 0u);
   legend.clear();
   for (const LegendEntry& e : mark_defects(split, t, {}).legend) legend += e.text + "\n";
-  EXPECT_NE(legend.find("border edges: 0; " + std::to_string(t.holes) +
+  EXPECT_NE(legend.find("border edges: 0; " + std::to_string(t.holes.value_or(0)) +
                         " holes once its non-manifold edges are split"),
             std::string::npos)
       << legend;

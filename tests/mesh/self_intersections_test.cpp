@@ -89,7 +89,7 @@ TEST(SelfIntersections, CornerSharingPairsMatchExactIntersection) {
   g.dims = {count + 1, 2, 2};
   by_cells.cell_grid = g;
   for (const ValidateOptions& o : {general, by_cells}) {
-    const ValidationReport r = validate_mesh(pairs.soup, o);
+    const MeshValidity r = validate_mesh(pairs.soup, o);
     EXPECT_EQ(r.searched_by_cells, o.cell_grid.has_value());
     EXPECT_EQ(r.degenerate_triangles, 0u);
     EXPECT_EQ(r.self_intersecting_pairs, pairs.meeting.size());

@@ -25,13 +25,13 @@ using test::flip;
 
 namespace {
 
-bool mentions(const ValidationReport& r, const std::string& words) {
+bool mentions(const MeshValidity& r, const std::string& words) {
   for (const std::string& p : r.problems())
     if (p.find(words) != std::string::npos) return true;
   return false;
 }
 
-void expect_valid(const ValidationReport& r) {
+void expect_valid(const MeshValidity& r) {
   EXPECT_TRUE(r.valid());
   EXPECT_TRUE(r.problems().empty()) << r.problems().front();
   EXPECT_EQ(r.border_edges, 0u);
@@ -41,8 +41,11 @@ void expect_valid(const ValidationReport& r) {
   EXPECT_EQ(r.degenerate_triangles, 0u);
   EXPECT_EQ(r.duplicate_points, 0u);
   EXPECT_EQ(r.self_intersecting_pairs, std::uint64_t{0});
-  EXPECT_TRUE(r.outward);
-  EXPECT_TRUE(r.bad_edge_examples.empty());
+  EXPECT_EQ(r.outward, true);
+  EXPECT_TRUE(r.border_edge_examples.empty());
+  EXPECT_TRUE(r.non_manifold_edge_examples.empty());
+  EXPECT_TRUE(r.inconsistent_edge_examples.empty());
+  EXPECT_TRUE(r.non_manifold_vertex_examples.empty());
 }
 
 ValidateOptions with_grid(const Grid& grid, std::size_t max_examples = 10) {
@@ -171,27 +174,27 @@ TriangleSoup tet_sphere(const Grid& g, Vec3 c, double r) {
 
 TEST(Validate, SphereIsValid) {
   const TriangleSoup sphere = test::make_sphere({1, 2, 3}, 5.0, 3);
-  const ValidationReport r = validate_mesh(sphere);
+  const MeshValidity r = validate_mesh(sphere);
   expect_valid(r);
   EXPECT_EQ(r.vertices, 642u);
   EXPECT_EQ(r.triangles, 1280u);
   EXPECT_EQ(r.components, 1u);
-  EXPECT_NEAR(r.volume, test::signed_volume(sphere), 1e-9 * test::signed_volume(sphere));
+  EXPECT_NEAR(*r.volume, test::signed_volume(sphere), 1e-9 * test::signed_volume(sphere));
   EXPECT_NEAR(r.area, 4 * std::numbers::pi * 25, 0.02 * 4 * std::numbers::pi * 25);
 }
 
 TEST(Validate, TorusIsValidWithItsVolume) {
   const double R = 3, rr = 1;
-  const ValidationReport r = validate_mesh(test::make_torus(R, rr, 128, 64));
+  const MeshValidity r = validate_mesh(test::make_torus(R, rr, 128, 64));
   expect_valid(r);
   EXPECT_EQ(r.components, 1u);
   const double exact = 2 * std::numbers::pi * std::numbers::pi * R * rr * rr;
-  EXPECT_NEAR(r.volume, exact, 0.01 * exact);  // inscribed polygons lose ~0.2%
-  EXPECT_LT(r.volume, exact);
+  EXPECT_NEAR(*r.volume, exact, 0.01 * exact);  // inscribed polygons lose ~0.2%
+  EXPECT_LT(*r.volume, exact);
 }
 
 TEST(Validate, BoxIsValidWithExactVolume) {
-  const ValidationReport r = validate_mesh(test::make_box({0, 0, 0}, {10, 20, 30}));
+  const MeshValidity r = validate_mesh(test::make_box({0, 0, 0}, {10, 20, 30}));
   expect_valid(r);
   EXPECT_EQ(r.volume, 6000.0);
   EXPECT_DOUBLE_EQ(r.area, 2 * (10 * 20 + 20 * 30 + 10 * 30));
@@ -200,19 +203,26 @@ TEST(Validate, BoxIsValidWithExactVolume) {
 TEST(Validate, BoxWithMissingTriangleHasBorderEdges) {
   TriangleSoup box = test::make_box({0, 0, 0}, {1, 1, 1});
   box.triangles.erase(box.triangles.begin() + 5);
-  const ValidationReport r = validate_mesh(box);
+  const MeshValidity r = validate_mesh(box);
   EXPECT_FALSE(r.valid());
   EXPECT_FALSE(r.closed());
   EXPECT_EQ(r.border_edges, 3u);
-  EXPECT_EQ(r.bad_edge_examples.size(), 3u);
+  ASSERT_EQ(r.border_edge_examples.size(), 3u);
+  for (const EdgeLocation& e : r.border_edge_examples) {  // the named triangle walks the edge
+    const Triangle& t = box.triangles[e.triangle];
+    int walks = 0;
+    for (int k = 0; k < 3; ++k)
+      walks += box.points[t[k]] == e.ends[0] && box.points[t[(k + 1) % 3]] == e.ends[1];
+    EXPECT_EQ(walks, 1);
+  }
   EXPECT_EQ(r.inconsistent_edges, 0u);
   EXPECT_TRUE(mentions(r, "3 border edges: the mesh is not closed"));
-  const ValidationReport hole = validate_mesh(test::make_box_with_hole({0, 0, 0}, {1, 1, 1}));
+  const MeshValidity hole = validate_mesh(test::make_box_with_hole({0, 0, 0}, {1, 1, 1}));
   EXPECT_EQ(hole.border_edges, 4u);
 }
 
 TEST(Validate, FlippedTriangleGivesInconsistentEdges) {
-  const ValidationReport r = validate_mesh(flip(test::make_box({0, 0, 0}, {1, 1, 1}), 3));
+  const MeshValidity r = validate_mesh(flip(test::make_box({0, 0, 0}, {1, 1, 1}), 3));
   EXPECT_FALSE(r.valid());
   EXPECT_TRUE(r.closed());
   EXPECT_TRUE(r.manifold());
@@ -222,14 +232,14 @@ TEST(Validate, FlippedTriangleGivesInconsistentEdges) {
 
 TEST(Validate, WholeMeshFlippedIsNotOutward) {
   const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 2.0, 2);
-  const ValidationReport r = validate_mesh(flip(sphere));
+  const MeshValidity r = validate_mesh(flip(sphere));
   EXPECT_FALSE(r.valid());
-  EXPECT_FALSE(r.outward);
+  EXPECT_EQ(r.outward, false);
   EXPECT_TRUE(r.closed());
   EXPECT_TRUE(r.manifold());
   EXPECT_EQ(r.inconsistent_edges, 0u);
-  EXPECT_LT(r.volume, 0);
-  EXPECT_DOUBLE_EQ(r.volume, -validate_mesh(sphere).volume);
+  EXPECT_LT(*r.volume, 0);
+  EXPECT_DOUBLE_EQ(*r.volume, -*validate_mesh(sphere).volume);
   EXPECT_TRUE(mentions(r, "inside out"));
 }
 
@@ -237,7 +247,7 @@ TEST(Validate, NestedShellOrientedInwardIsStillOutward) {
   // A hollow ball: the inner shell's normals point into the cavity (negative volume).
   const TriangleSoup hollow =
       concat(test::make_sphere({0, 0, 0}, 3.0, 2), flip(test::make_sphere({0, 0, 0}, 1.0, 2)));
-  const ValidationReport r = validate_mesh(hollow);
+  const MeshValidity r = validate_mesh(hollow);
   expect_valid(r);
   EXPECT_EQ(r.components, 2u);
 }
@@ -245,7 +255,7 @@ TEST(Validate, NestedShellOrientedInwardIsStillOutward) {
 TEST(Validate, OverlappingSpheresIntersectAndAgreeWithCheckMesh) {
   const TriangleSoup two =
       concat(test::make_sphere({0, 0, 0}, 1.0, 3), test::make_sphere({0.7, 0.1, 0.05}, 1.0, 3));
-  const ValidationReport r = validate_mesh(two, general(1000000));
+  const MeshValidity r = validate_mesh(two, general(1000000));
   ASSERT_TRUE(r.self_intersecting_pairs);
   EXPECT_GT(*r.self_intersecting_pairs, 0u);
   EXPECT_FALSE(r.valid());
@@ -265,7 +275,7 @@ TEST(Validate, OverlappingSpheresIntersectAndAgreeWithCheckMesh) {
   EXPECT_EQ(c.self_intersecting_pairs, r.self_intersecting_pairs);
   EXPECT_EQ(c.self_intersection_examples, r.self_intersection_examples);
   // Examples are capped, the count is not.
-  const ValidationReport capped = validate_mesh(two);
+  const MeshValidity capped = validate_mesh(two);
   EXPECT_EQ(capped.self_intersecting_pairs, r.self_intersecting_pairs);
   ASSERT_EQ(capped.self_intersection_examples.size(), 10u);
   EXPECT_TRUE(std::equal(capped.self_intersection_examples.begin(),
@@ -290,7 +300,7 @@ TEST(Validate, SharedEdgePairsCountOnlyWhenFoldedOver) {
   for (const ValidateOptions& o : {general(), with_grid(one_cell)}) {
     EXPECT_EQ(validate_mesh(pair_with({0.5, -1, 0}), o).self_intersecting_pairs, 0u);
     EXPECT_EQ(validate_mesh(pair_with({0.5, 0.5, 1}), o).self_intersecting_pairs, 0u);
-    const ValidationReport folded = validate_mesh(pair_with({0.25, 0.5, 0}), o);
+    const MeshValidity folded = validate_mesh(pair_with({0.25, 0.5, 0}), o);
     EXPECT_EQ(folded.self_intersecting_pairs, 1u);
     EXPECT_EQ(folded.searched_by_cells, o.cell_grid.has_value());
     EXPECT_EQ(folded.self_intersection_examples,
@@ -321,7 +331,7 @@ TEST(Validate, SharedVertexPairsCountOnlyWhenTheyMeetElsewhere) {
 }
 
 TEST(Validate, BowTieHasANonManifoldVertex) {
-  const ValidationReport r = validate_mesh(test::make_bow_tie());
+  const MeshValidity r = validate_mesh(test::make_bow_tie());
   EXPECT_FALSE(r.valid());
   EXPECT_TRUE(r.closed());
   EXPECT_EQ(r.non_manifold_edges, 0u);
@@ -335,12 +345,14 @@ TEST(Validate, EdgeOfThreeTrianglesIsNonManifold) {
   TriangleSoup s;
   s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
   s.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
-  const ValidationReport r = validate_mesh(s);
+  const MeshValidity r = validate_mesh(s);
   EXPECT_EQ(r.non_manifold_edges, 1u);
   EXPECT_EQ(r.border_edges, 6u);
-  ASSERT_GE(r.bad_edge_examples.size(), 7u);
-  // Border examples first, then the non-manifold edge, walked as triangle 0 walks it.
-  EXPECT_EQ(r.bad_edge_examples[6], (std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 0, 0}}));
+  ASSERT_EQ(r.non_manifold_edge_examples.size(), 1u);
+  // Walked as its lowest-index triangle, 0, walks it.
+  EXPECT_EQ(r.non_manifold_edge_examples[0].ends,
+            (std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 0, 0}}));
+  EXPECT_EQ(r.non_manifold_edge_examples[0].triangle, 0u);
 }
 
 TEST(Validate, DuplicatePointsAreFlagged) {
@@ -353,7 +365,7 @@ TEST(Validate, DuplicatePointsAreFlagged) {
   TriangleSoup torn = sphere;
   torn.points.push_back(sphere.points[torn.triangles[0][0]]);
   torn.triangles[0][0] = static_cast<std::uint32_t>(torn.points.size() - 1);
-  const ValidationReport r = validate_mesh(torn);
+  const MeshValidity r = validate_mesh(torn);
   EXPECT_EQ(r.duplicate_points, 1u);
   EXPECT_EQ(r.border_edges, 4u);
   EXPECT_FALSE(r.valid());
@@ -377,14 +389,14 @@ TEST(Validate, DegenerateTrianglesAreFlagged) {
     if (s.points[i] == Vec3{1, 0, 0}) p1 = i;
   }
   s.triangles.push_back({p0, mid, p1});  // collinear
-  const ValidationReport r = validate_mesh(s);
+  const MeshValidity r = validate_mesh(s);
   EXPECT_EQ(r.degenerate_triangles, 2u);
-  EXPECT_EQ(r.degenerate_examples, (std::vector<std::uint32_t>{12, 13}));
+  EXPECT_EQ(r.degenerate_triangle_examples, (std::vector<std::uint32_t>{12, 13}));
   EXPECT_TRUE(mentions(r, "2 degenerate triangles"));
 }
 
 TEST(Validate, EmptyMeshAndBadIndices) {
-  const ValidationReport r = validate_mesh(TriangleSoup{});
+  const MeshValidity r = validate_mesh(TriangleSoup{});
   EXPECT_FALSE(r.valid());
   EXPECT_TRUE(mentions(r, "no triangles"));
   TriangleSoup bad;
@@ -408,7 +420,7 @@ TEST(Validate, NotSearchingLeavesSelfIntersectionsUnset) {
   o.self_intersections = false;
   const TriangleSoup two =
       concat(test::make_sphere({0, 0, 0}, 1.0, 2), test::make_sphere({0.5, 0, 0}, 1.0, 2));
-  const ValidationReport r = validate_mesh(two, o);
+  const MeshValidity r = validate_mesh(two, o);
   EXPECT_FALSE(r.self_intersecting_pairs.has_value());
   EXPECT_TRUE(r.valid());  // unsearched self-intersections count as none
 }
@@ -443,8 +455,8 @@ TEST(Validate, CellGridFindsExactlyTheCraftedPairs) {
   add({0.1, 8.1, 8.9}, {1.0, 9.0, 9.0}, {0.1, 8.9, 8.9});
   add({1.0, 9.2, 9.0}, {1.9, 9.0, 9.9}, {1.9, 9.5, 9.9});
   const std::vector<std::array<std::uint32_t, 2>> expected{{0, 1}, {2, 3}, {6, 7}};
-  const ValidationReport cells = validate_mesh(s, with_grid(g));
-  const ValidationReport all = validate_mesh(s, general());
+  const MeshValidity cells = validate_mesh(s, with_grid(g));
+  const MeshValidity all = validate_mesh(s, general());
   EXPECT_EQ(cells.self_intersecting_pairs, 3u);
   EXPECT_TRUE(cells.searched_by_cells);
   EXPECT_FALSE(all.searched_by_cells);
@@ -452,7 +464,7 @@ TEST(Validate, CellGridFindsExactlyTheCraftedPairs) {
   EXPECT_EQ(all.self_intersection_examples, expected);
   // A triangle spanning several cells breaks the promise: the general search takes over.
   add({0.5, 5.5, 5.5}, {2.5, 5.5, 5.5}, {0.5, 7.5, 5.5});  // 10: crosses 7, touches 6's plane
-  const ValidationReport broken = validate_mesh(s, with_grid(g));
+  const MeshValidity broken = validate_mesh(s, with_grid(g));
   EXPECT_EQ(broken.self_intersection_examples,
             validate_mesh(s, general()).self_intersection_examples);
   EXPECT_GT(*broken.self_intersecting_pairs, 3u);
@@ -466,13 +478,13 @@ TEST(Validate, MarchingTetrahedraSphereIsValidOnBothPaths) {
       grid_around(c - Vec3{radius, radius, radius}, c + Vec3{radius, radius, radius}, 0.5);
   const TriangleSoup sphere = tet_sphere(g, c, radius);
   ASSERT_GT(sphere.triangles.size(), 10000u);
-  const ValidationReport cells = validate_mesh(sphere, with_grid(g));
+  const MeshValidity cells = validate_mesh(sphere, with_grid(g));
   expect_valid(cells);
   EXPECT_TRUE(cells.searched_by_cells);
   EXPECT_EQ(cells.components, 1u);
   const double exact = 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
-  EXPECT_NEAR(cells.volume, exact, 0.01 * exact);
-  const ValidationReport all = validate_mesh(sphere, general());
+  EXPECT_NEAR(*cells.volume, exact, 0.01 * exact);
+  const MeshValidity all = validate_mesh(sphere, general());
   expect_valid(all);
   EXPECT_EQ(all.volume, cells.volume);
 }
@@ -488,10 +500,10 @@ TEST(Validate, MarchingTetrahedraGyroidBallIsValid) {
     return std::max(norm(p - Vec3{0.01, 0.02, 0.03}) - 5.0, gyroid / k);
   });
   ASSERT_GT(lattice.triangles.size(), 50000u);
-  const ValidationReport cells = validate_mesh(lattice, with_grid(g));
+  const MeshValidity cells = validate_mesh(lattice, with_grid(g));
   expect_valid(cells);
   EXPECT_TRUE(cells.searched_by_cells);
-  const ValidationReport all = validate_mesh(lattice, general());
+  const MeshValidity all = validate_mesh(lattice, general());
   EXPECT_EQ(all.self_intersecting_pairs, std::uint64_t{0});
   // What check_mesh says about the same mesh.
   const MeshCheck c = check_mesh(lattice);
@@ -503,8 +515,8 @@ TEST(Validate, CellGridAgreesWithGeneralSearchOnOverlappingSpheres) {
   const Grid g = grid_around({-5, -5, -5}, {7, 5, 5}, 0.5);
   const TriangleSoup two =
       concat(tet_sphere(g, {0.11, 0.07, 0.03}, 4.2), tet_sphere(g, {2.71, 0.33, -0.19}, 3.7));
-  const ValidationReport cells = validate_mesh(two, with_grid(g, 1000000));
-  const ValidationReport all = validate_mesh(two, general(1000000));
+  const MeshValidity cells = validate_mesh(two, with_grid(g, 1000000));
+  const MeshValidity all = validate_mesh(two, general(1000000));
   ASSERT_TRUE(cells.self_intersecting_pairs);
   EXPECT_GT(*cells.self_intersecting_pairs, 100u);
   EXPECT_EQ(cells.self_intersecting_pairs, all.self_intersecting_pairs);
@@ -572,13 +584,16 @@ TEST(Validate, SameReportAtOneAndTwoThreads) {
     return validate_mesh(two, o);
   };
   for (const ValidateOptions& o : {with_grid(g, 50), general(50)}) {
-    const ValidationReport one = run(1, o), many = run(2, o);
+    const MeshValidity one = run(1, o), many = run(2, o);
     EXPECT_EQ(one.volume, many.volume);
     EXPECT_EQ(one.area, many.area);
     EXPECT_EQ(one.self_intersecting_pairs, many.self_intersecting_pairs);
     EXPECT_EQ(one.self_intersection_examples, many.self_intersection_examples);
     EXPECT_EQ(one.components, many.components);
-    EXPECT_EQ(one.bad_edge_examples, many.bad_edge_examples);
+    EXPECT_EQ(one.border_edge_examples, many.border_edge_examples);
+    EXPECT_EQ(one.non_manifold_edge_examples, many.non_manifold_edge_examples);
+    EXPECT_EQ(one.inconsistent_edge_examples, many.inconsistent_edge_examples);
+    EXPECT_EQ(one.non_manifold_vertex_examples, many.non_manifold_vertex_examples);
   }
 }
 
@@ -609,9 +624,9 @@ TEST(Validate, DISABLED_TimingCellGrid) {
   topology_only.self_intersections = false;
   for (int round = 0; round < 3; ++round) {
     auto t0 = Clock::now();
-    const ValidationReport top = validate_mesh(sphere, topology_only);
+    const MeshValidity top = validate_mesh(sphere, topology_only);
     auto t1 = Clock::now();
-    const ValidationReport cells = validate_mesh(sphere, with_grid(g));
+    const MeshValidity cells = validate_mesh(sphere, with_grid(g));
     auto t2 = Clock::now();
     std::printf(
         "validate without SI: %.0f ms; with cell-grid SI: %.0f ms (valid %d, by cells %d)\n",
@@ -624,12 +639,12 @@ TEST(Validate, DISABLED_TimingGeneral) {
   Grid g;
   const TriangleSoup sphere = million_triangle_sphere(g);
   auto t0 = Clock::now();
-  const ValidationReport all = validate_mesh(sphere, general());
+  const MeshValidity all = validate_mesh(sphere, general());
   auto t1 = Clock::now();
   std::printf("same mesh, general SI: %.0f ms (valid %d)\n", ms(t0, t1), all.valid());
   const TriangleSoup ico = test::make_sphere({0, 0, 0}, 1, 8);
   t0 = Clock::now();
-  const ValidationReport r8 = validate_mesh(ico);
+  const MeshValidity r8 = validate_mesh(ico);
   t1 = Clock::now();
   std::printf("make_sphere level 8 (%zu triangles), general SI: %.0f ms (valid %d)\n",
               ico.triangles.size(), ms(t0, t1), r8.valid());
@@ -677,7 +692,7 @@ TEST(ValidateWindow, WindowsAddUpToTheWholeMesh) {
   TriangleSoup whole{mesh.points, {}};
   for (std::size_t t = 0; t < tris.size(); ++t)
     if (keep[t]) whole.triangles.push_back(tris[t]);
-  const ValidationReport expected = validate_mesh(whole, {.cell_grid = grid});
+  const MeshValidity expected = validate_mesh(whole, {.cell_grid = grid});
   ASSERT_GT(expected.border_edges, 0u);
   ASSERT_GT(expected.non_manifold_edges, 0u);
   ASSERT_GT(expected.inconsistent_edges, 0u);
@@ -717,6 +732,17 @@ TEST(ValidateWindow, WindowsAddUpToTheWholeMesh) {
       sum.inconsistent += w.inconsistent;
       sum.pinched += w.pinched;
       sum.duplicates += w.duplicates;
+      // Each example edge names a window triangle that walks it as its ends say.
+      for (const auto* examples :
+           {&w.border_examples, &w.non_manifold_examples, &w.inconsistent_examples})
+        for (const EdgeLocation& e : *examples) {
+          ASSERT_LT(e.triangle, window.triangles.size());
+          const Triangle& t = window.triangles[e.triangle];
+          int walks = 0;
+          for (int k = 0; k < 3; ++k)
+            walks += window.points[t[k]] == e.ends[0] && window.points[t[(k + 1) % 3]] == e.ends[1];
+          EXPECT_GE(walks, 1);
+        }
     }
     EXPECT_EQ(vertices, expected.vertices);
     EXPECT_EQ(degenerate, expected.degenerate_triangles);

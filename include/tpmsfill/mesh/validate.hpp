@@ -5,9 +5,10 @@
 ///
 /// Unlike check_mesh() (which accepts any soup and merges bit-identical points first), this
 /// judges the mesh exactly as indexed, fast enough for multi-million-triangle outputs: the
-/// topology is integer sorting, geometric decisions use CGAL's exact predicates (Epick).
-/// Returns data; fill() turns a failing report into a ValidationError. The report counts the
-/// mesh's connected components; to list, measure or drop them see components.hpp.
+/// topology is integer sorting, geometric decisions use CGAL's exact predicates (Epick). Both
+/// report through MeshValidity, with one exact pair test for self-intersections. Returns data;
+/// fill() turns a failing report into a ValidationError. The report counts the mesh's
+/// connected components; to list, measure or drop them see components.hpp.
 #pragma once
 
 #include <array>
@@ -34,46 +35,102 @@ struct ValidateOptions {
   Progress* progress = nullptr;
 };
 
-struct ValidationReport {
-  std::uint64_t vertices = 0;  ///< points referenced by triangles
-  std::uint64_t triangles = 0;
-  std::uint64_t border_edges = 0;           ///< undirected edges used by one triangle
-  std::uint64_t non_manifold_edges = 0;     ///< used by three or more
-  std::uint64_t non_manifold_vertices = 0;  ///< whose triangles form more than one fan
-  std::uint64_t inconsistent_edges = 0;     ///< two triangles walking it the same way
-  std::uint64_t degenerate_triangles = 0;   ///< repeated corner or collinear (exact)
-  /// Referenced points whose position (bit for bit; -0.0 == +0.0) an earlier referenced point
-  /// already has.
-  std::uint64_t duplicate_points = 0;
-  /// Pairs of non-degenerate triangles that intersect with exact predicates, as CGAL's
-  /// PMP::self_intersections decides it with shared corners taken by index: sharing an edge,
-  /// only if they overlap (coplanar, opposite corners on the same side); sharing one corner,
-  /// only if they also meet elsewhere; otherwise if they meet at all. Degenerate triangles are
-  /// counted above and left out of the search. Unset when not searched.
-  std::optional<std::uint64_t> self_intersecting_pairs;
-  /// The search paired triangles by options.cell_grid; false when it was not set, when some
-  /// triangle did not lie in its cell (then the general search ran: for marching-cubes output
-  /// on that grid this means a bug upstream), or when not searched.
-  bool searched_by_cells = false;
-  std::uint64_t components = 0;  ///< connected through shared vertices
-  double area = 0;               ///< mm^2
-  double volume = 0;             ///< signed, mm^3 (divergence theorem, summed in fixed order)
-  /// Every component has a non-zero volume and the total is positive (with the mesh closed
-  /// and consistently oriented, normals then point out of the solid).
-  bool outward = false;
+/// An edge between two points (coordinates in mm) and one triangle (input index) that uses it.
+struct EdgeLocation {
+  std::array<Vec3, 2> ends;
+  std::uint32_t triangle = 0;
+  bool operator==(const EdgeLocation&) const = default;
+};
 
-  /// Triangle pairs (i < j), the smallest in lexicographic order.
+/// Whether a mesh bounds a solid, and where it does not: the report validate_mesh() returns
+/// and check_mesh()'s MeshCheck extends with a soup's own facts, so both stages give one
+/// verdict, valid(), and one list of problems() in the same words. Counts refer to the mesh's
+/// vertices as `merged_points` says; triangle indices to the input's triangles.
+struct MeshValidity {
+  /// How corners are identified. false (validate_mesh): as indexed, and separate vertices at
+  /// one position are a defect (duplicate_points). true (check_mesh): by position, points with
+  /// bit-identical coordinates merged first (-0.0 == +0.0), as a soup's topology is its
+  /// positions'.
+  bool merged_points = false;
+  std::uint64_t triangles = 0;
+  std::uint64_t vertices = 0;  ///< distinct vertices (as merged_points says) referenced
+  /// Points whose position an earlier point already has (bit for bit). Merged: every point
+  /// counts and they are merged, not a defect. As indexed: referenced points only, each a
+  /// separate vertex at another's position.
+  std::uint64_t duplicate_points = 0;
+
+  // --- faces --------------------------------------------------------------------------
+  /// Triangles with a repeated corner or three exactly collinear corners (CGAL::collinear).
+  /// Those with a repeated corner take no part in edges, fans or components.
+  std::uint64_t degenerate_triangles = 0;
+  /// Triangles without a repeated corner that have the same three corners as an earlier one
+  /// (in any order or orientation); the earliest of each set is not counted. Only check_mesh()
+  /// counts them: as indexed a duplicate triangle always shows as an inconsistent or
+  /// non-manifold edge or as a component without volume, so validate_mesh() leaves 0.
+  std::uint64_t duplicate_triangles = 0;
+
+  // --- edges and vertices ---------------------------------------------------------------
+  std::uint64_t border_edges = 0;  ///< undirected edges used by one triangle
+  /// Border cycles of the mesh CGAL builds from the soup (check_mesh only, MeshCheck says
+  /// how); unset when not counted.
+  std::optional<std::uint64_t> holes;
+  std::uint64_t non_manifold_edges = 0;  ///< used by three or more triangles
+  /// Vertices whose triangles form more than one fan (pinched, e.g. a bow-tie). Triangles
+  /// around a vertex are in one fan when they are joined through edges at the vertex shared
+  /// by two or more triangles, so a vertex on a non-manifold edge counts only when it is
+  /// also pinched (the edge is already reported).
+  std::uint64_t non_manifold_vertices = 0;
+  /// Edges shared by exactly two triangles that walk it in the same direction.
+  std::uint64_t inconsistent_edges = 0;
+
+  // --- whole mesh ---------------------------------------------------------------------
+  std::uint64_t components = 0;  ///< connected through shared vertices
+  /// Pairs of triangles that intersect, by one exact pair test (Epick) with shared corners
+  /// taken by vertex: sharing an edge, only if they overlap (coplanar, opposite corners on the
+  /// same side); sharing one corner, only if they also meet elsewhere; otherwise if they meet
+  /// at all. Degenerate and duplicate triangles are counted above and left out of the search.
+  /// Unset when not searched.
+  std::optional<std::uint64_t> self_intersecting_pairs;
+  /// The search paired triangles by ValidateOptions::cell_grid; false when it was not set,
+  /// when some triangle did not lie in its cell (then the general search ran: for
+  /// marching-cubes output on that grid this means a bug upstream), or when not searched.
+  bool searched_by_cells = false;
+  double area = 0;  ///< total triangle area, mm^2
+  /// Signed volume, mm^3 (divergence theorem, summed in a fixed order, negative when inside
+  /// out). validate_mesh() always sets it; check_mesh() only for a closed, manifold,
+  /// consistently oriented mesh with a surface, where it means a solid's volume.
+  std::optional<double> volume;
+  /// Normals point out of the solid; set when volume is. As indexed (validate_mesh): every
+  /// component has a non-zero volume and the total is positive. Merged (check_mesh): every
+  /// shell is oriented so the solid is on its inner side (nested shells alternate:
+  /// PMP::does_bound_a_volume and a positive volume; when self-intersections exist, were not
+  /// searched for, or faces are degenerate, a positive volume alone).
+  std::optional<bool> outward;
+
+  // --- where -------------------------------------------------------------------------
+  // At most max_examples of each. Edges: ends in the direction the named triangle (the edge's
+  // lowest-index triangle as indexed) walks them, in order of their smaller vertex; vertices
+  // likewise; triangles in input order; self-intersections as (i < j) pairs, the smallest in
+  // lexicographic order.
+  std::vector<EdgeLocation> border_edge_examples;
+  std::vector<EdgeLocation> non_manifold_edge_examples;
+  std::vector<EdgeLocation> inconsistent_edge_examples;
+  std::vector<Vec3> non_manifold_vertex_examples;
+  std::vector<std::uint32_t> degenerate_triangle_examples;
+  std::vector<std::uint32_t> duplicate_triangle_examples;
   std::vector<std::array<std::uint32_t, 2>> self_intersection_examples;
-  std::vector<std::uint32_t> degenerate_examples;  ///< triangles, in index order
-  /// Up to max_examples border edges, then up to max_examples non-manifold edges, then up to
-  /// max_examples inconsistent edges, each in order of (smaller, larger) point index; the ends
-  /// in the direction the edge's first triangle (lowest index) walks it.
-  std::vector<std::array<Vec3, 2>> bad_edge_examples;
 
   bool closed() const { return border_edges == 0; }
   bool manifold() const { return non_manifold_edges == 0 && non_manifold_vertices == 0; }
+  bool consistently_oriented() const { return inconsistent_edges == 0; }
+
+  /// A closed 2-manifold, consistently and outwardly oriented, without degenerate or duplicate
+  /// triangles, separate vertices at one position or self-intersections (unsearched ones count
+  /// as none), and with at least one triangle: `tpmsfill check`'s exit code 0, and what fill()
+  /// requires of what it writes.
   bool valid() const;
-  /// One sentence per failed condition, in the order checked; empty when valid().
+
+  /// One sentence per failed condition of valid(), in the order checked; empty when valid.
   std::vector<std::string> problems() const;
 };
 
@@ -81,6 +138,6 @@ struct ValidationReport {
 /// @throws InputError  an index is out of range, or the mesh has more triangles or points
 ///                     than 32-bit corner numbers allow
 /// @throws Cancelled   when options.progress says so
-ValidationReport validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options = {});
+MeshValidity validate_mesh(const TriangleSoup& mesh, const ValidateOptions& options = {});
 
 }  // namespace tpmsfill

@@ -3,7 +3,7 @@
 /// square, for lattices that follow a freeform surface (conformal.hpp).
 ///
 /// Mean-value coordinates (Floater 2003) with the boundary fixed on the square's sides by arc
-/// length, solved by CGAL's Surface_mesh_parameterization (Eigen's sparse LU). With a convex
+/// length, solved by Eigen's sparse LU (the solve the cube map's patches use too). With a convex
 /// boundary and positive weights the map is a bijection: no triangle flips (Floater), which
 /// the stage counts rather than assumes.
 ///

@@ -1,6 +1,6 @@
 /// @file problem_text.hpp
 /// @brief The sentences MeshCheck::problems() (stage "check") and
-/// ValidationReport::problems() (stage "validate") write, each written once here. Where the
+/// MeshValidity::problems() (stage "validate") write, each written once here. Where the
 /// two stages know different facts (holes, why a mesh is not outward) the sentence takes
 /// what its caller knows; the words are part of the CLI's output and of the reports.
 #pragma once
