@@ -14,8 +14,13 @@ import sys
 
 
 def read_stl(path):
-    with open(path, "rb") as f:
-        data = f.read()
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        sys.exit(f"{path}: {e.strerror}")
+    if len(data) < 84:
+        sys.exit(f"{path}: {len(data)} bytes, too short for a binary STL (84 at least)")
     n = struct.unpack_from("<I", data, 80)[0]
     if len(data) != 84 + 50 * n:
         sys.exit(f"{path}: not a binary STL of {n} triangles")
@@ -57,18 +62,25 @@ def farthest(from_points, to_points, cell):
                             best = min(best, math.dist(p, q))
             if best <= r * cell:
                 break
+        if best == math.inf:  # nothing within 64 cells: look at every vertex
+            best = min((math.dist(p, q) for q in to_points), default=math.inf)
         worst = max(worst, best)
     return worst
 
 
 def main():
+    if len(sys.argv) not in (3, 4):
+        sys.exit(__doc__.split("\n\n")[1])
     a, b = read_stl(sys.argv[1]), read_stl(sys.argv[2])
     voxel = float(sys.argv[3]) if len(sys.argv) > 3 else None
     pa, va, aa = facts(a)
     pb, vb, ab = facts(b)
     for name, t, p, v, s in ((sys.argv[1], a, pa, va, aa), (sys.argv[2], b, pb, vb, ab)):
         print(f"{name}: {len(t)} triangles, {len(p)} vertices, volume {v:.9g} mm3, area {s:.9g} mm2")
-    print(f"volume change {vb - va:+.3g} mm3 ({(vb - va) / va:+.2e}), area change {ab - aa:+.3g} mm2")
+    relative = f" ({(vb - va) / va:+.2e})" if va else ""
+    print(f"volume change {vb - va:+.3g} mm3{relative}, area change {ab - aa:+.3g} mm2")
+    if not pa or not pb:
+        sys.exit("one mesh has no vertices: nothing to measure the other against")
     cell = voxel or 0.1
     d = max(farthest(pa - pb, pb, cell), farthest(pb - pa, pa, cell))
     print(f"vertices in one mesh only: {len(pa - pb)} and {len(pb - pa)}; farthest from the other "
