@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "tpmsfill/grid.hpp"
@@ -77,6 +78,13 @@ struct FillOptions {
   bool keep_islands = false;
   /// Search the output for self-intersections before accepting it (exact predicates).
   bool check_self_intersections = true;
+  /// How the output is validated. Proof: where marching cubes' construction proves the
+  /// output valid (marching_cubes_proved: the whole grid held at once), its proof is checked
+  /// and only the triangle pairs it leaves open are tested; other jobs are searched. Full:
+  /// every output searched as a mesh from anywhere would be (the oracle; slower). Both give
+  /// the same verdict; FillReport::validation.validated_by says which way was taken.
+  enum class Validation { Proof, Full };
+  Validation validation = Validation::Proof;
   /// Measure pore and wall sizes and the void's connectivity into the report (measure.hpp).
   /// Off by default: two distance transforms of the grid and one labelling cost about as much
   /// as the rest of the pipeline on small jobs (docs/benchmarks.md).
@@ -105,6 +113,11 @@ struct FillOptions {
   /// hour unless told --yes.
   std::function<void(const FillForecast&)> preflight = {};
 };
+
+/// "proof" or "full" (FillOptions::Validation).
+/// @throws InputError  any other name
+FillOptions::Validation validation_from_name(std::string_view name);
+const char* validation_name(FillOptions::Validation validation);
 
 struct FillResult {
   TriangleSoup mesh;  ///< closed, 2-manifold, outward, no self-intersections (validated)

@@ -40,6 +40,7 @@ struct FillArgs {
   std::string input, output, report, preview;
   JobArgs job;
   bool measure = false, full_field = false, keep_islands = false, no_self_intersections = false;
+  std::optional<std::string> validate;
   bool quiet = false, yes = false;
   int threads = 0;
   double min_wall = 0, min_pore = 0;
@@ -152,6 +153,7 @@ int run_fill(FillArgs args) {
   // Printability is checked against the measures (from the flags or a recipe's keys).
   if (options.min_wall > 0 || options.min_pore > 0) options.measure = true;
   if (args.no_self_intersections) options.check_self_intersections = false;
+  if (args.validate) options.validation = validation_from_name(*args.validate);
   // Fail on a bad output name, or one that would replace an input, before the work.
   if (format_from_extension(args.output) == MeshFormat::Auto)
     throw InputError(unknown_mesh_extension(args.output));
@@ -295,6 +297,11 @@ Command add_fill_command(CLI::App& app) {
       ->check(positive());
   sub->add_flag("--no-self-intersections", args->no_self_intersections,
                 "Skip the self-intersection search when validating");
+  sub->add_option("--validate", args->validate,
+                  "How the lattice is proved valid: proof (default: from marching cubes' own "
+                  "structure, each assumption checked, only the triangle pairs it leaves open "
+                  "tested; jobs in slabs are searched) or full (search the whole mesh as if it "
+                  "came from anywhere: slower, the same verdict)");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   sub->add_option("--preview", args->preview,
                   "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "

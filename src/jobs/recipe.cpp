@@ -261,6 +261,7 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   r.number("min_wall", o.min_wall);  // printability limits, mm (0: none)
   r.number("min_pore", o.min_pore);
   r.boolean("self_intersections", o.check_self_intersections);
+  r.name("validate", o.validation, validation_from_name);
   if (const json* v = r.get("custom"); v && !(v->is_boolean() && !v->get<bool>()))
     r.fail("custom", "a custom field is code: it cannot come from a recipe");
   // Files named in the recipe are relative to its folder; the job's echo holds them as found,
@@ -366,6 +367,8 @@ std::string recipe_json(const FillOptions& o) {
   j["min_wall"] = o.min_wall;
   j["min_pore"] = o.min_pore;
   j["self_intersections"] = o.check_self_intersections;
+  // Only when not the default, so that echoes of recipes written before it stay the same.
+  if (o.validation != FillOptions::Validation::Proof) j["validate"] = validation_name(o.validation);
   if (!o.design.structure_file.empty())
     j["field"] = o.design.structure_file;
   else if (o.design.custom)

@@ -52,7 +52,9 @@ using detail::output_area;
 // the fixed share, docs/benchmarks.md §27).
 constexpr double kBytesPerOutputTriangle = 160.0;
 // Bytes per triangle while the field is held: marching cubes' mesh and the islands' labels and
-// components (56 measured).
+// components (56 measured). Validation by marching cubes' proof needs no more: the mesh, the
+// used points, the components and the volumes (a dragon at 0.5 mm peaked at islands, 54 a
+// triangle over the field's share, and validation added nothing).
 constexpr double kBytesPerMeshedTriangle = 60.0;
 
 // Output triangles: the output's area over a², times marching cubes' triangles per a² of
@@ -66,18 +68,21 @@ double output_triangles(const ModelSize& m, const FillOptions& o, Count count = 
 
 // The peak of a job whose field stages hold `field_bytes`: the input and its tree throughout;
 // then the larger of the field stages (with marching cubes' mesh and islands' components,
-// kBytesPerMeshedTriangle) and validation (the mesh and its tables, kBytesPerOutputTriangle), since
-// the field is gone before validation starts.
-double peak_bytes(const ModelSize& m, const FillOptions& o, double field_bytes) {
+// kBytesPerMeshedTriangle) and validation, since the field is gone before validation starts:
+// searched, the mesh and its tables (kBytesPerOutputTriangle); `proved` by marching cubes'
+// construction, no more than the field stages' share of the mesh.
+double peak_bytes(const ModelSize& m, const FillOptions& o, double field_bytes, bool proved) {
   const double out = output_triangles(m, o);
+  const double validation = (proved ? kBytesPerMeshedTriangle : kBytesPerOutputTriangle) * out;
   return static_cast<double>(m.triangles) * kBytesPerInputTriangle +
-         std::fmax(field_bytes + kBytesPerMeshedTriangle * out, kBytesPerOutputTriangle * out) +
-         kFixedBytes;
+         std::fmax(field_bytes + kBytesPerMeshedTriangle * out, validation) + kFixedBytes;
 }
 
+// The whole grid's peak: proved unless a full search is asked for.
 double estimate_bytes(const ModelSize& m, const FillOptions& o) {
   const double nodes = static_cast<double>(grid_node_count(m.bounds, o.grid));
-  return peak_bytes(m, o, nodes * (kBytesPerNode + (o.full_field ? kBytesPerFullFieldNode : 0.0)));
+  return peak_bytes(m, o, nodes * (kBytesPerNode + (o.full_field ? kBytesPerFullFieldNode : 0.0)),
+                    o.validation == FillOptions::Validation::Proof);
 }
 
 // Bytes as a count, saturating where a double estimate leaves the 64-bit range.
@@ -110,7 +115,7 @@ double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign&
   const double field =
       plane * (widened * (depth ? 8.0 : 4.0) + (planes + 2) * (o.full_field ? 10.0 : 6.0)) +
       2 * runs;
-  if (!streamed) return peak_bytes(m, o, field);
+  if (!streamed) return peak_bytes(m, o, field, false);  // slabs are searched
   // Streamed, only one slab's share of the output is held (marching cubes' triangles and
   // points, their labels), beside the three records validation reads and the writer's buffers.
   const double share = std::fmin(1.0, (planes + 2.0) / std::max(g.dims[2], 1));
@@ -329,6 +334,20 @@ void compose(Job& job) {
   job.tree.reset();  // the tree is no longer needed: give its memory back
 }
 
+// Marching cubes on the whole grid's φ, with its proof unless a full search is asked for.
+void march(Job& job) {
+  const McOptions mc{.progress = job.progress, .rounding = job.options.rounding};
+  job.stage("marching cubes", [&] {
+    if (job.options.validation == FillOptions::Validation::Full) {
+      job.mesh = marching_cubes(job.phi, mc);
+      return;
+    }
+    ProvedMesh proved = marching_cubes_proved(job.phi, mc);
+    job.mesh = std::move(proved.mesh);
+    job.proof = std::move(proved.proof);
+  });
+}
+
 // Nothing is returned that failed validation.
 void validate(Job& job) {
   const FillOptions& o = job.options;
@@ -337,6 +356,7 @@ void validate(Job& job) {
   round_coordinates(o.rounding, job.mesh);
   r.validation = job.stage("validate", [&] {
     return validate_mesh(job.mesh, {.self_intersections = o.check_self_intersections,
+                                    .proof = job.proof ? &*job.proof : nullptr,
                                     .cell_grid = job.grid,
                                     .progress = job.progress});
   });
@@ -400,6 +420,16 @@ void warn_printability(const FillOptions& o, double voxel, FillReport& r) {
 }
 
 }  // namespace
+
+FillOptions::Validation validation_from_name(std::string_view name) {
+  if (name == "proof") return FillOptions::Validation::Proof;
+  if (name == "full") return FillOptions::Validation::Full;
+  throw InputError("unknown validation '" + std::string(name) + "': use proof or full");
+}
+
+const char* validation_name(FillOptions::Validation validation) {
+  return validation == FillOptions::Validation::Full ? "full" : "proof";
+}
 
 std::uint64_t default_memory_budget() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
@@ -480,9 +510,7 @@ void fill_in_memory(const FillOptions& options, const Setup& s, FillResult& resu
   } else {
     classify(job);
     compose(job);
-    job.mesh = job.stage("marching cubes", [&] {
-      return marching_cubes(job.phi, {.progress = job.progress, .rounding = options.rounding});
-    });
+    march(job);
   }
   finish(job);
 }
@@ -544,9 +572,7 @@ FillResult fill_field(const Box3& bounds, const FillOptions& options) {
   result.report.inside_rule = "none (no model: the design's own field)";
   job.phi = job.stage("field", [&] { return design_field(job); });
   job.occupancy.inside = Mask{job.grid, std::vector<std::uint8_t>(job.phi.values.size(), 1)};
-  job.mesh = job.stage("marching cubes", [&] {
-    return marching_cubes(job.phi, {.progress = job.progress, .rounding = options.rounding});
-  });
+  march(job);
   finish(job);
   return result;
 }

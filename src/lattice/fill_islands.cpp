@@ -229,8 +229,10 @@ void remove_islands(Job& job) {
     return box;
   };
   const std::vector<bool> keep = judge_islands(job, facts);
-  if (std::find(keep.begin(), keep.end(), false) != keep.end())
-    job.mesh = keep_components(job.mesh, comps, keep);
+  if (std::find(keep.begin(), keep.end(), false) != keep.end()) {
+    if (job.proof) job.proof = keep_components(*job.proof, job.mesh, comps, keep);
+    job.mesh = keep_components(std::move(job.mesh), comps, keep);
+  }
 }
 
 }  // namespace tpmsfill::detail

@@ -45,6 +45,9 @@ struct Job {
   /// In slabs: the inside and solid (φ < 0) masks as runs, what islands need of them
   Regions inside_runs, solid_runs;
   TriangleSoup mesh;
+  /// What marching cubes proved of `mesh` (FillOptions::Validation::Proof, the whole grid);
+  /// dropped by anything that changes the mesh but islands, which carry it over.
+  std::optional<ConstructionProof> proof;
 
   Job(const TriangleSoup& m, const FillOptions& o, FillResult& r,
       std::vector<detail::PlannedStage> plan, int slabs)

@@ -213,9 +213,12 @@ std::string to_json(const FillReport& r) {
           {"duplicate_points", v.duplicate_points},
           {"self_intersecting_pairs",
            v.self_intersecting_pairs ? json(*v.self_intersecting_pairs) : json(nullptr)},
+          {"validated_by", v.validated_by == ValidatedBy::Construction ? "construction" : "search"},
           {"self_intersection_search", !v.self_intersecting_pairs ? json(nullptr)
-                                       : v.searched_by_cells      ? json("cells")
-                                                                  : json("general")},
+                                       : v.validated_by == ValidatedBy::Construction
+                                           ? json("construction")
+                                       : v.searched_by_cells ? json("cells")
+                                                             : json("general")},
           {"outward", v.outward == true}}}}},
   };
   const json job = detail::job_json(r);

@@ -5,6 +5,7 @@
 #include "tpmsfill/sampling/marching_cubes.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 #include <limits>
@@ -29,6 +30,12 @@ struct LayerIds {
 
 struct LayerCounts {
   std::size_t edge_vertices = 0, centroids = 0, triangles = 0;
+};
+
+// What marching_cubes_proved() checks as it extracts: each vertex as stored strictly inside
+// its edge (a centroid inside its cube) of the grid as held, and held as the file holds it.
+struct ProofLog {
+  std::atomic<bool> vertex_off{false};
 };
 
 // kSlab: `values` holds a slab of node layers, from node `first_node` on; otherwise the whole
@@ -167,7 +174,22 @@ struct Extractor {
 
   // Numbers the crossed edges of node layer k from `first` on, in index order (x, y, z edge of
   // each node); writes their points when `points` is given (the layer's owner does).
-  void number(int k, std::uint32_t first, LayerIds& ids, Vec3* points) const {
+  // The proof's assumption of a vertex: strictly inside its edge along `axis` (or, axis -1,
+  // inside its cube) of the grid as held, as the file holds it. (An edge vertex's other two
+  // coordinates are the held nodes', assigned.)
+  void check_vertex(const Vec3& p, int i, int j, int k, int axis, ProofLog& log) const {
+    const int at[3] = {i, j, k};
+    bool inside = true;
+    for (int a = axis < 0 ? 0 : axis; a <= (axis < 0 ? 2 : axis); ++a) {
+      const double x = p[a];
+      inside &= detail::held(held.rounding(), x) == x && held.node(a, at[a]) < x &&
+                x < held.node(a, at[a] + 1);
+    }
+    if (!inside) log.vertex_off.store(true, std::memory_order_relaxed);
+  }
+
+  void number(int k, std::uint32_t first, LayerIds& ids, Vec3* points,
+              ProofLog* log = nullptr) const {
     // Only crossed edges' ids are ever read (fill looks up the crossed edges of its cells), so
     // the others keep whatever an earlier layer left there.
     const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
@@ -189,16 +211,20 @@ struct Extractor {
                                has_z && (v(row + i + sz) < iso) != in};
         for (int a = 0; a < 3; ++a)
           if (cross[a]) {
-            if (points) points[id - id_base] = edge_point(i, j, k, a);
+            if (points) {
+              points[id - id_base] = edge_point(i, j, k, a);
+              if (log) check_vertex(points[id - id_base], i, j, k, a, *log);
+            }
             ids.edge[a][m0 + i] = id++;
           }
       }
     }
   }
 
-  // Triangles of cell layer k (between node layers k and k + 1).
+  // Triangles of cell layer k (between node layers k and k + 1); with a log, the centroids
+  // are checked.
   void fill(int k, const LayerIds& lower, const LayerIds& upper, std::uint32_t first_centroid,
-            Vec3* points, Triangle* triangles) const {
+            Vec3* points, Triangle* triangles, ProofLog* log = nullptr) const {
     // Where cube edge e's vertex id lives: layer, axis and offset from the cell's id index.
     const std::uint32_t* base_ids[12];
     std::size_t offset[12];
@@ -221,6 +247,7 @@ struct Extractor {
         }
         for (int cc = 0; cc < mc.centroid_count; ++cc) {
           points[centroid - id_base] = this->centroid(i, j, k, mc.centroid_edges[cc]);
+          if (log) check_vertex(points[centroid - id_base], i, j, k, -1, *log);
           slot[12 + cc] = centroid++;
         }
         for (int t = 0; t < mc.triangle_count; ++t)
@@ -247,7 +274,7 @@ struct LayerStarts {
 template <class WithLayers>
 LayerStarts extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_t count_grain,
                     detail::ProgressCounter& progress, const WithLayers& with_layers,
-                    TriangleSoup& soup, std::uint32_t id_base = 0) {
+                    TriangleSoup& soup, std::uint32_t id_base = 0, ProofLog* log = nullptr) {
   const std::size_t layers = static_cast<std::size_t>(grid.dims[2]);
   const std::size_t n = ke - kb;
   std::vector<LayerCounts> counts(n);
@@ -279,17 +306,18 @@ LayerStarts extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_
       for (std::size_t k = b; k < e; ++k) {
         const int kk = static_cast<int>(kb + k);
         if (k == b)
-          ex.number(kk, static_cast<std::uint32_t>(first_vertex[k]), lower, soup.points.data());
+          ex.number(kk, static_cast<std::uint32_t>(first_vertex[k]), lower, soup.points.data(),
+                    log);
         else
           std::swap(lower, upper);
         if (kb + k + 1 < layers) {
           // The next layer's points are written by whichever task (or slab) owns it; its ids
           // start where this range's end, whoever owns it.
           ex.number(kk + 1, static_cast<std::uint32_t>(first_vertex[k + 1]), upper,
-                    k + 1 < e ? soup.points.data() : nullptr);
+                    k + 1 < e ? soup.points.data() : nullptr, log);
           ex.fill(kk, lower, upper,
                   static_cast<std::uint32_t>(first_vertex[k] + counts[k].edge_vertices),
-                  soup.points.data(), soup.triangles.data() + first_triangle[k]);
+                  soup.points.data(), soup.triangles.data() + first_triangle[k], log);
         }
         progress.add(1);
       }
@@ -307,31 +335,88 @@ void require_cells(const Grid& grid) {
 template <bool kSlab>
 Extractor<kSlab> extractor(const Grid& grid, const float* values, float iso,
                            const detail::RoundedGrid& held, std::size_t first_node = 0,
-                           std::uint32_t id_base = 0) {
+                           std::uint32_t id_base = 0,
+                           const detail::McTables& tables = detail::mc_tables()) {
   const std::size_t sy = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t sz = sy * static_cast<std::size_t>(grid.dims[1]);
-  return {grid,         values,     iso,    grid.dims[0], grid.dims[1],
-          grid.dims[2], 1,          sy,     sz,           detail::mc_tables(),
-          held,         first_node, id_base};
+  return {grid, values, iso,    grid.dims[0], grid.dims[1], grid.dims[2], 1,
+          sy,   sz,     tables, held,         first_node,   id_base};
 }
 
-}  // namespace
-
-TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
+// The whole field's mesh, by `tables`; checked as it goes when `log` is given.
+TriangleSoup extract_field(const Field& field, const McOptions& options,
+                           const detail::RoundedGrid& held, const detail::McTables& tables,
+                           ProofLog* log) {
   const Grid& grid = field.grid;
   require_cells(grid);
   if (field.values.size() != grid.node_count())
     throw InputError("marching_cubes: the field has " + std::to_string(field.values.size()) +
                      " values for " + std::to_string(grid.node_count()) + " grid nodes");
-  const detail::RoundedGrid held(grid, options.rounding);
-  const auto ex = extractor<false>(grid, field.values.data(), options.iso, held);
+  const auto ex = extractor<false>(grid, field.values.data(), options.iso, held, 0, 0, tables);
   detail::ProgressCounter progress(options.progress, "marching cubes", 2 * grid.dims[2]);
   TriangleSoup soup;
   extract(
       grid, 0, grid.dims[2], 1, progress,
-      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, soup);
+      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, soup, 0, log);
   progress.finish();
   return soup;
+}
+
+// Why the construction cannot be relied on for `field`, before extraction: its grid as held
+// does not increase strictly, or a node on the grid's border is inside (the surface would be
+// open there). Empty when neither.
+std::string unproved_field(const Field& field, float iso, const detail::RoundedGrid& held) {
+  const Grid& g = field.grid;
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i + 1 < g.dims[a]; ++i)
+      if (!(held.node(a, i) < held.node(a, i + 1)))
+        return "the grid's nodes as the file holds them do not increase strictly";
+  const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      const bool face = k == 0 || k == nz - 1 || j == 0 || j == ny - 1;
+      for (int i = 0; i < nx; i += face || i == nx - 1 ? 1 : nx - 1)
+        if (field.values[g.index(i, j, k)] < iso)
+          return "a node on the grid's border is inside, so the surface is open there";
+    }
+  return {};
+}
+
+}  // namespace
+
+TriangleSoup marching_cubes(const Field& field, const McOptions& options) {
+  const detail::RoundedGrid held(field.grid, options.rounding);
+  return extract_field(field, options, held, detail::mc_tables(), nullptr);
+}
+
+namespace detail {
+
+ProvedMesh marching_cubes_proved(const Field& field, const McOptions& options,
+                                 const McTables& tables) {
+  // The real table is checked once per process; a table a test hands in, on every call.
+  static const std::vector<std::string> own_violations = mc_table_violations(mc_tables());
+  const std::vector<std::string> violations =
+      &tables == &mc_tables() ? own_violations : mc_table_violations(tables);
+  const RoundedGrid held(field.grid, options.rounding);
+  ProofLog log;
+  ProvedMesh out;
+  out.mesh = extract_field(field, options, held, tables, &log);
+  if (!violations.empty())
+    out.unproved = "the marching-cubes table breaks a rule its proof needs (" + violations[0] + ")";
+  else if (std::string why = unproved_field(field, options.iso, held); !why.empty())
+    out.unproved = std::move(why);
+  else if (log.vertex_off.load())
+    out.unproved = "a vertex is not strictly inside its grid edge or cube as the file holds it";
+  if (!out.unproved.empty()) return out;
+  // No pair is left open (marching_cubes.hpp says why).
+  out.proof = ConstructionProof{out.mesh.triangles.size(), out.mesh.points.size()};
+  return out;
+}
+
+}  // namespace detail
+
+ProvedMesh marching_cubes_proved(const Field& field, const McOptions& options) {
+  return detail::marching_cubes_proved(field, options, detail::mc_tables());
 }
 
 TriangleSoup marching_cubes(const FieldSource& source, const Grid& grid, const McOptions& options) {

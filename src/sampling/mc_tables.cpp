@@ -120,6 +120,8 @@ McTables build() {
           const int centre = 12 + c.centroid_count;
           for (int e : loop)
             c.centroid_edges[c.centroid_count] |= static_cast<std::uint16_t>(1 << e);
+          c.fan_first[c.centroid_count] = c.triangle_count;
+          c.fan_size[c.centroid_count] = static_cast<std::uint8_t>(n);
           ++c.centroid_count;
           for (int i = 0; i < n; ++i) add(loop[i], loop[(i + 1) % n], centre);
         }
@@ -129,6 +131,18 @@ McTables build() {
 }
 
 }  // namespace
+
+bool mc_decisions_realizable(const McTables& tables, unsigned config, unsigned decisions) {
+  if (decisions & ~tables.ambiguous_faces[config]) return false;
+  if (tables.ambiguous_faces[config] != 63) return true;
+  bool both_connected = false, both_separated = false;
+  for (int a = 0; a < 3; ++a) {
+    const unsigned pair = decisions >> (2 * a) & 3;
+    both_connected |= pair == 3;
+    both_separated |= pair == 0;
+  }
+  return !(both_connected && both_separated);
+}
 
 const McTables& mc_tables() {
   static const McTables tables = build();  // C++11 magic static: built once, thread-safe

@@ -9,7 +9,10 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include "tpmsfill/sampling/marching_cubes.hpp"
 
 namespace tpmsfill::detail {
 
@@ -20,6 +23,9 @@ struct McCase {
   std::uint8_t triangle_count = 0;
   std::uint8_t centroid_count = 0;
   std::array<std::uint16_t, 2> centroid_edges{};  ///< bit e: cube edge e is in that loop
+  /// Centroid c's fan: triangles [fan_first[c], fan_first[c] + fan_size[c]), in loop order
+  /// (triangle i and i + 1 share an edge, and so do the last and the first).
+  std::array<std::uint8_t, 2> fan_first{}, fan_size{};
   std::array<std::array<std::uint8_t, 3>, 12> triangles{};
 };
 
@@ -41,6 +47,37 @@ struct McTables {
 
 /// The tables, built once (thread-safe) on first use.
 const McTables& mc_tables();
+
+/// Whether `decisions` can come out of mc_case_key() for `config`. On the two checkerboard
+/// configurations all six faces are ambiguous, and each pair of opposite faces compares the
+/// same products (|inside values| P against |outside values| Q), so a pair with both faces
+/// connected (P > Q) and a pair with both separated (P <= Q) never occur together.
+bool mc_decisions_realizable(const McTables& tables, unsigned config, unsigned decisions);
+
+/// What marching-cubes output is valid by, checked entry by entry over every realizable key of
+/// `tables`; one sentence per violation (empty: the table holds them all). For each entry:
+/// 1. the triangles use exactly the crossed edges, each triangle three distinct slots, and no
+///    triangle has its three edge vertices on one cube face;
+/// 2. a triangle edge whose two ends lie on edges of one cube face is a segment of that face
+///    as the face rule makes it (mc_tables.cpp, step 1, from the face's corners and decision
+///    alone), walked in its direction, and every such segment is one triangle's edge: the two
+///    cubes sharing a face walk its segments in opposite directions;
+/// 3. every other triangle edge is walked once each way within the entry;
+/// 4. the triangles around each slot form one fan: for an edge vertex a path between its two
+///    face segments, for a centroid a closed cycle (so the surface is a disk there);
+/// 5. triangles joined through edges form pieces whose edge vertices are separated by a
+///    plane from those of every other piece in the cube, for any positions on their edges;
+/// 6. within a piece, two triangles that share no edge both lie in one centroid's fan.
+/// Together with vertices strictly inside their edges (centroids inside their cubes) and a
+/// grid border that is all outside, these make the mesh closed, oriented, manifold, without
+/// degenerate triangles or repeated points, and free of intersections but possibly between
+/// two triangles of one fan that share only its centroid (marching_cubes.hpp says why).
+std::vector<std::string> mc_table_violations(const McTables& tables);
+
+/// marching_cubes_proved() by `tables` (a test hands in a broken copy, whose mesh must then go
+/// unproved); the real table's violations are computed once, any other's on every call.
+ProvedMesh marching_cubes_proved(const Field& field, const McOptions& options,
+                                 const McTables& tables);
 
 /// The key into McTables::cases of one cube: `config` (bit c: corner c inside) plus the
 /// asymptotic decider on each ambiguous face, inside corners (a, c) connected when

@@ -81,6 +81,8 @@ class RoundedGrid {
     return r < low_[axis][e] ? low_[axis][e] : (r > high_[axis][e] ? high_[axis][e] : r);
   }
 
+  CoordinateRounding rounding() const { return rounding_; }
+
   /// Node i's coordinate along `axis` as the file holds it.
   double node(int axis, int i) const {
     return low_[0].empty() ? grid_.coordinate(axis, i) : node_[axis][static_cast<std::size_t>(i)];

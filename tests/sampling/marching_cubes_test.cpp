@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,8 +16,11 @@
 #include <set>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/field.hpp>
+#include <tpmsfill/mesh/components.hpp>
+#include <tpmsfill/mesh/validate.hpp>
 #include <tpmsfill/sampling/marching_cubes.hpp>
 
+#include "mesh/internal/self_intersections.hpp"
 #include "sampling/mc_tables.hpp"
 #include "test_util.hpp"
 
@@ -200,104 +204,131 @@ void check_all(const TriangleSoup& s, const Grid& g, const std::string& what) {
 
 // --- the table itself ---------------------------------------------------------------------
 
-// For every configuration and every decision set (realizable or not): the loops use each
-// crossed edge once; triangle edges in a cube face are face segments; and the vertices of
-// two loops of one cube lie on edges strictly separated by a plane, so the two disks (each in
-// the convex hull of its loop) cannot meet, wherever the vertices sit on their edges.
-TEST(MarchingCubesTable, LoopsPartitionEdgesAndAreSeparated) {
+// The rules marching_cubes_proved() relies on (mc_table_violations: the face rule, closed and
+// oriented edges, one fan per vertex, pieces separated by planes, pairs without a shared edge
+// only within a fan) hold over every entry the decider can reach.
+TEST(MarchingCubesTable, KeepsEveryRuleItsProofNeeds) {
   const auto& t = detail::mc_tables();
-  auto corner = [](int c) { return std::array<int, 3>{c & 1, c >> 1 & 1, c >> 2 & 1}; };
-  auto on_face = [&](int e, int f) {
-    for (int c : t.edge_corners[e])
-      if (corner(c)[f / 2] != f % 2) return false;
-    return true;
-  };
-  int multi_loop_cases = 0, unrealizable = 0;
-  for (int config = 0; config < 256; ++config)
-    for (int decisions = 0; decisions < 64; ++decisions) {
+  const std::vector<std::string> violations = detail::mc_table_violations(t);
+  EXPECT_TRUE(violations.empty()) << violations.size() << ", the first: " << violations.front();
+  int unrealizable = 0, fans = 0, several_pieces = 0;
+  for (unsigned config = 0; config < 256; ++config)
+    for (unsigned decisions = 0; decisions < 64; ++decisions) {
       if (decisions & ~t.ambiguous_faces[config]) continue;
-      const int key = config | decisions << 8;
-      const auto& loops = t.loops[key];
-      const auto& mc = t.cases[key];
-      std::set<int> crossed, used;
-      for (int e = 0; e < 12; ++e)
-        if ((config >> t.edge_corners[e][0] & 1) != (config >> t.edge_corners[e][1] & 1))
-          crossed.insert(e);
-      std::set<std::pair<int, int>> segments;
-      for (const auto& loop : loops) {
-        ASSERT_GE(loop.size(), 3u);
-        for (std::size_t i = 0; i < loop.size(); ++i) {
-          EXPECT_TRUE(used.insert(loop[i]).second);
-          const int a = loop[i], b = loop[(i + 1) % loop.size()];
-          segments.insert(std::minmax(a, b));
-          bool share = false;
-          for (int f = 0; f < 6; ++f) share |= on_face(a, f) && on_face(b, f);
-          EXPECT_TRUE(share) << "loop step leaves the face";
-        }
+      if (!detail::mc_decisions_realizable(t, config, decisions)) {
+        ++unrealizable;
+        continue;
       }
-      EXPECT_EQ(used, crossed) << "config " << config;
-      for (int i = 0; i < mc.triangle_count; ++i) {
-        const auto& tri = mc.triangles[i];
-        for (int f = 0; f < 6; ++f) {
-          int n = 0;
-          for (int s : tri) n += s < 12 && on_face(s, f);
-          EXPECT_LT(n, 3);
-        }
-        for (int j = 0; j < 3; ++j) {
-          const int a = tri[j], b = tri[(j + 1) % 3];
-          if (a >= 12 || b >= 12) continue;
-          for (int f = 0; f < 6; ++f)
-            if (on_face(a, f) && on_face(b, f)) {
-              EXPECT_TRUE(segments.count(std::minmax(a, b))) << "chord in a face";
-            }
-        }
-      }
-      if (loops.size() > 1) ++multi_loop_cases;
-      // On the two checkerboard configurations all six faces are ambiguous, and each pair of
-      // opposite faces compares the same products: |inside values| P against |outside values|
-      // Q. A pair with both faces connected (P > Q) and a pair with both separated (P <= Q)
-      // never occur together; the decider's products are exact, so neither does it at run
-      // time. Those decision sets are not required to be separable.
-      if (t.ambiguous_faces[config] == 63) {
-        bool both_connected = false, both_separated = false;
-        for (int a = 0; a < 3; ++a) {
-          const int pair = decisions >> (2 * a) & 3;
-          both_connected |= pair == 3;
-          both_separated |= pair == 0;
-        }
-        if (both_connected && both_separated) {
-          ++unrealizable;
-          continue;
-        }
-      }
-      for (std::size_t x = 0; x < loops.size(); ++x)
-        for (std::size_t y = x + 1; y < loops.size(); ++y) {
-          bool found = false;
-          for (int nx = -1; nx <= 1 && !found; ++nx)
-            for (int ny = -1; ny <= 1 && !found; ++ny)
-              for (int nz = -1; nz <= 1 && !found; ++nz)
-                for (int d2 = -6; d2 <= 6 && !found; ++d2) {
-                  auto side = [&](const std::vector<std::uint8_t>& loop, int sign) {
-                    for (int e : loop) {
-                      int at[2];
-                      for (int i = 0; i < 2; ++i) {
-                        auto p = corner(t.edge_corners[e][i]);
-                        at[i] = sign * (2 * (nx * p[0] + ny * p[1] + nz * p[2]) - d2);
-                      }
-                      // Open edge strictly on the negative side.
-                      if (at[0] > 0 || at[1] > 0 || (at[0] == 0 && at[1] == 0)) return false;
-                    }
-                    return true;
-                  };
-                  found = side(loops[x], 1) && side(loops[y], -1);
-                }
-          EXPECT_TRUE(found) << "config " << config << " decisions " << decisions << ": loops " << x
-                             << ", " << y << " not separated by a plane";
-        }
+      const auto& mc = t.cases[config | decisions << 8];
+      fans += mc.centroid_count > 0;
+      several_pieces += t.loops[config | decisions << 8].size() > 1;
     }
-  EXPECT_GT(multi_loop_cases, 0);
   // Per checkerboard configuration: 64 - 27 (no pair connected) - 27 (none separated) + 8.
   EXPECT_EQ(unrealizable, 2 * 18);
+  EXPECT_GT(fans, 0);
+  EXPECT_GT(several_pieces, 0);
+}
+
+// A copy of the table with one entry (or list) broken in one way: the checker names it, so a
+// proof is never given by a table that does not keep its rules.
+TEST(MarchingCubesTable, BrokenEntriesAreCaught) {
+  auto violations_after = [](const std::function<void(detail::McTables&)>& breaking) {
+    detail::McTables t = detail::mc_tables();
+    breaking(t);
+    return detail::mc_table_violations(t);
+  };
+  unsigned fan_key = 0, two_triangle_key = 0;
+  const auto& real = detail::mc_tables();
+  for (unsigned key = 0; key < real.cases.size(); ++key) {
+    if (!fan_key && real.cases[key].centroid_count == 1) fan_key = key;
+    if (!two_triangle_key && real.cases[key].triangle_count == 2 &&
+        real.cases[key].centroid_count == 0)
+      two_triangle_key = key;
+  }
+  ASSERT_NE(fan_key, 0u);
+  ASSERT_NE(two_triangle_key, 0u);
+  const std::vector<std::pair<const char*, std::function<void(detail::McTables&)>>> breaks = {
+      {"a triangle turned over",
+       [](auto& t) { std::swap(t.cases[1].triangles[0][1], t.cases[1].triangles[0][2]); }},
+      {"a vertex on an uncrossed edge", [](auto& t) { t.cases[1].triangles[0][0] = 11; }},
+      {"a triangle left out", [&](auto& t) { --t.cases[two_triangle_key].triangle_count; }},
+      {"a fan's range one short", [&](auto& t) { --t.cases[fan_key].fan_size[0]; }},
+      {"a fan's triangle turned over",
+       [&](auto& t) {
+         auto& tri = t.cases[fan_key].triangles[t.cases[fan_key].fan_first[0]];
+         std::swap(tri[0], tri[1]);
+       }},
+      {"two edges' corners swapped",
+       [](auto& t) { std::swap(t.edge_corners[0], t.edge_corners[1]); }},
+      {"a face's corners clockwise",
+       [](auto& t) { std::reverse(t.face_corners[2].begin(), t.face_corners[2].end()); }},
+      {"a crossed-edge mask", [](auto& t) { t.crossed_edges[5] ^= 1; }},
+  };
+  for (const auto& [what, breaking] : breaks)
+    EXPECT_FALSE(violations_after(breaking).empty()) << what;
+
+  // Caught by both ways: the broken table's mesh goes unproved, and the search finds its defect.
+  detail::McTables turned = detail::mc_tables();
+  std::swap(turned.cases[1].triangles[0][1], turned.cases[1].triangles[0][2]);
+  const Grid grid{{0, 0, 0}, 1.0, {5, 5, 5}};
+  Field field{grid, std::vector<float>(grid.node_count(), 1.0f)};
+  field.values[grid.index(2, 2, 2)] = -1.0f;  // corner 0 of cube (2, 2, 2): entry 1
+  const ProvedMesh broken = detail::marching_cubes_proved(field, {}, turned);
+  EXPECT_FALSE(broken.proof.has_value());
+  EXPECT_NE(broken.unproved.find("table"), std::string::npos) << broken.unproved;
+  const MeshValidity searched = validate_mesh(broken.mesh, {.cell_grid = grid});
+  EXPECT_FALSE(searched.valid());
+  EXPECT_GT(searched.inconsistent_edges, 0u);
+  const ProvedMesh fine = marching_cubes_proved(field);
+  ASSERT_TRUE(fine.proof.has_value()) << fine.unproved;
+  EXPECT_TRUE(validate_mesh(fine.mesh, {.proof = &*fine.proof}).valid());
+}
+
+// The proof's claim within a cube, tried on every reachable entry: wherever the vertices sit
+// on their edges (at the clamp next to either node, or anywhere between), with each centroid at
+// its loop's mean, no two triangles of the cube meet beyond what they share (the exact pair
+// test of validation) and none is degenerate.
+TEST(MarchingCubesTable, NoTwoTrianglesOfACubeMeetWhereverTheVerticesSit) {
+  const auto& t = detail::mc_tables();
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0, 1);
+  long pairs = 0;
+  for (unsigned config = 1; config < 255; ++config)
+    for (unsigned decisions = 0; decisions < 64; ++decisions) {
+      if (!detail::mc_decisions_realizable(t, config, decisions)) continue;
+      const auto& mc = t.cases[config | decisions << 8];
+      for (int trial = 0; trial < 12; ++trial) {
+        std::vector<Vec3> p(14);
+        for (int e = 0; e < 12; ++e) {
+          double s = trial == 0 ? 1e-4 : trial == 1 ? 1 - 1e-4 : u(rng);
+          if (trial >= 2 && trial < 6)
+            s = u(rng) < 0.5 ? 1e-4 * (1 + u(rng)) : 1 - 1e-4 * (1 + u(rng));
+          const int c0 = t.edge_corners[e][0], c1 = t.edge_corners[e][1];
+          const Vec3 a{double(c0 & 1), double(c0 >> 1 & 1), double(c0 >> 2)};
+          const Vec3 b{double(c1 & 1), double(c1 >> 1 & 1), double(c1 >> 2)};
+          p[e] = a + s * (b - a);
+        }
+        for (int c = 0; c < mc.centroid_count; ++c) {
+          Vec3 sum;
+          for (int e = 0; e < 12; ++e)
+            if (mc.centroid_edges[c] >> e & 1) sum = sum + p[e];
+          p[12 + c] = (1.0 / std::popcount(unsigned{mc.centroid_edges[c]})) * sum;
+        }
+        const std::string what = "configuration " + std::to_string(config) + ", decisions " +
+                                 std::to_string(decisions) + ", trial " + std::to_string(trial);
+        for (int i = 0; i < mc.triangle_count; ++i) {
+          const Triangle a{mc.triangles[i][0], mc.triangles[i][1], mc.triangles[i][2]};
+          EXPECT_GT(norm(cross(p[a[1]] - p[a[0]], p[a[2]] - p[a[0]])), 0.0) << what;
+          for (int j = i + 1; j < mc.triangle_count; ++j, ++pairs) {
+            const Triangle b{mc.triangles[j][0], mc.triangles[j][1], mc.triangles[j][2]};
+            EXPECT_FALSE(detail::triangle_pair_intersects(a, b, p))
+                << what << ": triangles " << i << " and " << j << " meet";
+          }
+        }
+        if (::testing::Test::HasFailure()) return;
+      }
+    }
+  EXPECT_GT(pairs, 100000);
 }
 
 // --- all 256 configurations in a padded block -----------------------------------------------
@@ -415,6 +446,144 @@ TEST(MarchingCubes, NodesAtIsoValueAndDeciderTies) {
     check_all(marching_cubes(field), grid, "field " + std::to_string(n));
     if (::testing::Test::HasFailure()) return;
   }
+}
+
+// --- the proof against the search (the oracle) ------------------------------------------------
+
+// The verdict and every figure of the proof's report equal the full search's on `field`, and the
+// proved mesh is marching_cubes()' bit for bit.
+void expect_proof_agrees(const Field& field, const McOptions& o, const std::string& what) {
+  const ProvedMesh proved = marching_cubes_proved(field, o);
+  const TriangleSoup plain = marching_cubes(field, o);
+  ASSERT_TRUE(proved.proof.has_value()) << what << ": " << proved.unproved;
+  EXPECT_TRUE(proved.mesh.points == plain.points && proved.mesh.triangles == plain.triangles)
+      << what;
+  const MeshValidity a = validate_mesh(proved.mesh, {.proof = &*proved.proof});
+  const MeshValidity b = validate_mesh(proved.mesh, {.cell_grid = field.grid});
+  const MeshValidity c = validate_mesh(proved.mesh);  // the general search, no grid
+  EXPECT_EQ(a.validated_by, ValidatedBy::Construction) << what;
+  EXPECT_EQ(b.validated_by, ValidatedBy::Search) << what;
+  for (const MeshValidity* s : {&b, &c}) {
+    EXPECT_EQ(a.valid(), s->valid()) << what;
+    EXPECT_EQ(a.problems(), s->problems()) << what;
+    EXPECT_EQ(a.vertices, s->vertices) << what;
+    EXPECT_EQ(a.components, s->components) << what;
+    EXPECT_EQ(a.volume, s->volume) << what;
+    EXPECT_EQ(a.area, s->area) << what;
+    EXPECT_EQ(a.outward, s->outward) << what;
+    EXPECT_EQ(a.self_intersecting_pairs, s->self_intersecting_pairs) << what;
+    EXPECT_EQ(s->self_intersection_examples.size(), 0u) << what;
+  }
+  EXPECT_TRUE(a.valid() || proved.mesh.triangles.empty()) << what;
+}
+
+// Thousands of fields: every configuration with both decisions on each ambiguous face,
+// smooth and trigonometric fields, vertices at the clamp next to the nodes, decider ties and
+// nodes at the iso-value; near the origin and far from it, in doubles and as STL floats.
+TEST(MarchingCubes, ProofAgreesWithTheSearch) {
+  std::mt19937 rng(4242);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::uniform_real_distribution<double> log_mag(std::log(1e-6), std::log(50.0));
+  int fields = 0;
+  for (int config = 0; config < 256; ++config)
+    for (int trial = 0; trial < 8; ++trial, ++fields) {
+      const Vec3 origin = trial % 2 ? Vec3{250.5, -180.25, 40} : Vec3{0, 0, 0};
+      const Grid grid{origin, trial % 4 < 2 ? 1.0 : 0.05, {4, 4, 4}};
+      Field field{grid, std::vector<float>(grid.node_count(), 1.0f)};
+      for (int c = 0; c < 8; ++c) {
+        const float m = static_cast<float>(std::exp(log_mag(rng)));
+        field.values[grid.index(1 + (c & 1), 1 + (c >> 1 & 1), 1 + (c >> 2))] =
+            (config >> c & 1) ? -m : m;
+      }
+      const McOptions o{.rounding =
+                            trial % 3 ? CoordinateRounding::Float : CoordinateRounding::None};
+      expect_proof_agrees(field, o,
+                          "config " + std::to_string(config) + " trial " + std::to_string(trial));
+      if (::testing::Test::HasFailure()) return;
+    }
+  for (int n = 0; n < 600; ++n, ++fields) {
+    const int d = 6 + static_cast<int>(u(rng) * 8);
+    const Vec3 origin = n % 2 ? Vec3{-310.2, 95.7, 12.3} : Vec3{0.1, 0.2, 0.3};
+    const Grid grid{origin, 0.1 + u(rng), {d, d + 1, d - 1}};
+    Field field{grid, std::vector<float>(grid.node_count())};
+    const double a = 0.5 + 2 * u(rng), b = 0.5 + 2 * u(rng), c = 0.5 + 2 * u(rng);
+    const double ph = 6 * u(rng), off = u(rng) - 0.5, step = grid.spacing;
+    for (int k = 0; k < grid.dims[2]; ++k)
+      for (int j = 0; j < grid.dims[1]; ++j)
+        for (int i = 0; i < grid.dims[0]; ++i) {
+          const double x = i * step, y = j * step, z = k * step;
+          double v = std::sin(a * x + ph) * std::cos(b * y) + std::sin(b * y) * std::cos(c * z) +
+                     std::sin(c * z) * std::cos(a * x) + off;
+          if (n % 5 == 1) v = static_cast<double>(static_cast<int>(rng() % 3) - 1);  // ties
+          if (n % 5 == 2 && u(rng) < 0.4) v = (v < 0 ? -1 : 1) * 1e-7 * u(rng);      // at the clamp
+          field.values[grid.index(i, j, k)] = static_cast<float>(v);
+        }
+    const McOptions o{.iso = n % 7 == 0 ? 0.25f : 0.0f,
+                      .rounding = n % 3 ? CoordinateRounding::Float : CoordinateRounding::None};
+    force_border_outside(field, n % 5 == 1 ? o.iso : 1.0f);  // at the iso-value: outside
+    expect_proof_agrees(field, o, "field " + std::to_string(n));
+    if (::testing::Test::HasFailure()) return;
+  }
+  EXPECT_GE(fields, 2600);
+}
+
+// Where an assumption fails there is no proof, and the search says what is wrong.
+TEST(MarchingCubes, NoProofWhenAnAssumptionFails) {
+  const Grid grid{{0, 0, 0}, 1.0, {6, 6, 6}};
+  Field open{grid, std::vector<float>(grid.node_count(), 1.0f)};
+  open.values[grid.index(0, 2, 2)] = -1.0f;  // inside, on the border
+  open.values[grid.index(1, 2, 2)] = -1.0f;
+  const ProvedMesh a = marching_cubes_proved(open);
+  EXPECT_FALSE(a.proof.has_value());
+  EXPECT_NE(a.unproved.find("border"), std::string::npos) << a.unproved;
+  EXPECT_GT(validate_mesh(a.mesh).border_edges, 0u);
+
+  Field nan{grid, std::vector<float>(grid.node_count(), 1.0f)};
+  nan.values[grid.index(2, 2, 2)] = -1.0f;
+  nan.values[grid.index(3, 2, 2)] = std::numeric_limits<float>::quiet_NaN();
+  const ProvedMesh b = marching_cubes_proved(nan);
+  EXPECT_FALSE(b.proof.has_value());
+  EXPECT_NE(b.unproved.find("vertex"), std::string::npos) << b.unproved;
+
+  // A proof speaks of its own mesh only: another is searched.
+  Field one{grid, std::vector<float>(grid.node_count(), 1.0f)};
+  one.values[grid.index(2, 2, 2)] = -1.0f;
+  const ProvedMesh c = marching_cubes_proved(one);
+  ASSERT_TRUE(c.proof.has_value());
+  TriangleSoup torn = c.mesh;
+  torn.triangles.pop_back();
+  const MeshValidity v = validate_mesh(torn, {.proof = &*c.proof});
+  EXPECT_EQ(v.validated_by, ValidatedBy::Search);
+  EXPECT_FALSE(v.valid());
+  EXPECT_GT(v.border_edges, 0u);
+}
+
+// Dropping whole components keeps the proof, renumbered to the mesh that is left.
+TEST(MarchingCubes, ProofCarriedToTheComponentsKept) {
+  const Grid grid{{-1, -1, -1}, 0.25, {41, 21, 21}};
+  Field field = sample(grid, [](Vec3 p) {
+    const double a = norm(p - Vec3{1.5, 1.5, 1.5}) - 1.2, b = norm(p - Vec3{7.5, 1.5, 1.5}) - 0.6;
+    return std::min(a, b);
+  });
+  force_border_outside(field);
+  const ProvedMesh proved = marching_cubes_proved(field);
+  ASSERT_TRUE(proved.proof.has_value()) << proved.unproved;
+  const Components comps = mesh_components(proved.mesh);
+  ASSERT_EQ(comps.info.size(), 2u);
+  for (const std::vector<bool>& keep : {std::vector<bool>{true, false}, {false, true}}) {
+    const TriangleSoup kept = keep_components(proved.mesh, comps, keep);
+    const ConstructionProof proof = keep_components(*proved.proof, proved.mesh, comps, keep);
+    EXPECT_EQ(proof.triangles, kept.triangles.size());
+    EXPECT_EQ(proof.points, kept.points.size());
+    const MeshValidity a = validate_mesh(kept, {.proof = &proof});
+    const MeshValidity b = validate_mesh(kept);
+    EXPECT_EQ(a.validated_by, ValidatedBy::Construction);
+    EXPECT_TRUE(a.valid() && b.valid());
+    EXPECT_EQ(a.components, 1u);
+    EXPECT_EQ(a.volume, b.volume);
+  }
+  EXPECT_THROW(keep_components(ConstructionProof{1, 1}, proved.mesh, comps, {true, true}),
+               InputError);
 }
 
 // --- analytic shapes ------------------------------------------------------------------------
@@ -565,13 +734,21 @@ TEST(MarchingCubes, DISABLED_BenchmarkGyroid400x400x220) {
             std::sin(w * p.z) * std::cos(w * p.x) + 1e-3);
       }
   force_border_outside(field);
+  // Alternating, with STL's rounding as fill has it: the plain extraction and the proved one
+  // (its checks' cost).
+  const McOptions o{.rounding = CoordinateRounding::Float};
   for (int rep = 0; rep < 3; ++rep) {
     const auto t0 = std::chrono::steady_clock::now();
-    const TriangleSoup s = marching_cubes(field);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("marching_cubes 400x400x220: %.1f ms, %zu points, %zu triangles, output %.0f MB\n",
-                ms, s.points.size(), s.triangles.size(),
-                (s.points.size() * sizeof(Vec3) + s.triangles.size() * sizeof(Triangle)) / 1e6);
+    const TriangleSoup s = marching_cubes(field, o);
+    const auto t1 = std::chrono::steady_clock::now();
+    const ProvedMesh proved = marching_cubes_proved(field, o);
+    const auto t2 = std::chrono::steady_clock::now();
+    std::printf(
+        "marching_cubes 400x400x220: %.1f ms (proved: %.1f ms, %s), %zu points, %zu "
+        "triangles, output %.0f MB\n",
+        std::chrono::duration<double, std::milli>(t1 - t0).count(),
+        std::chrono::duration<double, std::milli>(t2 - t1).count(),
+        proved.proof ? "proof given" : proved.unproved.c_str(), s.points.size(), s.triangles.size(),
+        (s.points.size() * sizeof(Vec3) + s.triangles.size() * sizeof(Triangle)) / 1e6);
   }
 }

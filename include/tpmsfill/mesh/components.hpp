@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
@@ -41,5 +42,17 @@ Components mesh_components(const TriangleSoup& mesh);
 /// @throws InputError  an index is out of range, or `components` / `keep` do not fit `mesh`
 TriangleSoup keep_components(const TriangleSoup& mesh, const Components& components,
                              const std::vector<bool>& keep);
+
+/// The same, made in `mesh`'s own storage: what is kept moves down in place instead of being
+/// copied to new memory (fill drops islands this way: fresh pages for a lattice's millions of
+/// points and triangles cost more than finding the components).
+TriangleSoup keep_components(TriangleSoup&& mesh, const Components& components,
+                             const std::vector<bool>& keep);
+
+/// The proof of keep_components(mesh, components, keep), given `proof` of `mesh`: whole
+/// components dropped keep what a construction proves (each is closed and meets no other).
+/// @throws InputError  as keep_components, or `proof` does not speak of `mesh`
+ConstructionProof keep_components(const ConstructionProof& proof, const TriangleSoup& mesh,
+                                  const Components& components, const std::vector<bool>& keep);
 
 }  // namespace tpmsfill

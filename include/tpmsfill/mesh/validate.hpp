@@ -22,15 +22,29 @@
 
 namespace tpmsfill {
 
+/// What a mesh's maker proves of it by construction, so that validate_mesh() need not search:
+/// that it is closed, consistently oriented, manifold, without degenerate triangles, separate
+/// vertices at one position or intersecting triangles. marching_cubes_proved()
+/// (sampling/marching_cubes.hpp) gives one, each of its assumptions checked; keep_components()
+/// (components.hpp) carries one over to the components kept. It speaks only of the mesh it was
+/// made for: nothing here ties it to the points, so whoever changes the mesh drops the proof.
+struct ConstructionProof {
+  std::uint64_t triangles = 0, points = 0;  ///< the mesh it speaks of
+};
+
 struct ValidateOptions {
   bool self_intersections = true;  ///< search for intersecting triangle pairs (exact)
+  /// When set and it speaks of the mesh (the same numbers of triangles and points), the
+  /// verdict is the proof's, and only the vertices, components, area, volume and orientation
+  /// are measured; otherwise the mesh is searched. MeshValidity::validated_by says which.
+  const ConstructionProof* proof = nullptr;
   /// When set, every triangle should lie in one closed cell of this grid (true of
   /// marching_cubes() output on that grid): the intersection search then only pairs triangles
   /// of the same or 26-adjacent cells (each triangle belongs to the cell of its centroid).
   /// If some triangle does not lie in its cell (beyond a tolerance of 1e-7 cells), the general
   /// search runs instead, so the answer never depends on this promise. Without a grid a
   /// general box-intersection search (CGAL::box_self_intersection_d) is used.
-  std::optional<Grid> cell_grid;
+  std::optional<Grid> cell_grid{};
   std::size_t max_examples = 10;  ///< example locations kept per defect class
   Progress* progress = nullptr;
 };
@@ -46,7 +60,12 @@ struct EdgeLocation {
 /// and check_mesh()'s MeshCheck extends with a soup's own facts, so both stages give one
 /// verdict, valid(), and one list of problems() in the same words. Counts refer to the mesh's
 /// vertices as `merged_points` says; triangle indices to the input's triangles.
+/// How a verdict was reached: by searching the mesh (its indices for the topology, a pair
+/// search for intersections), or from a ConstructionProof.
+enum class ValidatedBy : std::uint8_t { Search, Construction };
+
 struct MeshValidity {
+  ValidatedBy validated_by = ValidatedBy::Search;
   /// How corners are identified. false (validate_mesh): as indexed, and separate vertices at
   /// one position are a defect (duplicate_points). true (check_mesh): by position, points with
   /// bit-identical coordinates merged first (-0.0 == +0.0), as a soup's topology is its

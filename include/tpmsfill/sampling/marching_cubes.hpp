@@ -26,10 +26,13 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "tpmsfill/field.hpp"
 #include "tpmsfill/io.hpp"
+#include "tpmsfill/mesh/validate.hpp"
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/types.hpp"
 
@@ -57,6 +60,42 @@ struct McOptions {
 ///                     is below 2, or the mesh would need 2^32 or more points
 /// @throws Cancelled   when options.progress says so
 TriangleSoup marching_cubes(const Field& field, const McOptions& options = {});
+
+/// A marching-cubes mesh and what its construction proves of it.
+struct ProvedMesh {
+  TriangleSoup mesh;
+  /// For validate_mesh() (ValidateOptions::proof): the guarantees above hold of `mesh`, each
+  /// assumption checked, with no triangle pair left to test. Unset when an assumption failed
+  /// (`unproved` says which): then validate the mesh by searching it.
+  std::optional<ConstructionProof> proof;
+  std::string unproved;
+};
+
+/// marching_cubes(field, options), bit for bit, with the proof of its validity. What is
+/// checked:
+/// - the case table keeps the rules mc_table_violations() (sampling/mc_tables.hpp) lists,
+///   over every entry, once per process;
+/// - every vertex, as stored and as the file holds it, lies strictly inside its grid edge (a
+///   centroid, inside its cube), and the grid's nodes as held increase strictly;
+/// - every node on the grid's border is outside.
+/// Why that is enough. A triangle lies in its cube's closed box, so triangles of cubes that
+/// share nothing cannot meet. Across a shared face both cubes cut it along the same segments
+/// (the same edge vertices by id, the same exact decision), and a triangle meets the face only
+/// in one of those segments or in one vertex; across an edge, only in its vertex; at a corner,
+/// not at all. So triangles of different cubes meet only in shared vertices and edges. Within
+/// a cube, pieces are separated by planes. Within a piece: a quad's two triangles lie on either
+/// side of their diagonal in any plane holding both (the quad's corners lie on the boundary of
+/// the convex polygon that plane cuts from the cube, in order); a fan's triangles are the cones
+/// from its centroid, strictly inside the cube, over the loop's segments on the cube's
+/// surface, and every ray from an inner point leaves the cube once, so two of them meet beyond
+/// the centroid only where their segments meet, which only neighbours do, at their shared
+/// vertex. The edge and fan rules make the surface closed, oriented and a disk around every
+/// vertex; vertices on distinct open edges or in distinct open cubes cannot coincide; three
+/// points of a cube's surface are collinear only within one face, which no triangle lies in,
+/// and a centroid lies off every face.
+/// Costs about what marching_cubes() does, plus the checks.
+/// @throws as marching_cubes(field, options)
+ProvedMesh marching_cubes_proved(const Field& field, const McOptions& options = {});
 
 /// The same mesh (bit for bit) as marching_cubes(sample_field(source, grid)), straight from a
 /// field source (field.hpp): each task evaluates the slab of node layers it reads, so the
