@@ -299,9 +299,9 @@ Command add_fill_command(CLI::App& app) {
                 "Skip the self-intersection search when validating");
   sub->add_option("--validate", args->validate,
                   "How the lattice is proved valid: proof (default: from marching cubes' own "
-                  "structure, each assumption checked, only the triangle pairs it leaves open "
-                  "tested; jobs in slabs are searched) or full (search the whole mesh as if it "
-                  "came from anywhere: slower, the same verdict)");
+                  "structure, each of its assumptions checked, nothing searched; jobs in slabs "
+                  "are searched) or full (search the whole mesh as if it came from anywhere: "
+                  "slower, the same verdict). The report's validated_by says which ran");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   sub->add_option("--preview", args->preview,
                   "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "
