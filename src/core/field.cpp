@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "core/grid_buffer.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
@@ -33,7 +34,7 @@ FieldSource function_source(std::function<float(Vec3)> at) {
 
 Field sample_field(const FieldSource& source, const Grid& grid, Progress* progress) {
   const RowFunction rows = bind_source(source, grid);
-  Field field{grid, std::vector<float>(grid.node_count())};
+  Field field{grid, detail::grid_buffer<float>(grid.node_count())};
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
   detail::ProgressCounter counter(progress, "field", grid.row_count());
   detail::parallel_for(grid.row_count(), 16, [&](std::size_t begin, std::size_t end) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/grid_buffer.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
 #include "tpmsfill/error.hpp"
@@ -38,7 +39,7 @@ Field compose_rows(const Grid& grid, const FieldSource& source, const ComposeOpt
   const float skin = static_cast<float>(o.skin);
   const std::size_t nx = static_cast<std::size_t>(grid.dims[0]);
   const std::size_t rows = grid.row_count();
-  Field field{grid, std::vector<float>(grid.node_count())};
+  Field field{grid, detail::grid_buffer<float>(grid.node_count())};
   detail::ProgressCounter counter(o.progress, "compose", rows);
   detail::parallel_for(rows, 16, [&](std::size_t begin, std::size_t end) {
     std::vector<std::uint8_t> known(nx);

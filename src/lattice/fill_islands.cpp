@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "core/grid_buffer.hpp"
 #include "core/index_limits.hpp"
 #include "core/parallel.hpp"
 #include "lattice/fill_job.hpp"
@@ -33,7 +34,7 @@ IslandMasks island_masks(const Job& job) {
     return {[&phi](int i, int j, int k) { return phi.values[phi.grid.index(i, j, k)] < 0; },
             label_regions(job.occupancy.inside),
             [&phi] {
-              Mask solid{phi.grid, std::vector<std::uint8_t>(phi.values.size())};
+              Mask solid{phi.grid, detail::grid_buffer<std::uint8_t>(phi.values.size())};
               detail::parallel_for(solid.values.size(), std::size_t{1} << 16,
                                    [&](std::size_t b, std::size_t e) {
                                      for (std::size_t n = b; n < e; ++n)

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/grid_buffer.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
 #include "mesh/row_crossing.hpp"
@@ -256,7 +257,7 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
   const auto& impl = detail::MeshIndexAccess::impl(index);
   Occupancy result;
   result.inside.grid = grid;
-  result.inside.values.assign(grid.node_count(), 0);
+  detail::resize_on_huge_pages(result.inside.values, grid.node_count());
   if (grid.dims[0] < 0 || grid.dims[1] < 0 || grid.dims[2] < 0)
     throw InputError("classify_grid: the grid has a negative dimension");
   const std::size_t rows = grid.dims[0] == 0 ? 0 : grid.row_count();

@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "core/grid_buffer.hpp"
 #include "core/index_limits.hpp"
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
@@ -172,8 +173,6 @@ struct Extractor {
     return r;
   }
 
-  // Numbers the crossed edges of node layer k from `first` on, in index order (x, y, z edge of
-  // each node); writes their points when `points` is given (the layer's owner does).
   // The proof's assumption of a vertex: strictly inside its edge along `axis` (or, axis -1,
   // inside its cube) of the grid as held, as the file holds it. (An edge vertex's other two
   // coordinates are the held nodes', assigned.)
@@ -188,6 +187,9 @@ struct Extractor {
     if (!inside) log.vertex_off.store(true, std::memory_order_relaxed);
   }
 
+  // Numbers the crossed edges of node layer k from `first` on, in index order (x, y, z edge of
+  // each node); writes their points when `points` is given (the layer's owner does), checked
+  // when `log` is.
   void number(int k, std::uint32_t first, LayerIds& ids, Vec3* points,
               ProofLog* log = nullptr) const {
     // Only crossed edges' ids are ever read (fill looks up the crossed edges of its cells), so
@@ -297,8 +299,8 @@ LayerStarts extract(const Grid& grid, std::size_t kb, std::size_t ke, std::size_
   if (!detail::fits_32bit_ids(first_vertex[n]))
     throw InputError("marching_cubes: more than 2^32 - 1 vertices; use a coarser grid");
 
-  soup.points.resize(first_vertex[n] - id_base);
-  soup.triangles.resize(first_triangle[n]);
+  detail::resize_on_huge_pages(soup.points, first_vertex[n] - id_base);
+  detail::resize_on_huge_pages(soup.triangles, first_triangle[n]);
   // Ranges of several layers, so that each task numbers the layer above its range only once.
   detail::parallel_for(n, 8, [&](std::size_t b, std::size_t e) {
     with_layers(kb + b, kb + e, [&](const auto& ex) {

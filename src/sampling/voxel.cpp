@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "core/disjoint_sets.hpp"
+#include "core/grid_buffer.hpp"
 #include "core/index_limits.hpp"
 #include "core/parallel.hpp"
 #include "sampling/distance_transform.hpp"
@@ -82,8 +83,8 @@ Mask dilate(const Mask& mask, int voxels) {
   require_consistent(mask);
   if (voxels < 0) throw InputError("dilation radius must not be negative");
   if (voxels == 0) return mask;
-  Mask a{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
-  Mask b{mask.grid, std::vector<std::uint8_t>(mask.values.size())};
+  Mask a{mask.grid, detail::grid_buffer<std::uint8_t>(mask.values.size())};
+  Mask b{mask.grid, detail::grid_buffer<std::uint8_t>(mask.values.size())};
   dilate_x(mask.grid, mask.values.data(), a.values.data(), voxels,
            [](std::uint8_t x) { return x; });
   dilate_rows(mask.grid, a.values.data(), b.values.data(), voxels, 1);
@@ -234,7 +235,7 @@ Regions label_runs(Regions r, Connectivity connectivity) {
 // --- distance transform ------------------------------------------------------------------
 
 Field distance_transform(const Mask& mask, bool beyond_grid_set) {
-  Field out{mask.grid, std::vector<float>(mask.values.size())};
+  Field out{mask.grid, detail::grid_buffer<float>(mask.values.size())};
   const double a = mask.grid.spacing;
   detail::squared_distance_transform<false>(
       mask, beyond_grid_set, [&](std::size_t node, std::uint32_t d2, std::uint32_t) {
