@@ -14,6 +14,7 @@
 #include <tuple>
 #include <utility>
 
+#include "core/grid_border.hpp"
 #include "core/job_progress.hpp"
 #include "lattice/field_job.hpp"
 #include "lattice/field_planes.hpp"
@@ -533,17 +534,8 @@ Field design_field(const Job& job) {
   Field phi = sample_field(design_source(job.result.resolved.design), job.grid, job.progress);
   const Grid& g = phi.grid;
   const auto outside = static_cast<float>(g.spacing);
-  // Only the shell is visited: whole rows on the bottom, top and side faces, the two end
-  // nodes of every other row.
-  const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      const bool face = k == 0 || k == nz - 1 || j == 0 || j == ny - 1;
-      for (int i = 0; i < nx; i += face || i == nx - 1 ? 1 : nx - 1) {
-        float& v = phi.values[g.index(i, j, k)];
-        v = std::fmax(v, outside);
-      }
-    }
+  detail::for_each_border_node(
+      g, [&](std::size_t n) { phi.values[n] = std::fmax(phi.values[n], outside); });
   return phi;
 }
 

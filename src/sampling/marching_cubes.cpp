@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "core/grid_border.hpp"
 #include "core/grid_buffer.hpp"
 #include "core/index_limits.hpp"
 #include "core/parallel.hpp"
@@ -373,14 +374,9 @@ std::string unproved_field(const Field& field, float iso, const detail::RoundedG
     for (int i = 0; i + 1 < g.dims[a]; ++i)
       if (!(held.node(a, i) < held.node(a, i + 1)))
         return "the grid's nodes as the file holds them do not increase strictly";
-  const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      const bool face = k == 0 || k == nz - 1 || j == 0 || j == ny - 1;
-      for (int i = 0; i < nx; i += face || i == nx - 1 ? 1 : nx - 1)
-        if (field.values[g.index(i, j, k)] < iso)
-          return "a node on the grid's border is inside, so the surface is open there";
-    }
+  bool inside = false;
+  detail::for_each_border_node(g, [&](std::size_t n) { inside |= field.values[n] < iso; });
+  if (inside) return "a node on the grid's border is inside, so the surface is open there";
   return {};
 }
 
