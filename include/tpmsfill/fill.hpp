@@ -79,8 +79,9 @@ struct FillOptions {
   /// Search the output for self-intersections before accepting it (exact predicates).
   bool check_self_intersections = true;
   /// How the output is validated. Proof: where marching cubes' construction proves the
-  /// output valid (marching_cubes_proved: the whole grid held at once), its proof is checked
-  /// and only the triangle pairs it leaves open are tested; other jobs are searched. Full:
+  /// output valid (marching_cubes_proved on the whole grid, or SlabMarchingCubes slab by slab
+  /// in one process), its proof is checked and nothing is searched; other jobs (split among
+  /// processes) are searched. Full:
   /// every output searched as a mesh from anywhere would be (the oracle; slower). Both give
   /// the same verdict; FillReport::validation.validated_by says which way was taken.
   enum class Validation { Proof, Full };

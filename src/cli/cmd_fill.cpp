@@ -144,7 +144,6 @@ int run_fill(FillArgs args) {
   const auto threads = thread_limit(args.threads);
 
   FillOptions options = job_options(args.job);
-  if (options.memory_budget != 0) return_freed_memory_at_once();  // a budget given
   if (args.full_field) options.full_field = true;
   if (args.keep_islands) options.keep_islands = true;
   if (args.measure) options.measure = true;
@@ -297,11 +296,12 @@ Command add_fill_command(CLI::App& app) {
       ->check(positive());
   sub->add_flag("--no-self-intersections", args->no_self_intersections,
                 "Skip the self-intersection search when validating");
-  sub->add_option("--validate", args->validate,
-                  "How the lattice is proved valid: proof (default: from marching cubes' own "
-                  "structure, each of its assumptions checked, nothing searched; jobs in slabs "
-                  "are searched) or full (search the whole mesh as if it came from anywhere: "
-                  "slower, the same verdict). The report's validated_by says which ran");
+  sub->add_option(
+      "--validate", args->validate,
+      "How the lattice is proved valid: proof (default: from marching cubes' own "
+      "structure, each of its assumptions checked, nothing searched; jobs split "
+      "among processes are searched) or full (search the whole mesh as if it came from anywhere: "
+      "slower, the same verdict). The report's validated_by says which ran");
   sub->add_option("--report", args->report, "Write the JSON report here (fields: docs/cli.md)");
   sub->add_option("--preview", args->preview,
                   "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "

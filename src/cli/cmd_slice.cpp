@@ -69,7 +69,6 @@ bool inside_folder(const fs::path& file, const fs::path& folder) {
 int run_slice(SliceArgs a) {
   const auto threads = thread_limit(a.threads);
   FillOptions options = job_options(a.job);
-  if (options.memory_budget != 0) return_freed_memory_at_once();  // a budget given
   const SliceOptions slice_options{.layer = a.layer, .start = a.start};
   const LayerFormat format = output_format(a);
   const bool folder = writes_folder(format);

@@ -169,7 +169,8 @@ void add_job_options(CLI::App* sub, JobArgs& args) {
       ->check(between(1, 64, "1 to 64"));
   sub->add_option("--memory", args.memory,
                   "Memory to fit in, e.g. 8G or 512M (default: half of physical memory). fill "
-                  "goes slab by slab when the whole grid does not fit, and then streams OUT "
+                  "goes slab by slab when the whole grid does not fit (or needs over 512 MiB, "
+                  "where slabs are faster), and then streams OUT "
                   "(validated and written a few layers at a time, through a temporary file of "
                   "about 30 bytes a triangle beside it): the same output; what fits in no way "
                   "is refused, saying what would");

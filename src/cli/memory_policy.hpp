@@ -11,23 +11,15 @@ namespace tpmsfill::cli {
 
 /// Freed memory stays in the heap (no mmap below 1 GiB, no trimming), so each stage's grid
 /// arrays reuse resident pages instead of faulting in fresh zeroed ones: a sixth of a femur
-/// job's time at 0.05 mm went to page faults (docs/benchmarks.md, section 17). Called once,
-/// first thing in main().
+/// job's time at 0.05 mm went to page faults (docs/benchmarks.md, section 17). Under --memory
+/// too: a job in slabs allocates the same arrays slab after slab, and returning them at once
+/// made every slab fault its arrays in afresh (the femur at 1.1·10⁹ samples under --memory 2G:
+/// 37 s so, 18 s reusing them, its peak 1.03 against 1.57 GB; section 32). Called once, first
+/// thing in main().
 inline void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, INT_MAX);
-#endif
-}
-
-/// Under an explicit --memory the budget is a promise: freed memory goes back to the system at
-/// once (glibc's initial thresholds, held fixed), so that no reuse pattern stacks resident
-/// holes on the planned peak. Measured on a femur in slabs under --memory 4G: 2.3 GB peak so,
-/// 3.3 GB with keep_freed_memory (docs/benchmarks.md, section 17.2).
-inline void return_freed_memory_at_once() {
-#if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
-  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
 #endif
 }
 

@@ -67,6 +67,7 @@ SampledPlanes sample_planes(const FieldPlanes& job, const Grid& planes);
 namespace tpmsfill::detail {
 
 /// The model as the inside rule needs it indexed: as it is, or cleaned with its holes capped.
+/// The tree may read the model's points in place: the model outlives it.
 struct IndexedModel {
   std::optional<CleanResult> cleaned;
   std::optional<MeshIndex> tree;
@@ -111,7 +112,8 @@ void index_for_rule(const TriangleSoup& model, const FillOptions& o, IndexedMode
   const InsideRule rule = o.inside.value_or(InsideRule::Winding);
   report.inside_rule = inside_name(rule);
   if (rule == InsideRule::Winding && o.inside) return index_cleaned(model, m, report, stage);
-  stage("spatial", [&] { m.tree.emplace(build_index(model)); });
+  // `model` outlives the job: the tree reads an STL's corners in place.
+  stage("spatial", [&] { m.tree.emplace(build_index(model, {.borrow_points = true})); });
   if (o.inside) return;  // parity
   bool unbalanced = false;
   stage("classify", [&] {

@@ -128,6 +128,9 @@ double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign&
 // marching cubes' lookahead planes than on their own.
 constexpr int kMinSlabPlanes = 4;
 
+// Whole-grid estimates above one of these go in slabs that fit it (plan_memory's cost model).
+constexpr double kSlabTargets[] = {512.0 * (1u << 20), 2048.0 * (1u << 20)};
+
 // The memory plan: the whole grid at once when it fits the budget (or slabs when asked), else
 // slabs as thick as fit; when nothing fits, the refusal to throw after the review, naming a
 // voxel size that fits.
@@ -147,20 +150,32 @@ detail::MemoryPlan plan_memory(const ModelSize& m, const FillOptions& o, const L
     const int planes = std::min(o.slab_planes, nz);
     return {planes, saturated_bytes(slab_bytes(m, o, d, planes, streamed)), {}};
   }
-  if (whole <= budget) return {0, saturated_bytes(whole), {}};
-  // The thickest slabs that fit (bytes grow with the thickness until validation's peak, the
-  // output's, dominates): bisect.
-  int fit =
-      !whole_only && slab_bytes(m, o, d, kMinSlabPlanes, streamed) <= budget ? kMinSlabPlanes : 0;
-  if (fit) {
+  // The thickest slabs that fit `bytes` (bytes grow with the thickness until validation's
+  // peak, the output's, dominates): bisect; 0 when none does.
+  auto thickest_within = [&](double bytes) {
+    if (whole_only || slab_bytes(m, o, d, kMinSlabPlanes, streamed) > bytes) return 0;
     int lo = kMinSlabPlanes, hi = nz;
-    if (slab_bytes(m, o, d, hi, streamed) <= budget) lo = hi;
+    if (slab_bytes(m, o, d, hi, streamed) <= bytes) lo = hi;
     while (hi - lo > 1) {
       const int mid = lo + (hi - lo) / 2;
-      (slab_bytes(m, o, d, mid, streamed) <= budget ? lo : hi) = mid;
+      (slab_bytes(m, o, d, mid, streamed) <= bytes ? lo : hi) = mid;
     }
-    fit = lo;
-  }
+    return lo;
+  };
+  // The cost model: a large grid goes in slabs even when it fits whole. Slabs reuse one slab's
+  // arrays where the whole grid faults in fresh memory for each of its own, and that costs
+  // more than the slabs' halos (docs/benchmarks.md §32: the femur at 4.9·10⁷ samples, 1.23 s
+  // and 244 MB in slabs that fit 512 MiB against 1.60 s and 393 MB whole; at 1.1·10⁹ samples,
+  // 18 s and 1.6 GB in slabs that fit 2 GiB against 24 s and 6.1 GB). The slabs fit the first
+  // of kSlabTargets that the whole grid exceeds and that some slabs fit (a large input or
+  // output may need more than 512 MiB); `--measure` needs the whole grid.
+  if (!o.measure)
+    for (const double target : kSlabTargets)
+      if (whole > target)
+        if (const int planes = thickest_within(std::min(budget, target)))
+          return {planes, saturated_bytes(slab_bytes(m, o, d, planes, streamed)), {}};
+  if (whole <= budget) return {0, saturated_bytes(whole), {}};
+  int fit = thickest_within(budget);
   if (fit && !o.measure) return {fit, saturated_bytes(slab_bytes(m, o, d, fit, streamed)), {}};
   if (o.measure && fit)
     return {0, saturated_bytes(whole),
@@ -282,7 +297,9 @@ void classify(Job& job) {
     });
   };
   if (rule == InsideRule::Parity || !o.inside) {
-    job.stage("spatial", [&] { job.tree.emplace(build_index(job.model)); });
+    // The model outlives the job: the tree reads an STL's corners in place.
+    job.stage("spatial",
+              [&] { job.tree.emplace(build_index(job.model, {.borrow_points = true})); });
     run();
   }
   if (rule == InsideRule::Winding && (o.inside || job.occupancy.unbalanced_rows > 0)) {

@@ -48,6 +48,9 @@ struct Job {
   /// What marching cubes proved of `mesh` (FillOptions::Validation::Proof, the whole grid);
   /// dropped by anything that changes the mesh but islands, which carry it over.
   std::optional<ConstructionProof> proof;
+  /// In slabs: the one part made every plane and SlabMarchingCubes proved them all
+  /// (FillOptions::Validation::Proof), so the mesh, held or streamed, needs no search.
+  bool slabs_proved = false;
 
   Job(const TriangleSoup& m, const FillOptions& o, FillResult& r,
       std::vector<detail::PlannedStage> plan, int slabs)

@@ -97,6 +97,8 @@ FillPart mesh_planes(Job& job, int first, int end, const std::function<bool(bool
       part.layer_points.push_back(mc.first_point(k));
       part.layer_triangles.push_back(mc.first_triangle(k));
     }
+    job.slabs_proved = o.validation == FillOptions::Validation::Proof && first == 0 &&
+                       end == grid.dims[2] && mc.unproved().empty();
   });
   return part;
 }
@@ -169,6 +171,8 @@ void mesh_in_slabs(Job& job) {
   std::vector<FillPart> parts;
   parts.push_back(mesh_planes(job, 0, job.grid.dims[2], {}, {}));
   join_parts(job, std::move(parts));
+  if (job.slabs_proved)
+    job.proof = ConstructionProof{job.mesh.triangles.size(), job.mesh.points.size()};
 }
 
 }  // namespace tpmsfill::detail

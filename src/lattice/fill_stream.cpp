@@ -254,14 +254,21 @@ template <class Prepare, class Visit>
 void for_each_record(SpillFile& file, std::uint64_t count, Progress* progress,
                      const Prepare& prepare, const Visit& visit) {
   file.rewind();
-  std::optional<Record> prev, cur, next;
+  // The record leaving the three is read into again: its storage is reused, not faulted in
+  // afresh for each record (under --memory every large block is a fresh mapping).
+  std::optional<Record> prev, cur, next, spare;
   auto read = [&](std::optional<Record>& into) {
-    into.emplace();
+    if (spare)
+      into = std::move(spare);
+    else
+      into.emplace();
+    spare.reset();
     into->get(file);
     prepare(*into);
   };
   if (count) read(next);
   for (std::uint64_t i = 0; i < count; ++i) {
+    spare = std::move(prev);
     prev = std::move(cur);
     cur = std::move(next);
     next.reset();
@@ -389,7 +396,8 @@ class ValidatingWriter {
   // As a record is read: its points rounded as fill() rounds them, the kept ones numbered and
   // written.
   void prepare(Record& rec) {
-    std::vector<Vec3> out;
+    std::vector<Vec3>& out = points_out_;
+    out.clear();
     rec.new_id.assign(rec.points.size(), kNone);
     for (std::size_t p = 0; p < rec.points.size(); ++p) {
       Vec3& q = rec.points[p];
@@ -407,8 +415,12 @@ class ValidatingWriter {
   void visit(const Record* prev, const Record& cur, const Record* next) {
     const std::uint64_t first = prev ? prev->last_layer_point : cur.first_point;
     const std::uint64_t end = next ? next->second_layer_point : cur.end_point();
-    TriangleSoup window;
-    std::vector<Vec3> kept_points;  // the writer's window: their output ids run from first_new
+    // Buffers kept from record to record (cleared, their storage reused).
+    TriangleSoup& window = window_;
+    window.points.clear();
+    window.triangles.clear();
+    std::vector<Vec3>& kept_points = kept_points_;  // the writer's window: ids from first_new on
+    kept_points.clear();
     std::uint32_t first_new = kNone;
     window.points.reserve(end - first);
     for (std::uint64_t id = first; id < end; ++id) {
@@ -425,13 +437,15 @@ class ValidatingWriter {
                       static_cast<std::uint32_t>(t[1] - first),
                       static_cast<std::uint32_t>(t[2] - first)};
     };
-    std::vector<std::uint32_t> final_index = carried_final_;
+    std::vector<std::uint32_t>& final_index = final_index_;
+    final_index = carried_final_;
     if (prev)
       for (std::size_t i = prev->last_layer_triangle - prev->first_triangle;
            i < prev->triangles.size(); ++i)
         if (kept(prev->triangle_label[i])) window.triangles.push_back(local(prev->triangles[i]));
     const std::size_t carried = window.triangles.size();
-    std::vector<Triangle> out;
+    std::vector<Triangle>& out = triangles_out_;
+    out.clear();
     carried_final_.clear();
     for (std::size_t i = 0; i < cur.triangles.size(); ++i) {
       if (!kept(cur.triangle_label[i])) continue;
@@ -450,11 +464,14 @@ class ValidatingWriter {
       }
       out.push_back(renumbered);
     }
-    const bool search = job_.options.check_self_intersections;
-    const WindowValidation w =
-        validate_window(window, {cur.first_point - first, cur.end_point() - first}, carried,
-                        job_.grid, max_examples_, search);
-    sums_.add(w, final_index, max_examples_, search);
+    // Proved slabs are only measured, as validate_mesh() measures a proved mesh.
+    if (!job_.slabs_proved) {
+      const bool search = searched();
+      const WindowValidation w =
+          validate_window(window, {cur.first_point - first, cur.end_point() - first}, carried,
+                          job_.grid, max_examples_, search);
+      sums_.add(w, final_index, max_examples_, search);
+    }
     writer_.add_triangles(out, kept_points, first_new == kNone ? 0 : first_new);
   }
 
@@ -469,7 +486,13 @@ class ValidatingWriter {
     v.outward = v.components > 0 && volume > 0;
     for (std::size_t c = 0; c < keep_.size(); ++c)
       if (keep_[c] && component_volume_[c] == 0) v.outward = false;
-    if (job_.options.check_self_intersections) {
+    if (job_.slabs_proved) {
+      // Every point marching cubes makes is a corner of the triangles around its edge.
+      v.vertices = next_id_;
+      v.validated_by = ValidatedBy::Construction;
+      if (job_.options.check_self_intersections) v.self_intersecting_pairs = 0;
+    }
+    if (searched()) {
       v.searched_by_cells = sums_.by_cells;
       std::sort(sums_.pairs.begin(), sums_.pairs.end());
       if (sums_.pairs.size() > max_examples_) sums_.pairs.resize(max_examples_);
@@ -479,6 +502,8 @@ class ValidatingWriter {
   }
 
  private:
+  // Slabs proved by construction (and islands only drop whole components) need no search.
+  bool searched() const { return job_.options.check_self_intersections && !job_.slabs_proved; }
   std::uint32_t component(std::uint32_t label) const { return tally_.of_label[label]; }
   bool kept(std::uint32_t label) const { return label != kNone && keep_[component(label)]; }
   void add_sums(Vec3 a, Vec3 b, Vec3 c, std::uint32_t comp) {
@@ -504,6 +529,10 @@ class ValidatingWriter {
   double volume_ = 0, area_ = 0, chunk_volume_ = 0, chunk_area_ = 0;
   std::uint64_t next_id_ = 0, written_ = 0;
   std::vector<std::uint32_t> carried_final_;  // output indices of the carried triangles
+  std::vector<Vec3> points_out_, kept_points_;
+  std::vector<std::uint32_t> final_index_;
+  TriangleSoup window_;
+  std::vector<Triangle> triangles_out_;
 };
 
 // Islands, validation and writing once every layer is spilled and the parts joined; the job

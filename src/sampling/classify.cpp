@@ -35,9 +35,8 @@ struct RowLine {
 /// row line with a triangle.
 class RowCrossings {
  public:
-  RowCrossings(const detail::TriangleArray& triangles, std::size_t first_cap,
-               std::vector<RowCrossing>& out)
-      : triangles_(triangles), first_cap_(first_cap), out_(out) {}
+  RowCrossings(const detail::MeshIndexAccess::Impl& index, std::vector<RowCrossing>& out)
+      : triangles_(index.triangles), order_(index.order.data()), out_(out) {}
 
   bool go_further() const { return true; }
 
@@ -47,14 +46,21 @@ class RowCrossings {
   }
 
   void intersection(const RowLine& q, const TrianglePrimitive& primitive) {
-    RowCrossing c = detail::row_crossing(triangles_[primitive.id()].v, q.y, q.z);
-    c.cap = primitive.id() >= first_cap_;
-    if (c.sign != 0) out_.push_back(c);
+    primitive.for_each_triangle(order_, [&](std::uint32_t id) {
+      const std::array<Vec3, 3> v = triangles_[id];
+      // The row misses a triangle whose y or z range excludes it (as it misses such a box).
+      if (q.y < std::min({v[0].y, v[1].y, v[2].y}) || q.y > std::max({v[0].y, v[1].y, v[2].y}) ||
+          q.z < std::min({v[0].z, v[1].z, v[2].z}) || q.z > std::max({v[0].z, v[1].z, v[2].z}))
+        return;
+      RowCrossing c = detail::row_crossing(v, q.y, q.z);
+      c.cap = id >= triangles_.first_cap();
+      if (c.sign != 0) out_.push_back(c);
+    });
   }
 
  private:
   const detail::TriangleArray& triangles_;
-  std::size_t first_cap_;
+  const std::uint32_t* order_;
   std::vector<RowCrossing>& out_;
 };
 
@@ -274,7 +280,7 @@ Occupancy classify_grid(const MeshIndex& index, const Grid& grid, const Classify
       const int k = static_cast<int>(row / static_cast<std::size_t>(grid.dims[1]));
       const RowLine line{grid.coordinate(1, j), grid.coordinate(2, k)};
       crossings.clear();
-      RowCrossings traits(impl.triangles, impl.triangles.size() - impl.cap_count, crossings);
+      RowCrossings traits(impl, crossings);
       for (const auto& tree : impl.trees) tree->traversal(line, traits);
       classify_row(grid, line, crossings, impl.caps, impl.bounds, options.rule,
                    result.inside.values.data() + grid.index(0, j, k), per_row[row]);

@@ -79,14 +79,26 @@ double squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3&
   return dot(o, o);
 }
 
+double box_gap(double x, double lo, double hi) {
+  return x < lo ? lo - x : (x > hi ? x - hi : 0.0);
+}
+
 /// Squared distance from p to a box (0 inside).
 double squared_distance(const Vec3& p, const CGAL::Bbox_3& b) {
-  auto gap = [](double x, double lo, double hi) {
-    return x < lo ? lo - x : (x > hi ? x - hi : 0.0);
-  };
-  const double dx = gap(p.x, b.xmin(), b.xmax()), dy = gap(p.y, b.ymin(), b.ymax()),
-               dz = gap(p.z, b.zmin(), b.zmax());
+  const double dx = box_gap(p.x, b.xmin(), b.xmax()), dy = box_gap(p.y, b.ymin(), b.ymax()),
+               dz = box_gap(p.z, b.zmin(), b.zmax());
   return dx * dx + dy * dy + dz * dz;
+}
+
+/// Squared distance from p to a triangle's bounding box (0 inside).
+double squared_distance_to_box(const Vec3& p, const std::array<Vec3, 3>& v) {
+  double sum = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double g =
+        box_gap(p[a], std::min({v[0][a], v[1][a], v[2][a]}), std::max({v[0][a], v[1][a], v[2][a]}));
+    sum += g * g;
+  }
+  return sum;
 }
 
 /// Traversal traits (AABB_tree::traversal_with_priority): nearest box first, prune boxes
@@ -95,8 +107,8 @@ class Nearest {
  public:
   using Priority = double;  // higher first: minus the squared box distance
 
-  Nearest(const detail::TriangleArray& triangles, double slack)
-      : triangles_(triangles), slack_(slack) {}
+  Nearest(const detail::MeshIndexAccess::Impl& index, double slack)
+      : triangles_(index.triangles), order_(index.order.data()), slack_(slack) {}
 
   /// Starts a query at p, bounded by triangle `hint` when it is not detail::kNoIndex.
   void start(const Vec3& p, std::uint32_t hint) {
@@ -114,16 +126,21 @@ class Nearest {
     const double d = squared_distance(p, node.bbox());
     return {d <= bound_, -d};
   }
+  // A bucket's triangles are tested as the tree tests its boxes first: one beyond the bound
+  // by its own box cannot be the nearest (the slack covers the box formula's rounding).
   void intersection(const Vec3& p, const TrianglePrimitive& primitive) {
-    consider(p, primitive.id());
+    primitive.for_each_triangle(order_, [&](std::uint32_t id) {
+      const std::array<Vec3, 3> v = triangles_[id];
+      if (squared_distance_to_box(p, v) <= bound_) consider(p, id, v);
+    });
   }
 
   double best() const { return best_; }
   std::uint32_t best_id() const { return best_id_; }
 
  private:
-  void consider(const Vec3& p, std::uint32_t id) {
-    const auto& v = triangles_[id].v;
+  void consider(const Vec3& p, std::uint32_t id) { consider(p, id, triangles_[id]); }
+  void consider(const Vec3& p, std::uint32_t id, const std::array<Vec3, 3>& v) {
     const double d = squared_distance(p, v[0], v[1], v[2]);
     if (d < best_ || (d == best_ && id < best_id_)) {
       best_ = d;
@@ -134,6 +151,7 @@ class Nearest {
   }
 
   const detail::TriangleArray& triangles_;
+  const std::uint32_t* order_;
   double slack_;
   double best_ = 0, bound_ = 0;
   std::uint32_t best_id_ = detail::kNoIndex;
@@ -167,7 +185,7 @@ void compute(const MeshIndex& index, const Mask& inside, std::size_t n, const No
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   detail::ProgressCounter progress(options.progress, "distance", n);
   detail::parallel_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
-    Nearest nearest(impl.triangles, slack);
+    Nearest nearest(impl, slack);
     // Hints: the previous node's answer when it is the x-neighbour, else the last answer in
     // the same grid column (i) of this chunk, usually one row (one voxel in y) away. Band
     // nodes come in short runs across each wall, so "the previous node" alone is often on
@@ -220,11 +238,11 @@ std::vector<Vec3> closest_points(const MeshIndex& index, const std::vector<Vec3>
   const double slack = rounding_slack(reach);
   std::vector<Vec3> out(points.size());
   detail::parallel_for(points.size(), kChunk, [&](std::size_t begin, std::size_t end) {
-    Nearest nearest(impl.triangles, slack);
+    Nearest nearest(impl, slack);
     for (std::size_t q = begin; q < end; ++q) {
       nearest.start(points[q], detail::kNoIndex);
       for (const auto& tree : impl.trees) tree->traversal_with_priority(points[q], nearest);
-      const auto& v = impl.triangles[nearest.best_id()].v;
+      const std::array<Vec3, 3> v = impl.triangles[nearest.best_id()];
       out[q] = points[q] - offset_from_triangle(points[q], v[0], v[1], v[2]);
     }
   });

@@ -365,20 +365,27 @@ TriangleSoup extract_field(const Field& field, const McOptions& options,
   return soup;
 }
 
-// Why the construction cannot be relied on for `field`, before extraction: its grid as held
-// does not increase strictly, or a node on the grid's border is inside (the surface would be
-// open there). Empty when neither.
-std::string unproved_field(const Field& field, float iso, const detail::RoundedGrid& held) {
-  const Grid& g = field.grid;
+// Why the construction cannot be relied on for any field on `held`'s grid: the table breaks
+// one of the proof's rules, or the grid as held does not increase strictly. Empty when neither.
+std::string unproved_grid(const Grid& g, const detail::RoundedGrid& held,
+                          const detail::McTables& tables) {
+  // The real table is checked once per process; a table a test hands in, on every call.
+  static const std::vector<std::string> own_violations = mc_table_violations(detail::mc_tables());
+  const std::vector<std::string> violations =
+      &tables == &detail::mc_tables() ? own_violations : mc_table_violations(tables);
+  if (!violations.empty())
+    return "the marching-cubes table breaks a rule its proof needs (" + violations[0] + ")";
   for (int a = 0; a < 3; ++a)
     for (int i = 0; i + 1 < g.dims[a]; ++i)
       if (!(held.node(a, i) < held.node(a, i + 1)))
         return "the grid's nodes as the file holds them do not increase strictly";
-  bool inside = false;
-  detail::for_each_border_node(g, [&](std::size_t n) { inside |= field.values[n] < iso; });
-  if (inside) return "a node on the grid's border is inside, so the surface is open there";
   return {};
 }
+
+constexpr const char* kBorderInside =
+    "a node on the grid's border is inside, so the surface is open there";
+constexpr const char* kVertexOff =
+    "a vertex is not strictly inside its grid edge or cube as the file holds it";
 
 }  // namespace
 
@@ -391,20 +398,16 @@ namespace detail {
 
 ProvedMesh marching_cubes_proved(const Field& field, const McOptions& options,
                                  const McTables& tables) {
-  // The real table is checked once per process; a table a test hands in, on every call.
-  static const std::vector<std::string> own_violations = mc_table_violations(mc_tables());
-  const std::vector<std::string> violations =
-      &tables == &mc_tables() ? own_violations : mc_table_violations(tables);
   const RoundedGrid held(field.grid, options.rounding);
   ProofLog log;
   ProvedMesh out;
   out.mesh = extract_field(field, options, held, tables, &log);
-  if (!violations.empty())
-    out.unproved = "the marching-cubes table breaks a rule its proof needs (" + violations[0] + ")";
-  else if (std::string why = unproved_field(field, options.iso, held); !why.empty())
-    out.unproved = std::move(why);
-  else if (log.vertex_off.load())
-    out.unproved = "a vertex is not strictly inside its grid edge or cube as the file holds it";
+  bool border_inside = false;
+  for_each_border_node(field.grid,
+                       [&](std::size_t n) { border_inside |= field.values[n] < options.iso; });
+  out.unproved = unproved_grid(field.grid, held, tables);
+  if (out.unproved.empty() && border_inside) out.unproved = kBorderInside;
+  if (out.unproved.empty() && log.vertex_off.load()) out.unproved = kVertexOff;
   if (!out.unproved.empty()) return out;
   // No pair is left open (marching_cubes.hpp says why).
   out.proof = ConstructionProof{out.mesh.triangles.size(), out.mesh.points.size()};
@@ -452,6 +455,7 @@ SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options,
     throw InputError("SlabMarchingCubes: the first plane is not in the grid");
   first_point_.push_back(0);
   first_triangle_.push_back(0);
+  unproved_ = unproved_grid(grid_, *held_, detail::mc_tables());
 }
 
 std::uint64_t SlabMarchingCubes::first_point(int k) const {
@@ -487,9 +491,22 @@ void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) 
                                   static_cast<std::size_t>(next_) * layer, base);
   detail::ProgressCounter progress(nullptr, "marching cubes", 1);
   const std::size_t triangles_before = mesh.triangles.size();
+  ProofLog log;
   const LayerStarts starts = extract(
       grid_, next_, next_ + owned, 1, progress,
-      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, mesh, base);
+      [&](std::size_t, std::size_t, const auto& work) { work(ex); }, mesh, base, &log);
+  // The proof's border check on the owned planes (each plane is owned by one slab).
+  if (unproved_.empty()) {
+    bool border_inside = false;
+    for (int k = next_; k < next_ + owned; ++k)
+      detail::for_each_border_node_of_plane(grid_, k, [&](std::size_t n) {
+        border_inside |= planes.values[n - static_cast<std::size_t>(next_) * layer] < options_.iso;
+      });
+    if (border_inside)
+      unproved_ = kBorderInside;
+    else if (log.vertex_off.load())
+      unproved_ = kVertexOff;
+  }
   // Triangle starts count every triangle made, whatever the caller has taken from `mesh`.
   const std::uint64_t made = first_triangle_.back();
   for (int k = 1; k <= owned; ++k) {

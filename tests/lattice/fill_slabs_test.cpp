@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
@@ -46,7 +47,38 @@ void expect_same_in_slabs(const TriangleSoup& model, FillOptions o,
     EXPECT_EQ(a.cleaned(), b.cleaned());
     EXPECT_EQ(a.lattice_volume(), b.lattice_volume());
     EXPECT_EQ(a.warnings, b.warnings);
+    // Slabs are proved as the whole grid is (the proof's checks run slab by slab).
+    EXPECT_EQ(b.validation.validated_by, a.validation.validated_by);
+    EXPECT_EQ(b.validation.valid(), a.validation.valid());
+    EXPECT_EQ(b.validation.vertices, a.validation.vertices);
+    EXPECT_EQ(b.validation.volume, a.validation.volume);
+    EXPECT_EQ(b.validation.self_intersecting_pairs, a.validation.self_intersecting_pairs);
   }
+}
+
+}  // namespace
+
+namespace {
+
+// f's mesh made by SlabMarchingCubes, `per` planes a slab; what it left unproved in `unproved`.
+TriangleSoup mesh_in_slabs_of(const Field& f, int per, std::string& unproved) {
+  const Grid& grid = f.grid;
+  const int nz = grid.dims[2];
+  const std::size_t layer = static_cast<std::size_t>(grid.dims[0]) * grid.dims[1];
+  SlabMarchingCubes mc(grid);
+  TriangleSoup mesh;
+  while (!mc.done()) {
+    const int first = mc.next_plane(), owned = std::min(per, nz - first);
+    const int last = std::min(first + owned + 1, nz - 1);
+    Grid g = grid;
+    g.z_offset = first;
+    g.dims[2] = last - first + 1;
+    Field slab{g, std::vector<float>(f.values.begin() + first * layer,
+                                     f.values.begin() + (last + 1) * layer)};
+    mc.add(slab, owned, mesh);
+  }
+  unproved = mc.unproved();
+  return mesh;
 }
 
 }  // namespace
@@ -57,19 +89,8 @@ TEST(SlabMarchingCubes, SlabsNumberPointsAsTheWholeField) {
   const TriangleSoup whole = marching_cubes(f);
   ASSERT_GT(whole.triangles.size(), 100u);
   for (int per : {1, 2, 5, 26, 40}) {
-    SlabMarchingCubes mc(grid);
-    TriangleSoup mesh;
-    while (!mc.done()) {
-      const int first = mc.next_plane(), owned = std::min(per, 27 - first);
-      const int last = std::min(first + owned + 1, 26);
-      Grid g = grid;
-      g.z_offset = first;
-      g.dims[2] = last - first + 1;
-      const std::size_t layer = 23 * 21;
-      Field slab{g, std::vector<float>(f.values.begin() + first * layer,
-                                       f.values.begin() + (last + 1) * layer)};
-      mc.add(slab, owned, mesh);
-    }
+    std::string unproved;
+    const TriangleSoup mesh = mesh_in_slabs_of(f, per, unproved);
     EXPECT_TRUE(mesh.points == whole.points) << per;
     EXPECT_TRUE(mesh.triangles == whole.triangles) << per;
   }
@@ -80,6 +101,31 @@ TEST(SlabMarchingCubes, SlabsNumberPointsAsTheWholeField) {
   g.z_offset = 1;
   g.dims[2] = 4;
   EXPECT_THROW(mc.add(Field{g, std::vector<float>(g.node_count(), 1.0f)}, 2, mesh), InputError);
+}
+
+// Slab by slab, the proof's checks give marching_cubes_proved()'s verdict on the whole field:
+// proved, a node inside on a side face or the top (the surface open there), a NaN vertex.
+TEST(SlabMarchingCubes, SlabsAreProvedAsTheWholeField) {
+  const Grid grid{{-1, -1, -1}, 0.5, {9, 8, 11}};
+  Field closed{grid, std::vector<float>(grid.node_count(), 1.0f)};
+  for (int k = 2; k < 9; ++k) closed.values[grid.index(4, 4, k)] = -1.0f;
+  Field side = closed, top = closed, nan = closed;
+  side.values[grid.index(0, 3, 6)] = -1.0f;
+  top.values[grid.index(4, 4, 10)] = -1.0f;
+  nan.values[grid.index(5, 4, 5)] = std::numeric_limits<float>::quiet_NaN();
+  for (const Field* f : {&closed, &side, &top, &nan}) {
+    const ProvedMesh whole = marching_cubes_proved(*f);
+    for (int per : {1, 3, 11}) {
+      std::string unproved;
+      const TriangleSoup mesh = mesh_in_slabs_of(*f, per, unproved);
+      EXPECT_TRUE(mesh.triangles == whole.mesh.triangles);
+      EXPECT_EQ(unproved, whole.unproved) << per;
+    }
+  }
+  EXPECT_TRUE(marching_cubes_proved(closed).unproved.empty());
+  EXPECT_NE(marching_cubes_proved(side).unproved.find("border"), std::string::npos);
+  EXPECT_NE(marching_cubes_proved(top).unproved.find("border"), std::string::npos);
+  EXPECT_NE(marching_cubes_proved(nan).unproved.find("vertex"), std::string::npos);
 }
 
 TEST(FillSlabs, GyroidInASphereIsTheSameInSlabs) {
@@ -259,9 +305,13 @@ void expect_streamed_as_held(const TriangleSoup& model, FillOptions o, int plane
     EXPECT_EQ(a.area, b.area);
     EXPECT_EQ(a.outward, b.outward);
     EXPECT_EQ(a.self_intersecting_pairs, b.self_intersecting_pairs);
-    // The whole grid is proved by marching cubes' construction; slabs are searched by cells.
-    EXPECT_EQ(a.validated_by, ValidatedBy::Construction);
-    EXPECT_EQ(b.validated_by, ValidatedBy::Search);
+    // Proved by marching cubes' construction on both paths, or searched on both (--validate
+    // full, the oracle).
+    const ValidatedBy by = o.validation == FillOptions::Validation::Full
+                               ? ValidatedBy::Search
+                               : ValidatedBy::Construction;
+    EXPECT_EQ(a.validated_by, by);
+    EXPECT_EQ(b.validated_by, by);
     EXPECT_EQ(held.report.islands_removed, s.report.islands_removed);
     EXPECT_EQ(held.report.islands_volume, s.report.islands_volume);
     EXPECT_EQ(held.report.cavities, s.report.cavities);
@@ -295,6 +345,10 @@ TEST(FillToFile, StreamedSlabsWriteTheHeldMeshByteForByte) {
   doubles.rounding = CoordinateRounding::None;
   doubles.check_self_intersections = false;
   expect_streamed_as_held(test::make_box({-3, -3, -3}, {3, 3, 3}), doubles, 6, "stream_doubles");
+  // Searched instead of proved, window by window: the same verdict and figures.
+  FillOptions full = test::gyroid_options(2, 0.12);
+  full.validation = FillOptions::Validation::Full;
+  expect_streamed_as_held(test::make_sphere({0, 0, 0}, 4, 4), full, 3, "stream_full");
 }
 
 TEST(FillToFile, IslandsAndCavitiesAreJudgedAsWhenHeld) {

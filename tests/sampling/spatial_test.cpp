@@ -1,7 +1,12 @@
 // Stage "spatial": which triangles the index keeps, and what it refuses.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/grid.hpp>
+#include <tpmsfill/mesh/clean.hpp>
+#include <tpmsfill/sampling/classify.hpp>
+#include <tpmsfill/sampling/distance.hpp>
 #include <tpmsfill/sampling/spatial.hpp>
 
 #include "test_util.hpp"
@@ -60,6 +65,52 @@ TEST(Spatial, IndexOutlivesTheSoupAndMoves) {
   MeshIndex moved = std::move(index);
   EXPECT_EQ(moved.triangle_count(), 12u);
   EXPECT_EQ(moved.bounds().max, (Vec3{2, 1, 1}));
+}
+
+// borrow_points reads an STL-laid-out soup's corners in place: the same triangles, the same
+// inside and the same closest points as the copy, near the origin and 300 mm out, with
+// degenerate triangles left out and with hole caps after the borrowed ids.
+TEST(Spatial, CornersReadInPlaceAnswerAsCopied) {
+  std::mt19937 random(7);
+  for (const double far : {0.0, 300.0}) {
+    const Vec3 at{far, -far, 0.5 * far};
+    for (const bool holed : {false, true}) {
+      TriangleSoup model =
+          holed ? test::make_box_with_hole(at, at + Vec3{4, 3, 2}) : test::make_torus(3, 1, 40, 20);
+      if (!holed)
+        for (Vec3& p : model.points) p = p + at;
+      TriangleSoup soup = test::unshare_points(model);
+      // A degenerate triangle (a repeated position) in the middle, laid out as STL does.
+      const Vec3 a = soup.points[0], b = soup.points[1];
+      soup.triangles.insert(soup.triangles.begin() + 5, Triangle{});
+      soup.points.insert(soup.points.begin() + 15, {a, b, a});
+      for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
+        const auto first = static_cast<std::uint32_t>(3 * t);
+        soup.triangles[t] = {first, first + 1, first + 2};
+      }
+      const CleanResult cleaned = clean_soup(soup);
+      const TriangleSoup* caps = holed ? &cleaned.caps : nullptr;
+      ASSERT_EQ(holed, caps != nullptr && !cleaned.caps.triangles.empty());
+      const MeshIndex copied = build_index(soup, {.hole_caps = caps});
+      const MeshIndex borrowed = build_index(soup, {.hole_caps = caps, .borrow_points = true});
+      EXPECT_EQ(borrowed.triangle_count(), soup.triangles.size() - 1 + borrowed.cap_count());
+      EXPECT_EQ(borrowed.triangle_count(), copied.triangle_count());
+      EXPECT_EQ(borrowed.bounds().min, copied.bounds().min);
+      EXPECT_EQ(borrowed.bounds().max, copied.bounds().max);
+
+      const Grid grid = make_grid(bounding_box(soup), {.voxel_size = 0.23});
+      const Occupancy in_copied = classify_grid(copied, grid);
+      const Occupancy in_borrowed = classify_grid(borrowed, grid);
+      EXPECT_EQ(in_borrowed.inside.values, in_copied.inside.values);
+      EXPECT_GT(std::count(in_borrowed.inside.values.begin(), in_borrowed.inside.values.end(), 1),
+                100);
+
+      std::uniform_real_distribution<double> u(-6, 6);
+      std::vector<Vec3> points(500);
+      for (Vec3& p : points) p = at + Vec3{u(random), u(random), u(random)};
+      EXPECT_EQ(closest_points(borrowed, points), closest_points(copied, points));
+    }
+  }
 }
 
 }  // namespace

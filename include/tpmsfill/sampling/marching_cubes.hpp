@@ -152,10 +152,18 @@ class SlabMarchingCubes {
   /// @throws InputError  `below` is not within the points held
   void drop_points(TriangleSoup& mesh, std::uint64_t below);
 
+  /// Empty when marching_cubes_proved()'s proof holds of the layers made so far: the table
+  /// keeps its rules, the grid as held increases strictly, every vertex lies strictly inside
+  /// its edge or cube as held, and no node of the grid's border is inside. Else which
+  /// assumption failed. Once done() from plane 0, an empty answer proves the whole mesh (what
+  /// validate_mesh() takes as a ConstructionProof).
+  const std::string& unproved() const { return unproved_; }
+
  private:
   Grid grid_;
   McOptions options_;
   std::shared_ptr<const detail::RoundedGrid> held_;
+  std::string unproved_;
   int first_ = 0;
   int next_ = 0;
   std::uint64_t dropped_ = 0;

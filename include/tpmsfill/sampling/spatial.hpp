@@ -4,7 +4,8 @@
 /// distance stage.
 ///
 /// MeshIndex is opaque: CGAL stays inside src/. It keeps its own copy of the triangles, so
-/// the soup it was built from may be destroyed afterwards.
+/// the soup it was built from may be destroyed afterwards, unless IndexOptions::borrow_points
+/// asks it to read them in place.
 #pragma once
 
 #include <cstddef>
@@ -25,6 +26,11 @@ struct IndexOptions {
   /// hole along its cap), and classify_grid()'s winding rule subtracts their own winding
   /// number again, so that the result is the winding number of the soup alone.
   const TriangleSoup* hole_caps = nullptr;
+  /// Read the soup's corners in place instead of copying them (72 bytes a triangle), when its
+  /// triangles are laid out one by one: triangle t is points 3t, 3t + 1 and 3t + 2, as STL
+  /// readers and marching cubes give them. The soup must then outlive the index, unchanged.
+  /// Other layouts are copied as without it.
+  bool borrow_points = false;
   // Triangles with a repeated corner are always left out (they bound nothing). Collinear
   // triangles are kept: rays and distances treat them exactly.
 };
