@@ -243,7 +243,7 @@ MeshIndex build_index(const TriangleSoup& soup, const IndexOptions& options) {
   impl->magnitude = std::max({std::fabs(box.min.x), std::fabs(box.min.y), std::fabs(box.min.z),
                               std::fabs(box.max.x), std::fabs(box.max.y), std::fabs(box.max.z)});
 
-  // Buckets of kBucket triangles along the Morton curve, split in two halves (two trees
+  // Buckets of up to kBucket triangles along the Morton curve, split in two halves (two trees
   // built in parallel) when there are many.
   Buckets buckets = morton_buckets(ids, triangles, box);
   std::vector<std::uint32_t>().swap(ids);
