@@ -11,26 +11,18 @@
 // Where the blocks live changes, never their contents: outputs are identical.
 #if !defined(__SANITIZE_ADDRESS__) && !defined(TPMSFILL_NO_HUGE_PAGE_NEW)
 
-#include <sys/mman.h>
-
 #include <cstddef>
-#include <cstdint>
 #include <cstdlib>
 #include <new>
 
-namespace {
+#include "core/grid_buffer.hpp"
 
-constexpr std::size_t kHugePage = std::size_t{2} << 20;
+namespace {
 
 void* allocate(std::size_t bytes) {
   void* p = std::malloc(bytes == 0 ? 1 : bytes);
-  if (p != nullptr && bytes >= 2 * kHugePage) {
-    // The whole huge pages inside the block; advice is a hint, so its result is ignored.
-    const auto begin = reinterpret_cast<std::uintptr_t>(p);
-    const std::uintptr_t first = (begin + kHugePage - 1) / kHugePage * kHugePage;
-    const std::uintptr_t last = (begin + bytes) / kHugePage * kHugePage;
-    if (last > first) (void)::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-  }
+  using namespace tpmsfill::detail;
+  if (p != nullptr && bytes >= 2 * kHugePageBytes) advise_huge_pages(p, bytes);
   return p;
 }
 

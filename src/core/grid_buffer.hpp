@@ -17,20 +17,27 @@
 
 namespace tpmsfill::detail {
 
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
+/// Asks for huge pages on the whole 2 MB pages inside [p, p + bytes), before they are first
+/// touched. Advice is a hint: its result is ignored.
+inline void advise_huge_pages(const void* p, std::size_t bytes) {
+  constexpr std::uintptr_t kHuge = kHugePageBytes;
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + kHuge - 1) / kHuge * kHuge;
+  const std::uintptr_t last = (begin + bytes) / kHuge * kHuge;
+  if (last > first) (void)::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+}
+
 /// v.resize(n); when `v` is empty, its new storage is advised to use huge pages before it is
 /// zeroed (a vector that grows keeps resize's own growth, so appending stays linear). Small
 /// buffers (below 4 MB) are left as they are.
 template <class T>
 void resize_on_huge_pages(std::vector<T>& v, std::size_t n) {
-  constexpr std::size_t kHuge = std::size_t{2} << 20;
   const std::size_t bytes = n * sizeof(T);
-  if (v.empty() && bytes >= 2 * kHuge) {
+  if (v.empty() && bytes >= 2 * kHugePageBytes) {
     v.reserve(n);
-    // The whole huge pages inside the storage; advice is a hint, so its result is ignored.
-    const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
-    const std::uintptr_t first = (begin + kHuge - 1) / kHuge * kHuge;
-    const std::uintptr_t last = (begin + bytes) / kHuge * kHuge;
-    if (last > first) (void)::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    advise_huge_pages(v.data(), bytes);
   }
   v.resize(n);
 }

@@ -116,7 +116,8 @@ double slab_bytes(const ModelSize& m, const FillOptions& o, const LatticeDesign&
   const double field =
       plane * (widened * (depth ? 8.0 : 4.0) + (planes + 2) * (o.full_field ? 10.0 : 6.0)) +
       2 * runs;
-  if (!streamed) return peak_bytes(m, o, field, false);  // slabs are searched
+  // Held, the slabs' mesh is proved as the whole grid's is.
+  if (!streamed) return peak_bytes(m, o, field, o.validation == FillOptions::Validation::Proof);
   // Streamed, only one slab's share of the output is held (marching cubes' triangles and
   // points, their labels), beside the three records validation reads and the writer's buffers.
   const double share = std::fmin(1.0, (planes + 2.0) / std::max(g.dims[2], 1));

@@ -49,9 +49,9 @@ class RowCrossings {
     primitive.for_each_triangle(order_, [&](std::uint32_t id) {
       const std::array<Vec3, 3> v = triangles_[id];
       // The row misses a triangle whose y or z range excludes it (as it misses such a box).
-      if (q.y < std::min({v[0].y, v[1].y, v[2].y}) || q.y > std::max({v[0].y, v[1].y, v[2].y}) ||
-          q.z < std::min({v[0].z, v[1].z, v[2].z}) || q.z > std::max({v[0].z, v[1].z, v[2].z}))
-        return;
+      const auto [ylo, yhi] = detail::corner_range(v, 1);
+      const auto [zlo, zhi] = detail::corner_range(v, 2);
+      if (q.y < ylo || q.y > yhi || q.z < zlo || q.z > zhi) return;
       RowCrossing c = detail::row_crossing(v, q.y, q.z);
       c.cap = id >= triangles_.first_cap();
       if (c.sign != 0) out_.push_back(c);

@@ -94,8 +94,8 @@ double squared_distance(const Vec3& p, const CGAL::Bbox_3& b) {
 double squared_distance_to_box(const Vec3& p, const std::array<Vec3, 3>& v) {
   double sum = 0;
   for (int a = 0; a < 3; ++a) {
-    const double g =
-        box_gap(p[a], std::min({v[0][a], v[1][a], v[2][a]}), std::max({v[0][a], v[1][a], v[2][a]}));
+    const auto [lo, hi] = detail::corner_range(v, a);
+    const double g = box_gap(p[a], lo, hi);
     sum += g * g;
   }
   return sum;

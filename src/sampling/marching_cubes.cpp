@@ -382,10 +382,15 @@ std::string unproved_grid(const Grid& g, const detail::RoundedGrid& held,
   return {};
 }
 
-constexpr const char* kBorderInside =
-    "a node on the grid's border is inside, so the surface is open there";
-constexpr const char* kVertexOff =
-    "a vertex is not strictly inside its grid edge or cube as the file holds it";
+// The first assumption the proof lacks, in one order whether the field came whole or in slabs:
+// the table and grid (`grid_reason`, unproved_grid()), a border node inside, a vertex off.
+std::string unproved_reason(const std::string& grid_reason, bool border_inside, bool vertex_off) {
+  if (!grid_reason.empty()) return grid_reason;
+  if (border_inside) return "a node on the grid's border is inside, so the surface is open there";
+  if (vertex_off)
+    return "a vertex is not strictly inside its grid edge or cube as the file holds it";
+  return {};
+}
 
 }  // namespace
 
@@ -405,9 +410,8 @@ ProvedMesh marching_cubes_proved(const Field& field, const McOptions& options,
   bool border_inside = false;
   for_each_border_node(field.grid,
                        [&](std::size_t n) { border_inside |= field.values[n] < options.iso; });
-  out.unproved = unproved_grid(field.grid, held, tables);
-  if (out.unproved.empty() && border_inside) out.unproved = kBorderInside;
-  if (out.unproved.empty() && log.vertex_off.load()) out.unproved = kVertexOff;
+  out.unproved = unproved_reason(unproved_grid(field.grid, held, tables), border_inside,
+                                 log.vertex_off.load());
   if (!out.unproved.empty()) return out;
   // No pair is left open (marching_cubes.hpp says why).
   out.proof = ConstructionProof{out.mesh.triangles.size(), out.mesh.points.size()};
@@ -455,7 +459,11 @@ SlabMarchingCubes::SlabMarchingCubes(const Grid& grid, const McOptions& options,
     throw InputError("SlabMarchingCubes: the first plane is not in the grid");
   first_point_.push_back(0);
   first_triangle_.push_back(0);
-  unproved_ = unproved_grid(grid_, *held_, detail::mc_tables());
+  unproved_grid_ = unproved_grid(grid_, *held_, detail::mc_tables());
+}
+
+std::string SlabMarchingCubes::unproved() const {
+  return unproved_reason(unproved_grid_, border_inside_, vertex_off_);
 }
 
 std::uint64_t SlabMarchingCubes::first_point(int k) const {
@@ -495,18 +503,13 @@ void SlabMarchingCubes::add(const Field& planes, int owned, TriangleSoup& mesh) 
   const LayerStarts starts = extract(
       grid_, next_, next_ + owned, 1, progress,
       [&](std::size_t, std::size_t, const auto& work) { work(ex); }, mesh, base, &log);
-  // The proof's border check on the owned planes (each plane is owned by one slab).
-  if (unproved_.empty()) {
-    bool border_inside = false;
-    for (int k = next_; k < next_ + owned; ++k)
-      detail::for_each_border_node_of_plane(grid_, k, [&](std::size_t n) {
-        border_inside |= planes.values[n - static_cast<std::size_t>(next_) * layer] < options_.iso;
-      });
-    if (border_inside)
-      unproved_ = kBorderInside;
-    else if (log.vertex_off.load())
-      unproved_ = kVertexOff;
-  }
+  // The proof's checks on the owned planes (each plane is owned by one slab).
+  vertex_off_ = vertex_off_ || log.vertex_off.load();
+  for (int k = next_; k < next_ + owned; ++k)
+    detail::for_each_border_node_of_plane(grid_, k, [&](std::size_t n) {
+      border_inside_ = border_inside_ ||
+                       planes.values[n - static_cast<std::size_t>(next_) * layer] < options_.iso;
+    });
   // Triangle starts count every triangle made, whatever the caller has taken from `mesh`.
   const std::uint64_t made = first_triangle_.back();
   for (int k = 1; k <= owned; ++k) {

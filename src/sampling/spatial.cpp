@@ -134,8 +134,7 @@ Buckets morton_buckets(const std::vector<std::uint32_t>& ids,
         std::uint64_t key = 0;
         double side = 0;
         for (int a = 0; a < 3; ++a) {
-          const double lo = std::fmin(std::fmin(v[0][a], v[1][a]), v[2][a]);
-          const double hi = std::fmax(std::fmax(v[0][a], v[1][a]), v[2][a]);
+          const auto [lo, hi] = detail::corner_range(v, a);
           key |= spread_bits(cell(lo, hi, box.min[a], size[a])) << a;
           side = std::max(side, hi - lo);
         }

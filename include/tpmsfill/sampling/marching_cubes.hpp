@@ -157,13 +157,14 @@ class SlabMarchingCubes {
   /// its edge or cube as held, and no node of the grid's border is inside. Else which
   /// assumption failed. Once done() from plane 0, an empty answer proves the whole mesh (what
   /// validate_mesh() takes as a ConstructionProof).
-  const std::string& unproved() const { return unproved_; }
+  std::string unproved() const;
 
  private:
   Grid grid_;
   McOptions options_;
   std::shared_ptr<const detail::RoundedGrid> held_;
-  std::string unproved_;
+  std::string unproved_grid_;                        ///< the table's or the grid's failure, if any
+  bool border_inside_ = false, vertex_off_ = false;  ///< what the slabs so far found
   int first_ = 0;
   int next_ = 0;
   std::uint64_t dropped_ = 0;

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mesh/cgal_types.hpp"
@@ -75,6 +76,12 @@ class TriangleArray {
   bool borrowed_ = false;
 };
 
+/// The least and the greatest of a triangle's corners along `axis`: its box's side.
+inline std::pair<double, double> corner_range(const std::array<Vec3, 3>& v, int axis) {
+  return {std::fmin(std::fmin(v[0][axis], v[1][axis]), v[2][axis]),
+          std::fmax(std::fmax(v[0][axis], v[1][axis]), v[2][axis])};
+}
+
 /// Largest float <= d (or >= d when up): boxes rounded outward stay conservative.
 inline float float_down(double d) {
   float f = static_cast<float>(d);
@@ -125,8 +132,7 @@ class TrianglePrimitive {
     for (std::uint32_t k = 0; k < count_; ++k) {
       const std::array<Vec3, 3> v = (*data->triangles)[data->order[first_ + k]];
       for (int a = 0; a < 3; ++a) {
-        const double l = std::fmin(std::fmin(v[0][a], v[1][a]), v[2][a]);
-        const double h = std::fmax(std::fmax(v[0][a], v[1][a]), v[2][a]);
+        const auto [l, h] = corner_range(v, a);
         lo[a] = std::fmin(lo[a], l);
         hi[a] = std::fmax(hi[a], h);
       }
