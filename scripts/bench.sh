@@ -761,12 +761,13 @@ if [[ "$section" == all || "$section" == material || "$section" == material-fit 
   echo "Tets of size diagonal / 30 and the geodesic material of §20. THB: the octree of ≤ 5 tets per"
   echo "cell, then 2 rounds of progressive refinement; uniform: n³ control points with n³ about 4 and"
   echo "8 times THB's final count. RS over the tets' samples (docs/method.md step 8); errors at the"
-  echo "tets' points; folded: Gauss points with det J_G ≤ 0."
+  echo "tets' points; folded: Gauss points with det J_G ≤ 0. Steps: --method ${FIT_METHOD:-euler}"
+  echo "(FIT_METHOD=newton for the converged fit)."
   echo
   echo "| mesh | tets | basis | control points | ratio | G steps | RS G % | M steps | RS M % | G rms / max mm | M rms | folded | wall s | peak MB |"
   echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
   extract_material_meshes
-  for name in bunny00 bear fandisk sphere; do
+  for name in ${FIT_MESHES:-bunny00 bear fandisk sphere}; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
     thb_nc=0
@@ -777,7 +778,8 @@ if [[ "$section" == all || "$section" == material || "$section" == material-fit 
         extra=(--uniform "$(python3 -c "print(max(4, round(($factor * $thb_nc) ** (1 / 3))))")")
       fi
       timed timeout 1800 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" \
-        --material geodesic "$depth" --json "${extra[@]}" >"$tmp/fit.json" 2>"$tmp/err.txt"
+        --material geodesic "$depth" --json --method "${FIT_METHOD:-euler}" "${extra[@]}" \
+        >"$tmp/fit.json" 2>"$tmp/err.txt"
       line=$(python3 - "$tmp/fit.json" "$name" "$basis" "$wall" "$kb" "$code" "$thb_nc" <<'PY'
 import json, sys
 name, basis, wall, kb, code, thb_nc = sys.argv[2], sys.argv[3], float(sys.argv[4]), int(sys.argv[5]), sys.argv[6], int(sys.argv[7])

@@ -44,6 +44,7 @@ struct MaterialArgs {
   std::vector<double> up{0, 0, 1};
   std::vector<std::uint32_t> corners;
   SolidFitOptions fit;
+  std::string method = "euler";
   bool json = false, quiet = false;
 };
 
@@ -213,6 +214,7 @@ nlohmann::ordered_json round_json(const FitRound& r, bool material) {
     j["material_rms"] = r.material_rms;
     j["material_max"] = r.material_max;
   }
+  if (r.solve_iterations > 0) j["solve_iterations"] = r.solve_iterations;  // not in the file
   j["folded_samples"] = r.folded_samples;
   j["samples"] = r.samples;
   j["split_leaves"] = r.split;
@@ -290,6 +292,7 @@ int run_material_fit(const MaterialArgs& a) {
   std::unique_ptr<TerminalProgress> progress;
   if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   SolidFitOptions options = a.fit;
+  options.method = a.method == "euler" ? SolidFitMethod::Euler : SolidFitMethod::Newton;
   options.progress = progress.get();
   if (solid.surface) options.surface = &*solid.surface;
   SolidModel model{fit_solid_spline(solid.mesh, *solid.map, options), ""};
@@ -382,9 +385,10 @@ Command add_material_command(CLI::App& app) {
   fit->footer(std::string(kInputHelp) +
               "The basis is THB on an octree split while a cell holds more than "
               "--max-tets-per-cell tets; each control value starts at the tets' value at its "
-              "Greville point, then explicit Euler steps on the seed's energy (data term, first- "
-              "and second-order regularisers, boundary normals) run until the similarity ratio "
-              "RS moves by less than 0.05 points; the worst leaves are split and the fit goes "
+              "Greville point, then steps on the seed's energy (data term, first- and "
+              "second-order regularisers, boundary normals) run until the similarity ratio RS "
+              "moves by less than 0.05 points: the seed's explicit Euler steps by default, or "
+              "damped Newton steps (--method newton); the worst leaves are split and the fit goes "
               "on, --refinements times. --uniform N fits the seed's baseline instead, a uniform "
               "tensor-product spline with N^3 control points.\n\n"
               "Examples:\n"
@@ -405,6 +409,10 @@ Command add_material_command(CLI::App& app) {
   fit->add_option("--uniform", args->fit.uniform,
                   "Fit a uniform tensor-product spline with N^3 control points instead")
       ->check(CLI::Range(4, 100));
+  fit->add_option("--method", args->method,
+                  "euler (default: the seed's explicit steps of --step) or newton (damped Newton "
+                  "steps solved by conjugate gradients, to the energy's minimum; slower)")
+      ->check(CLI::IsMember({"newton", "euler"}));
   fit->add_option("--step", args->fit.step, "The Euler step epsilon (default 0.5; seed 0.4-0.6)")
       ->check(between(0.01, 1, "0.01 to 1"));
   fit->add_option("--refinements", args->fit.refinements,
@@ -415,7 +423,7 @@ Command add_material_command(CLI::App& app) {
                   "0: run --max-iterations steps)")
       ->check(CLI::Range(0.0, 100.0));
   fit->add_option("--max-iterations", args->fit.max_iterations,
-                  "Euler steps per field and round, at most (default 50)")
+                  "Steps per field and round, at most (default 50)")
       ->check(CLI::Range(1, 10000));
   fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   auto model_commands = add_material_model_commands(material);

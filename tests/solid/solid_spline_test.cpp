@@ -134,6 +134,8 @@ TEST(SolidSpline, UniformBaselineHasNCubedControlPoints) {
   EXPECT_GT(fit.rounds[0].geometry_rs, 0);
   EXPECT_THROW(fit_solid_spline(ball, map, {.uniform = 3}), InputError);
   EXPECT_THROW(fit_solid_spline(ball, map, {.uniform = 101}), InputError);  // GBs: refused
+  EXPECT_THROW(fit_solid_spline(ball, map, {.uniform = 65, .method = SolidFitMethod::Newton}),
+               InputError);
   EXPECT_THROW(fit_solid_spline(ball, map, {.step = 0}), InputError);
 }
 
@@ -146,6 +148,67 @@ TEST(SolidSpline, SameSplineOnOneThreadAndMany) {
     one = fit_solid_spline(ball, map, {.refinements = 1});
   }
   many = fit_solid_spline(ball, map, {.refinements = 1});
+  ASSERT_EQ(one.spline.geometry.size(), many.spline.geometry.size());
+  for (std::size_t f = 0; f < one.spline.geometry.size(); ++f) {
+    EXPECT_EQ(one.spline.geometry[f], many.spline.geometry[f]);
+    EXPECT_EQ(one.spline.material[f], many.spline.material[f]);
+  }
+}
+
+// Newton steps solved by conjugate gradients (SolidFitMethod::Newton) follow the energy's own
+// gradient to its minimum; the seed's Euler steps stop where RS settles. On the uniform basis,
+// whose Euler steps are capped hardest, the converged fit is closer to the data (RS, over the
+// tets' samples) and to the material at the tets' points.
+TEST(SolidSpline, NewtonStepsFitTheUniformBasisCloserThanEulerSteps) {
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  const SolidFit a = fit_solid_spline(ball, map, {.uniform = 9, .method = SolidFitMethod::Newton});
+  const SolidFit b = fit_solid_spline(ball, map, {.uniform = 9, .method = SolidFitMethod::Euler});
+  const FitRound &n = a.rounds.back(), &e = b.rounds.back();
+  EXPECT_GT(n.solve_iterations, 0u);
+  EXPECT_EQ(e.solve_iterations, 0u);
+  EXPECT_GT(n.geometry_rs, e.geometry_rs);
+  EXPECT_GT(n.material_rs, e.material_rs);
+  EXPECT_LT(n.material_rms, e.material_rms);
+  EXPECT_LT(n.material_rms, a.greville_material_rms);
+  EXPECT_LE(n.geometry_iterations, 50);
+}
+
+// Where the map squeezes the solid, its tets are large in the cube, and a fine uniform
+// basis has functions whose support holds no data sample: a converged fit must still keep them
+// near the tets' map (the anchor), not wherever the regularisers alone would put them.
+TEST(SolidSpline, NewtonStepsKeepFunctionsWithoutDataNearTheMap) {
+  const TetMesh ball = make_ball(4);  // 384 tets under 14³ functions
+  const CubeMap map = map_to_cube(ball);
+  const SolidFit fit =
+      fit_solid_spline(ball, map, {.uniform = 14, .method = SolidFitMethod::Newton});
+  EXPECT_GT(fit.rounds.back().geometry_rs, 0);
+  // Everywhere in the cube, not only at the tets' points: G stays within the ball's reach.
+  double farthest = 0;
+  for (int k = 0; k <= 16; ++k)
+    for (int j = 0; j <= 16; ++j)
+      for (int i = 0; i <= 16; ++i)
+        farthest = std::max(
+            farthest, norm(evaluate_solid(fit.spline, {i / 16.0, j / 16.0, k / 16.0}).position));
+  EXPECT_LT(farthest, 10.5);  // the ball's radius is 10 mm
+}
+
+TEST(SolidSpline, NewtonStepsKeepTheBoxExactAndDoNotDependOnThreads) {
+  TetMesh box = make_tet_grid({0, 0, 0}, {40, 20, 10}, {8, 4, 3}, 0.15);
+  for (const Vec3& p : box.points) box.material.push_back(0.5 * p.x - 0.25 * p.z + 7);
+  const SolidFit exact =
+      fit_solid_spline(box, map_to_cube(box), {.method = SolidFitMethod::Newton, .refinements = 0});
+  EXPECT_LT(exact.rounds[0].geometry_max, 1e-10);
+  EXPECT_LT(exact.rounds[0].material_max, 1e-10);
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  const SolidFitOptions options{.method = SolidFitMethod::Newton, .refinements = 1};
+  SolidFit one, many;
+  {
+    tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    one = fit_solid_spline(ball, map, options);
+  }
+  many = fit_solid_spline(ball, map, options);
   ASSERT_EQ(one.spline.geometry.size(), many.spline.geometry.size());
   for (std::size_t f = 0; f < one.spline.geometry.size(); ++f) {
     EXPECT_EQ(one.spline.geometry[f], many.spline.geometry[f]);
