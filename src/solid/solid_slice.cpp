@@ -86,11 +86,13 @@ class LevelSetFinder {
     return kept;
   }
 
-  // A section's area and contours are those of its border, the leaves on the cube's faces
-  // (whatever levels tile its inside), and there a coarse leaf's chords cut the curved
-  // outline short: 0.3 % of bear's sections at the default τ, 9 % of its top layer. So leaves
-  // on the cube's faces go down to the deepest level τ asked for anywhere in the layer: the
-  // border is the one a single level would give, the inside keeps its own levels.
+  // A section's area and contours are those of its border, where the level set crosses the
+  // cube's faces (whatever levels tile its inside), and there a coarse leaf's chords cut the
+  // curved outline short: 0.3 % of bear's sections at the default τ, 9 % of its top layer. So
+  // leaves whose faces on the cube's faces are crossed go down to the deepest level τ asked
+  // for anywhere in the layer, the inside keeping its own levels: bear's sections then have
+  // the single level's areas to 0.12 % (all of the cube's leaves there: to 0.004 %, with 1.6
+  // times the triangles).
   void contour_leaves(std::vector<Cell>& kept) {
     int deepest = options_.initial_level;
     for (const Cell& c : kept) deepest = std::max(deepest, c.level);
@@ -99,10 +101,7 @@ class LevelSetFinder {
     while (!todo.empty()) {
       const Cell c = todo.back();
       todo.pop_back();
-      const std::uint32_t last = (1u << c.level) - 1;
-      const bool border = std::any_of(c.index.begin(), c.index.end(),
-                                      [&](std::uint32_t i) { return i == 0 || i == last; });
-      if (c.level >= deepest || !border) {
+      if (c.level >= deepest || !on_contour(c)) {
         kept.push_back(c);
         continue;
       }
@@ -110,6 +109,19 @@ class LevelSetFinder {
       for (int o = 0; o < 8; ++o)
         if (keep(child(c, o))) todo.push_back(child(c, o));
     }
+  }
+
+  // Whether the level set crosses one of the cell's faces on the cube's faces (by its corners).
+  bool on_contour(const Cell& c) {
+    const detail::McTables& tables = detail::mc_tables();
+    const std::uint32_t last = (1u << c.level) - 1;
+    for (int f = 0; f < 6; ++f) {
+      if (c.index[f / 2] != (f % 2 ? last : 0)) continue;
+      bool below = false, above = false;
+      for (int k : tables.face_corners[f]) (corner_at(c, k).f < 0 ? below : above) = true;
+      if (below && above) return true;
+    }
+    return false;
   }
 
   // Below the basis's leaves only corners decide, and a leaf whose corners agree may still be

@@ -12,7 +12,9 @@
 ///     Li & Fu 2021).
 ///  2. A kept cell whose Euclidean volume (its 8 mapped corners as 6 tets) exceeds τ is split
 ///     into its 8 children, which are kept by the same rule, until every kept cell is within τ
-///     or at the deepest level.
+///     or at the deepest level. Kept cells with a face on the cube's faces that the level set
+///     crosses there (a section's contours, which alone set its area) are then split down to
+///     the deepest level any kept cell reached; the others keep their own levels.
 ///  3. No cracks between leaves of different levels (Li & Fu 2021 leave them open): a leaf
 ///     sees its faces and edges as finely as the tree splits them on either side (cubical
 ///     marching squares, Ho et al. 2005), so both leaves sharing a face piece or an edge
