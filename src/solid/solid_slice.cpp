@@ -75,8 +75,10 @@ class LevelSetFinder {
       }
       current = std::move(next);
     }
-    contour_leaves(kept);
-    close_surface(kept);
+    int deepest = options_.initial_level;
+    for (const Cell& c : kept) deepest = std::max(deepest, c.level);
+    contour_leaves(kept, deepest);
+    close_surface(kept, deepest);
     level_ = options_.initial_level;
     for (const Cell& c : kept) level_ = std::max(level_, c.level);
     std::sort(kept.begin(), kept.end(), [](const Cell& a, const Cell& b) {
@@ -93,9 +95,7 @@ class LevelSetFinder {
   // for anywhere in the layer, the inside keeping its own levels: bear's sections then have
   // the single level's areas to 0.12 % (all of the cube's leaves there: to 0.004 %, with 1.6
   // times the triangles).
-  void contour_leaves(std::vector<Cell>& kept) {
-    int deepest = options_.initial_level;
-    for (const Cell& c : kept) deepest = std::max(deepest, c.level);
+  void contour_leaves(std::vector<Cell>& kept, int deepest) {
     std::vector<Cell> todo;
     todo.swap(kept);
     while (!todo.empty()) {
@@ -124,13 +124,16 @@ class LevelSetFinder {
     return false;
   }
 
-  // Below the basis's leaves only corners decide, and a leaf whose corners agree may still be
-  // crossed where a finer neighbour samples its face. So the leaf across every crossed face
-  // piece of a kept leaf is split down to the piece's level and the cell across kept, with
-  // its crossed siblings on the way (kept whole, the leaf would cap the crossing with a loop
-  // flat on its face), until a whole pass keeps nothing more, as a split changes its
-  // neighbours' pieces. The level set is then closed inside the cube (no cracks).
-  void close_surface(std::vector<Cell>& cells) {
+  // Below the basis's leaves only corners decide, and a leaf whose corners agree on a face
+  // may still be crossed there where a finer neighbour samples that face. So the leaf across
+  // every crossed face piece of a kept leaf is split down to the piece's level and the cell
+  // across kept, with its crossed siblings on the way; and a kept leaf whose own corners miss
+  // a crossing on one of its faces is split too (below the deepest level), since its loop
+  // would lie flat on that face and cap the neighbour's bump turned over (fandisk's 60 %
+  // section). Until a whole pass changes nothing, as a split changes its neighbours' pieces.
+  // The level set is then closed inside the cube (no cracks).
+  void close_surface(std::vector<Cell>& cells, int deepest) {
+    const detail::McTables& tables = detail::mc_tables();
     std::unordered_set<std::uint64_t> have;
     for (const Cell& c : cells) have.insert(cell_key(c.level, c.index));
     std::vector<Index> walk;
@@ -138,12 +141,20 @@ class LevelSetFinder {
       changed = false;
       for (std::size_t at = 0; at < cells.size(); ++at) {
         const Cell c = cells[at];
+        if (split_.count(cell_key(c.level, c.index))) continue;
+        bool misses = false;
         for_each_piece(c, [&](const Piece& p) {
-          if (p.border) return;
           samples(p, walk);
           bool inside = sample(walk.back()).f < 0, crossed = false;
           for (const Index& i : walk) crossed |= (sample(i).f < 0) != inside;
           if (!crossed) return;
+          if (c.level < deepest && !misses) {
+            bool below = false, above = false;
+            for (int k : tables.face_corners[2 * p.axis + p.side])
+              (corner_at(c, k).f < 0 ? below : above) = true;
+            misses = !(below && above);
+          }
+          if (p.border) return;
           Cell leaf = leaf_at(p.other);
           if (have.count(cell_key(leaf.level, leaf.index))) return;
           changed = true;
@@ -160,8 +171,17 @@ class LevelSetFinder {
           }
           if (have.insert(cell_key(leaf.level, leaf.index)).second) cells.push_back(leaf);
         });
+        if (!misses) continue;
+        changed = true;
+        split_.insert(cell_key(c.level, c.index));
+        for (int o = 0; o < 8; ++o) {
+          const Cell ch = child(c, o);
+          if (keep(ch) && have.insert(cell_key(ch.level, ch.index)).second) cells.push_back(ch);
+        }
       }
     }
+    std::erase_if(cells,
+                  [&](const Cell& c) { return split_.count(cell_key(c.level, c.index)) > 0; });
   }
 
   // Step 4: marching cubes over the leaves, vertices shared by their segment's key. A leaf

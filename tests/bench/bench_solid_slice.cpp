@@ -8,7 +8,8 @@
 // TETS (the tets the model was fitted to, as `material info --tets` writes them) adds their own
 // section's area (each tet's section polygon), which the fit saw. TAU 0 is the default τ.
 // Cracks counts the section's border edges with an end off the cube's faces, and edges used by
-// more than two triangles: both must be 0.
+// more than two triangles: both must be 0. Unfolded counts the turned-over triangles where G
+// does not fold at any of their corners (det of G's Jacobian > 0 there).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,6 +44,22 @@ std::size_t cracks(const SolidLevelSet& mesh) {
   return count;
 }
 
+// Turned-over triangles of a section with det J_G > 0 at all three corners.
+std::size_t unfolded(const SolidSpline& spline, const SolidSection& s) {
+  std::size_t count = 0;
+  for (const auto& t : s.mesh.triangles) {
+    const Vec3 a = s.mesh.points[t[0]], b = s.mesh.points[t[1]], c = s.mesh.points[t[2]];
+    if (!((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) < 0)) continue;
+    bool folds = false;
+    for (std::uint32_t v : t) {
+      const auto j = evaluate_solid(spline, s.mesh.uvw[v]).jacobian;
+      folds |= !(dot(j[0], cross(j[1], j[2])) > 0);
+    }
+    count += !folds;
+  }
+  return count;
+}
+
 int main(int argc, char** argv) {
   if (argc < 5) {
     std::fprintf(stderr, "usage: bench_solid_slice MODEL.tsm SURFACE TETS|- TAU...\n");
@@ -61,8 +78,8 @@ int main(int argc, char** argv) {
                  std::max(controls.max.z, p.z)}};
   std::printf(
       "| height (share of the box) | tau | level | triangles | area | surface's area | "
-      "difference | tets' area | difference | flipped | cracks | seconds |\n"
-      "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "difference | tets' area | difference | flipped | unfolded | cracks | seconds |\n"
+      "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (double share : {0.2, 0.4, 0.6, 0.8}) {
     const double z = box.min.z + share * (box.max.z - box.min.z);
     const double expected = test::section_area(surface, z);
@@ -75,11 +92,11 @@ int main(int argc, char** argv) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf(
           "| %.4g (%.1f) | %.3g | %d | %zu | %.5g | %.5g | %+.2f %% | %.5g | %+.2f %% | %zu | %zu "
-          "| "
-          "%.3f |\n",
+          "| %zu | %.3f |\n",
           z, share, tau > 0 ? tau : default_slice_tau(controls), s.mesh.level,
           s.mesh.triangles.size(), s.area, expected, 100 * (s.area / expected - 1), tet_area,
-          100 * (s.area / tet_area - 1), s.flipped, cracks(s.mesh), seconds);
+          100 * (s.area / tet_area - 1), s.flipped, unfolded(model.fit.spline, s), cracks(s.mesh),
+          seconds);
     }
   }
   return 0;

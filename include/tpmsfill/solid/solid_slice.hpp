@@ -47,8 +47,8 @@ struct SolidSliceOptions {
   /// solid).
   double tau = 0;
   int initial_level = 1;  ///< the uniform start (as in Li & Fu 2021)
-  /// Never split below this level (256 cells per axis): where τ is small, a layer's leaves
-  /// there cost up to about 4^max_level cells of the parts that reach it.
+  /// Never split below this level (256 cells per axis). A layer's cells reach it only where
+  /// τ asks, and along its contours where any cell of the layer does.
   int max_level = 8;
 };
 
