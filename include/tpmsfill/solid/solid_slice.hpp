@@ -19,9 +19,11 @@
 ///     sees its faces and edges as finely as the tree splits them on either side (cubical
 ///     marching squares, Ho et al. 2005), so both leaves sharing a face piece or an edge
 ///     segment build the same points and segments on it; a leaf whose faces and edges are whole
-///     runs marching cubes (tpmsfill's tables and asymptotic decider), any other links its
-///     pieces' segments into loops and fans each from its centroid. The leaf across every
-///     crossed piece is kept too.
+///     takes its loops from marching cubes' table (tpmsfill's, with its asymptotic decider), any
+///     other links its pieces' segments into loops. Each loop is cut into ears in the plane of
+///     its mapped points, so no triangle turns over unless its loop's image does (where G
+///     folds). The leaf across every crossed piece is kept too, split down to the piece, and a
+///     leaf whose corners miss a crossing on its face is split.
 ///  4. On each crossed segment the point where f = 0 is found by iterated linear interpolation
 ///     (regula falsi, Illinois variant) to 10⁻⁹ of the solid's size, once per segment (every
 ///     leaf along it shares the point by its key), mapped through G and M.
