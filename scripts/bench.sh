@@ -32,8 +32,9 @@
 #     libcgal-demo's genus-0 meshes at two tet sizes
 # 21. seed 001: `tpmsfill material fit`, THB against the uniform baseline (control points,
 #     iterations, RS of G and M, errors, time) on the same meshes at diagonal / 30
-# 22. seed 001: direct slicing of those THB models at three tau, the sections' areas against
-#     the surface's and the tets' own (bench_solid_slice), and `material slice` of whole stacks
+# 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
+#     areas against the surface's and the tets' own, and their cracks (bench_solid_slice), and
+#     `material slice` of whole stacks
 #  any:
 # 16. any size: the femur at 35 mm and a = 0.0175 mm (1.1e9 samples) filled with the whole grid
 #     and in streamed slabs within --memory 4G and 1G (time, peak RSS, same bytes); sliced at 0.05 mm layers
@@ -820,7 +821,7 @@ if [[ "$section" == all || "$section" == material || "$section" == material-slic
     echo
     echo "### $name (diagonal $diag; tau = (diagonal / 25, 50, 100)³, the seed's 10 : 1 : 0.1 mm³)"
     echo
-    ./build/tests/bench_solid_slice "$tmp/$name.tsm" "$f" "$tmp/tets.vtk" $taus
+    ./build/tests/bench_solid_slice "$tmp/$name.tsm" "$f" "$tmp/tets.vtk" $taus 0
     layer=$(python3 -c "print('%.3g' % ($zspan / 100))")
     timed ./build/tpmsfill material slice "$tmp/$name.tsm" "$tmp/$name.cli" --layer "$layer" --json \
       >"$tmp/s.json" 2>/dev/null

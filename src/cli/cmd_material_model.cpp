@@ -320,9 +320,10 @@ std::function<std::optional<int>()> add_material_model_commands(CLI::App* materi
   slice->footer(
       "No mesh of the solid is made: per layer an octree in the parameter cube is refined where "
       "the plane z = layer centre crosses it, until each crossed cell's volume is within --tau; "
-      "marching cubes at one level gives the filled section, its vertices mapped through G and "
-      "M (docs/method.md, seed 001 step 11). Formats: .cli (contours), .svg (triangles coloured "
-      "by material), or --format svg-layers|png with a folder (PNG: grey = material, 0 empty). "
+      "marching cubes on its cells, each at its own level and without cracks, gives the filled "
+      "section, its vertices mapped through G and M (docs/method.md, seed 001 step 11). "
+      "Formats: .cli (contours), .svg (triangles coloured by material), or --format "
+      "svg-layers|png with a folder (PNG: grey = material, 0 empty). "
       "The report gives each layer's area, triangles and material histogram (--bins). Before "
       "a stack of more than 12 layers, six layers spread over it are sliced first to forecast "
       "its size and time (the preflight; --yes runs a job past its limits).\n\n"

@@ -4,6 +4,7 @@
 // material.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tpmsfill/error.hpp>
@@ -91,6 +92,74 @@ TEST(SolidSlice, SmallerTauMeansFinerCellsAndTheBoxIsExact) {
   expect_crack_free(fine.mesh);
   EXPECT_THROW(slice_solid(fit.spline, 4, {.tau = -1}), InputError);
   EXPECT_THROW(iso_material_surface(fit.spline, 1), InputError);  // no material
+}
+
+// A fold-free block whose x grows like e^(4u), so that τ keeps leaves of several levels side
+// by side (their volume grows 55-fold along u), and whose z = 10 w + 4 v is linear: each
+// section is a plane in the parameter cube, its part of a leaf a rectangle in (u, v) that G
+// maps onto a rectangle, so no triangle may turn over. M = u + 2 v + 3 w, a plane too.
+SolidSpline graded_block() {
+  SolidSpline block{tensor_basis(10), {}, {}};
+  for (const auto& g : greville_points(block.basis)) {
+    block.geometry.push_back({2 * std::exp(4 * g[0]), 10 * g[1], 10 * g[2] + 4 * g[1]});
+    block.material.push_back(g[0] + 2 * g[1] + 3 * g[2]);
+  }
+  return block;
+}
+
+std::size_t turned_or_flat(const SolidLevelSet& mesh) {
+  std::size_t count = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
+    count += !((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) > 0);
+  }
+  return count;
+}
+
+TEST(SolidSlice, LeavesOfDifferentLevelsMeetWithoutCracks) {
+  const SolidSpline block = graded_block();
+  const double width = 2 * (std::exp(4.0) - 1);  // the ends of x interpolate their controls
+  // z = 2.5 runs along grid lines (10 w + 4 v = 2.5 at w = 1/64, v = 75/128, and more), whose
+  // samples are all on the level set: the points on such a line make triangles flat to
+  // rounding, either way up, as one level's marching cubes did (163 turned over then), but no
+  // crack and no triangle turned over by more than rounding.
+  for (double z : {2.3, 2.5, 7.1, 11.7}) {
+    const SolidSliceOptions options{.tau = 0.05};
+    const SolidSection s = slice_solid(block, z, options);
+    ASSERT_FALSE(s.mesh.triangles.empty()) << z;
+    expect_crack_free(s.mesh);
+    if (z != 2.5) {
+      EXPECT_EQ(s.flipped, 0u) << z;
+      EXPECT_EQ(turned_or_flat(s.mesh), 0u) << z;
+    }
+    for (const auto& t : s.mesh.triangles) {
+      const Vec3 a = s.mesh.points[t[0]], b = s.mesh.points[t[1]], c = s.mesh.points[t[2]];
+      EXPECT_GT((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y), -1e-12) << z;
+    }
+    // 10 w + 4 v = z for some w in [0, 1]: y = 10 v from max(0, z − 10) to min(1, z / 4) · 10.
+    const double height = 10 * (std::min(1.0, z / 4) - std::max(0.0, (z - 10) / 4));
+    EXPECT_NEAR(s.area, width * height, 1e-7 * width * height) << z;
+    ASSERT_EQ(s.contours.size(), 1u);
+    // One level throughout (every leaf split to the deepest level kept) makes more triangles.
+    const SolidSection uniform = slice_solid(block, z, {.tau = 1e-12, .max_level = s.mesh.level});
+    EXPECT_EQ(uniform.mesh.level, s.mesh.level);
+    EXPECT_NEAR(uniform.area, s.area, 1e-9 * s.area);
+    EXPECT_LT(s.mesh.triangles.size(), uniform.mesh.triangles.size()) << z;
+    EXPECT_LT(s.mesh.cells, uniform.mesh.cells) << z;
+  }
+}
+
+TEST(SolidSlice, IsoMaterialSurfacesOfMixedLevelsHaveNoCracks) {
+  const SolidSpline block = graded_block();
+  for (double m : {0.7, 2.2, 4.9}) {
+    const SolidLevelSet s = iso_material_surface(block, m, {.tau = 0.05});
+    ASSERT_FALSE(s.triangles.empty()) << m;
+    expect_crack_free(s);
+    for (std::size_t v = 0; v < s.points.size(); ++v) EXPECT_NEAR(s.material[v], m, 1e-6);
+    const SolidLevelSet uniform =
+        iso_material_surface(block, m, {.tau = 1e-12, .max_level = s.level});
+    EXPECT_LT(s.triangles.size(), uniform.triangles.size()) << m;
+  }
 }
 
 TEST(SolidSlice, IsoMaterialSurfacesCarryTheirValueAndNest) {

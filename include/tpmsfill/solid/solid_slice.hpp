@@ -12,13 +12,21 @@
 ///     Li & Fu 2021).
 ///  2. A kept cell whose Euclidean volume (its 8 mapped corners as 6 tets) exceeds τ is split
 ///     into its 8 children, which are kept by the same rule, until every kept cell is within τ
-///     or at the deepest level.
-///  3. No cracks: every kept cell is split down to the deepest level kept (Li & Fu 2021 leave
-///     neighbours of different levels), so that marching cubes (tpmsfill's tables and
-///     asymptotic decider) sees one level and neighbouring cells share each edge's vertex by
-///     the edge's id.
-///  4. On each crossed edge the point where f = 0 is found by iterated linear interpolation
-///     (regula falsi, Illinois variant) to 10⁻⁹ of the solid's size, mapped through G and M.
+///     or at the deepest level. Kept cells with a face on the cube's faces that the level set
+///     crosses there (a section's contours, which alone set its area) are then split down to
+///     the deepest level any kept cell reached; the others keep their own levels.
+///  3. No cracks between leaves of different levels (Li & Fu 2021 leave them open): a leaf
+///     sees its faces and edges as finely as the tree splits them on either side (cubical
+///     marching squares, Ho et al. 2005), so both leaves sharing a face piece or an edge
+///     segment build the same points and segments on it; a leaf whose faces and edges are whole
+///     takes its loops from marching cubes' table (tpmsfill's, with its asymptotic decider), any
+///     other links its pieces' segments into loops. Each loop is cut into ears in the plane of
+///     its mapped points, so no triangle turns over unless its loop's image does (where G
+///     folds). The leaf across every crossed piece is kept too, split down to the piece, and a
+///     leaf whose corners miss a crossing on its face is split.
+///  4. On each crossed segment the point where f = 0 is found by iterated linear interpolation
+///     (regula falsi, Illinois variant) to 10⁻⁹ of the solid's size, once per segment (every
+///     leaf along it shares the point by its key), mapped through G and M.
 /// A slice is the filled cross-section: triangles in the plane z = ẑ with the material at every
 /// vertex, counter-clockwise seen from +z, and its contours (the section's border edges, where
 /// the level set meets the cube's faces: the solid's boundary), outer counter-clockwise, holes
@@ -41,10 +49,8 @@ struct SolidSliceOptions {
   /// solid).
   double tau = 0;
   int initial_level = 1;  ///< the uniform start (as in Li & Fu 2021)
-  /// Never split below this level (256 cells per axis). Every crossed cell of a layer is
-  /// split to the deepest level any needs (no cracks), so a layer costs up to about
-  /// 4^max_level cells where τ is small: level 10 made 4.7 million triangles in 49 s on one
-  /// layer of bear.off.
+  /// Never split below this level (256 cells per axis). A layer's cells reach it only where
+  /// τ asks, and along its contours where any cell of the layer does.
   int max_level = 8;
 };
 
@@ -57,8 +63,8 @@ struct SolidLevelSet {
   std::vector<double> material;            ///< per point (0 when the spline has no material)
   std::vector<std::array<double, 3>> uvw;  ///< per point, its parameter point
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  int level = 0;                ///< the octree level marching cubes ran at
-  std::size_t cells = 0;        ///< cells of that level kept
+  int level = 0;                ///< the deepest level of a leaf marching cubes ran on
+  std::size_t cells = 0;        ///< leaves kept (of any level)
   std::size_t evaluations = 0;  ///< evaluations of G and M
 };
 
