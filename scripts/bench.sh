@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-tables|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -32,6 +32,10 @@
 #     libcgal-demo's genus-0 meshes at two tet sizes
 # 21. seed 001: `tpmsfill material fit`, THB against the uniform baseline (control points,
 #     iterations, RS of G and M, errors, time) on the same meshes at diagonal / 30
+# 21b (material-tables). seed 001's Tables 1-2 side by side: its models' stand-ins (the genus-0
+#     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
+#     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
+#     steps, with the seed's nc / ni / RS in the same rows
 # 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
 #     areas against the surface's and the tets' own, and their cracks (bench_solid_slice), and
 #     `material slice` of whole stacks
@@ -78,7 +82,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-tables|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -832,6 +836,85 @@ print(f"\n`material slice` of {sys.argv[2]}: {d['layers']} layers of {d['layer_m
       f"({d['tau_mm3']:.3g}): {d['triangles']} triangles, {d['flipped']} turned over, "
       f"{float(sys.argv[3]):.1f} s, {int(sys.argv[4]) / 1024:.0f} MB peak")
 PY
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-tables ]]; then
+  echo
+  echo "## 21b. seed 001's Tables 1-2 side by side (tpmsfill material fit)"
+  echo
+  extract_material_meshes
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
+    data/meshes/femur.off 2>/dev/null || true
+  command -v assimp >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq assimp-utils >/dev/null
+  # The femur's upper piece: the triangles above 30 % of its height, the cut capped by repair.
+  # (Its lower end holds both of the mesh's handles, genus 1-2 however it is cut: the cube
+  # map needs genus 0.)
+  python3 - "$tmp/mat/femur.off" "$tmp/mat/femur-cut.off" <<'PY'
+import sys
+tok = open(sys.argv[1]).read().split()
+nv, nf = int(tok[1]), int(tok[2]); at = 4
+pts = [tuple(map(float, tok[at + 3 * i: at + 3 * i + 3])) for i in range(nv)]; at += 3 * nv
+lo = min(p[2] for p in pts) + 0.3 * (max(p[2] for p in pts) - min(p[2] for p in pts))
+faces = []
+for _ in range(nf):
+    n = int(tok[at]); f = list(map(int, tok[at + 1: at + 1 + n])); at += 1 + n
+    if all(pts[v][2] >= lo for v in f): faces.append(f)
+used = sorted({v for f in faces for v in f}); new = {v: i for i, v in enumerate(used)}
+with open(sys.argv[2], "w") as o:
+    o.write(f"OFF\n{len(used)} {len(faces)} 0\n")
+    for v in used: o.write("%r %r %r\n" % pts[v])
+    for f in faces: o.write(f"{len(f)} " + " ".join(str(new[v]) for v in f) + "\n")
+PY
+  ./build/tpmsfill repair "$tmp/mat/femur-cut.off" "$tmp/mat/upper-femur.off" --quiet
+  assimp export /usr/share/assimp/models/Collada/duck.dae "$tmp/mat/duck.obj" >/dev/null
+  ./build/tpmsfill repair "$tmp/mat/duck.obj" "$tmp/mat/duck.off" --quiet
+  echo "Tets of size diagonal / 30 (the seed: ≤ 5 tets a cell, as here); material: the femur's geodesic"
+  echo "distance from its cut (diagonal / 100 deep), the duck's distance to its box's centre (the seed's"
+  echo "rules). THB: 2 rounds of progressive refinement; uniform: n³ ≈ 4 × THB's count. Seed columns"
+  echo "from Li & Fu 2021 Tables 1-2 (its models: a lower and an upper femur end and a rubber duck; nc"
+  echo "its control points, ni its iterations, its RS over the tets' points)."
+  echo
+  echo "| model | basis | steps | nc | G ni | RS G % | M ni | RS M % | G rms / max | M rms | folded | seed nc | seed ni G / M | seed RS G / M % | wall s |"
+  echo "|---|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
+  for name in upper-femur duck; do
+    f="$tmp/mat/$name.off"
+    material_sizes "$f" || continue
+    if [[ $name == duck ]]; then
+      material=(--material point $(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(*[(b["min"][i]+b["max"][i])/2 for i in range(3)])' "$tmp/c.json"))
+      seed_thb="27455 | 23 / 16 | 80.47 / 88.66"; seed_uniform="54872 | 31 / 19 | 83.84 / 90.27"
+    else
+      material=(--material geodesic "$depth")
+      seed_thb="21659 | 23 / 27 | 85.33 / 88.03"; seed_uniform="64000 | 28 / 27 | 84.62 / 85.92"
+    fi
+    thb_nc=0
+    for basis in thb uniform; do
+      for method in euler newton; do
+        extra=()
+        [[ $basis == uniform ]] && extra=(--uniform "$(python3 -c "print(max(4, round((4 * $thb_nc) ** (1 / 3))))")")
+        timed timeout 1800 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" "${material[@]}" \
+          --json --method "$method" "${extra[@]}" >"$tmp/fit.json" 2>"$tmp/err.txt"
+        seed=$seed_thb; [[ $basis == uniform ]] && seed=$seed_uniform
+        line=$(python3 - "$tmp/fit.json" "$name" "$basis" "$method" "$wall" "$code" "$seed" <<'PY'
+import json, sys
+name, basis, method, wall, code, seed = sys.argv[2:8]
+text = open(sys.argv[1]).read()
+try:
+    d = json.loads(text[text.index("{"):text.rindex("}") + 1]); r = d["rounds"][-1]
+except Exception:
+    print(f"| {name} | {basis} | {method} | | | | | | | | | {seed} | {float(wall):.1f} (exit {code}) |\t0"); sys.exit(0)
+nc = r["control_points"]
+label = f"THB, {len(d['rounds'])} rounds" if basis == "thb" else f"uniform {round(nc ** (1 / 3))}³"
+print(f"| {name} | {label} | {method} | {nc} | {r['geometry_iterations']} | {r['geometry_rs_percent']:.1f} | "
+      f"{r.get('material_iterations', '')} | {r.get('material_rs_percent', 0):.1f} | "
+      f"{r['geometry_rms_mm']:.4g} / {r['geometry_max_mm']:.4g} | {r.get('material_rms', 0):.4g} | "
+      f"{100 * r['folded_samples'] / max(1, r['samples']):.1f} % | {seed} | {float(wall):.1f} |\t{nc}")
+PY
+)
+        echo "${line%%$'\t'*}"
+        [[ $basis == thb && $method == euler ]] && thb_nc=${line##*$'\t'}
+      done
+    done
   done
 fi
 

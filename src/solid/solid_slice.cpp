@@ -336,16 +336,7 @@ class LevelSetFinder {
   // G and M without their derivatives, which only project() needs.
   SolidPoint point_at(std::array<double, 3> uvw) {
     ++evaluations_;
-    for (double& x : uvw) x = std::clamp(x, 0.0, 1.0);
-    const std::size_t e = basis_element_at(spline_.basis, uvw);
-    const LocalBasis b = local_basis(spline_.basis, e, uvw, 0);
-    SolidPoint p;
-    const bool material = !spline_.material.empty();
-    detail::for_each_term(spline_.basis, e, [&](int k, std::uint32_t f, double w) {
-      p.position = p.position + (w * b.value[k]) * spline_.geometry[f];
-      if (material) p.material += w * b.value[k] * spline_.material[f];
-    });
-    return p;
+    return detail::solid_point(spline_, uvw, false);
   }
 
   // f alone, from its element's local coefficients: regula falsi's steps need no more than

@@ -692,22 +692,38 @@ struct FieldFit {
     return total;
   }
 
+  // G_b and G_c at face point `at` of element e (b, c the face's axes after its normal's), and
+  // the local B-splines there.
+  struct FacePoint {
+    LocalBasis b;
+    int bi, ci;
+    double side;  // ±1: outward on the face
+    Vec3 gb, gc;
+  };
+
+  FacePoint face_point(std::size_t e, std::uint32_t at,
+                       const std::array<double, 64 * Dim>& local) const {
+    FacePoint p{local_basis(basis, e, quadrature.face_uvw[at], 1), 0, 0, 0, {}, {}};
+    const int axis = quadrature.face[at] / 2;
+    p.bi = (axis + 1) % 3, p.ci = (axis + 2) % 3;
+    p.side = quadrature.face[at] % 2 ? 1 : -1;
+    for (int k = 0; k < 64; ++k) {
+      const Vec3 c{local[k * Dim], local[k * Dim + 1], local[k * Dim + 2]};
+      p.gb = p.gb + p.b.first[p.bi][k] * c;
+      p.gc = p.gc + p.b.first[p.ci][k] * c;
+    }
+    return p;
+  }
+
   // D_G over element e's face points: Σ w |n_G − n_I|².
   double normal_misfit(std::size_t e, const std::array<double, 64 * Dim>& local) const {
     double sum = 0;
     for (std::uint32_t at = quadrature.face_start[e]; at < quadrature.face_start[e + 1]; ++at) {
-      const LocalBasis b = local_basis(basis, e, quadrature.face_uvw[at], 1);
-      const int axis = quadrature.face[at] / 2, side = quadrature.face[at] % 2;
-      const int bi = (axis + 1) % 3, ci = (axis + 2) % 3;
-      Vec3 gb, gc;
-      for (int k = 0; k < 64; ++k) {
-        gb = gb + b.first[bi][k] * Vec3{local[k * Dim], local[k * Dim + 1], local[k * Dim + 2]};
-        gc = gc + b.first[ci][k] * Vec3{local[k * Dim], local[k * Dim + 1], local[k * Dim + 2]};
-      }
-      const Vec3 cr = cross(gb, gc);
+      const FacePoint p = face_point(e, at, local);
+      const Vec3 cr = cross(p.gb, p.gc);
       const double length = norm(cr);
       if (!(length > 0)) continue;
-      const Vec3 miss = ((side ? 1 : -1) / length) * cr - quadrature.face_normal[at];
+      const Vec3 miss = (p.side / length) * cr - quadrature.face_normal[at];
       sum += quadrature.face_weight[at] * dot(miss, miss);
     }
     return sum;
@@ -801,24 +817,17 @@ struct FieldFit {
   void boundary_gradient(std::size_t e, const std::array<double, 64 * Dim>& local,
                          double* smooth) const {
     for (std::uint32_t at = quadrature.face_start[e]; at < quadrature.face_start[e + 1]; ++at) {
-      const LocalBasis b = local_basis(basis, e, quadrature.face_uvw[at], 1);
-      const int axis = quadrature.face[at] / 2, side = quadrature.face[at] % 2;
-      const int bi = (axis + 1) % 3, ci = (axis + 2) % 3;
-      Vec3 gb, gc;
-      for (int k = 0; k < 64; ++k) {
-        gb = gb + b.first[bi][k] * Vec3{local[k * Dim], local[k * Dim + 1], local[k * Dim + 2]};
-        gc = gc + b.first[ci][k] * Vec3{local[k * Dim], local[k * Dim + 1], local[k * Dim + 2]};
-      }
-      const Vec3 cr = cross(gb, gc);
+      const FacePoint p = face_point(e, at, local);
+      const Vec3 cr = cross(p.gb, p.gc);
       const double length = norm(cr);
       if (!(length > 0)) continue;
-      const double s = side ? 1 : -1;
+      const double s = p.side;
       const Vec3 n = (s / length) * cr, target = quadrature.face_normal[at];
       const Vec3 q = target - dot(n, target) * n;
       const double factor = -options.lambda3 * quadrature.face_weight[at] * 2 * s / length;
-      const Vec3 along_b = cross(gc, q), along_c = cross(q, gb);
+      const Vec3 along_b = cross(p.gc, q), along_c = cross(q, p.gb);
       for (int k = 0; k < 64; ++k) {
-        const Vec3 f = factor * (b.first[bi][k] * along_b + b.first[ci][k] * along_c);
+        const Vec3 f = factor * (p.b.first[p.bi][k] * along_b + p.b.first[p.ci][k] * along_c);
         smooth[k * Dim] += f.x, smooth[k * Dim + 1] += f.y, smooth[k * Dim + 2] += f.z;
       }
     }
@@ -1098,24 +1107,29 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
   return fit;
 }
 
-SolidPoint evaluate_solid(const SolidSpline& spline, std::array<double, 3> uvw) {
+SolidPoint detail::solid_point(const SolidSpline& spline, std::array<double, 3> uvw,
+                               bool derivatives) {
   for (double& x : uvw) x = std::clamp(x, 0.0, 1.0);
   const std::size_t e = basis_element_at(spline.basis, uvw);
-  const LocalBasis b = local_basis(spline.basis, e, uvw, 1);
+  const LocalBasis b = local_basis(spline.basis, e, uvw, derivatives ? 1 : 0);
   SolidPoint out;
   const bool has_material = !spline.material.empty();
   detail::for_each_term(spline.basis, e, [&](int k, std::uint32_t f, double w) {
     out.position = out.position + (w * b.value[k]) * spline.geometry[f];
+    if (has_material) out.material += w * b.value[k] * spline.material[f];
+    if (!derivatives) return;
     for (int a = 0; a < 3; ++a)
       out.jacobian[a] = out.jacobian[a] + (w * b.first[a][k]) * spline.geometry[f];
-    if (has_material) {
-      out.material += w * b.value[k] * spline.material[f];
+    if (has_material)
       out.material_gradient =
           out.material_gradient +
           (w * spline.material[f]) * Vec3{b.first[0][k], b.first[1][k], b.first[2][k]};
-    }
   });
   return out;
+}
+
+SolidPoint evaluate_solid(const SolidSpline& spline, std::array<double, 3> uvw) {
+  return detail::solid_point(spline, uvw, true);
 }
 
 Box3 solid_box(const SolidSpline& spline) {

@@ -43,9 +43,9 @@ struct SolidSpline {
 ///   area term's curvature frozen at the step's start, the gradient exact, a backtracking line
 ///   search keeping every step downhill), with the data weighed per control point and every
 ///   element anchored lightly to the tets' map, so that both bases reach the minimum of one
-///   energy and compare fairly. Measured on bear (docs/benchmarks.md §21): the uniform basis
-///   fits M 1.4 times closer than by Euler steps, THB about as closely, G neither closer; 2–5
-///   times the time and up to 4 times the memory.
+///   energy and compare fairly. Measured on bunny00 and bear (docs/benchmarks.md §21): the
+///   uniform basis fits M 1.6–1.8 times closer than by Euler steps, THB about as closely, G
+///   neither closer; 2–9 times the time and 2.5–4.5 times the memory.
 enum class SolidFitMethod { Newton, Euler };
 
 struct SolidFitOptions {

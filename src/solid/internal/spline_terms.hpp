@@ -3,9 +3,11 @@
 /// every evaluation and every fit sum goes through.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
+#include "tpmsfill/solid/solid_spline.hpp"
 #include "tpmsfill/solid/thb_basis.hpp"
 
 namespace tpmsfill::detail {
@@ -20,5 +22,9 @@ void for_each_term(const SplineBasis& basis, std::size_t element, const Visit& v
       visit(c, basis.row_function[t], basis.row_weight[t]);
   }
 }
+
+/// G and M at (u, v, w), clamped onto the cube; their derivatives too when asked (what
+/// evaluate_solid returns), else left zero: the slices' samples need none.
+SolidPoint solid_point(const SolidSpline& spline, std::array<double, 3> uvw, bool derivatives);
 
 }  // namespace tpmsfill::detail
