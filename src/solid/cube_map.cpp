@@ -105,7 +105,7 @@ std::array<std::uint32_t, 8> find_corners(const TetMesh& mesh, const BoundaryGra
 }
 
 // The frames whose boxes give the corners to try: the axes, then the boundary's principal
-// axes (longest first), which suit a long or tilted part better.
+// axes (longest first), which suit a long or tilted part better, then both turned.
 std::vector<Frame> corner_frames(const TetMesh& mesh, const BoundaryGraph& graph) {
   std::vector<Frame> frames{Frame{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}};
 #if defined(CGAL_EIGEN3_ENABLED)
@@ -132,6 +132,20 @@ std::vector<Frame> corner_frames(const TetMesh& mesh, const BoundaryGraph& graph
   const Vec3 first = axis(2), second = axis(1);
   frames.push_back({first, second, cross(first, second)});
 #endif
+  // Then each of those turned by ±45° about each of its axes: a box's extremes on a limbed
+  // scan (triceratops: horns, tail, feet) may pick corners whose curves cannot cut its
+  // boundary as the cube's edges do, while a turned box picks others that can.
+  const std::size_t base = frames.size();
+  for (std::size_t f = 0; f < base; ++f)
+    for (int a = 0; a < 3; ++a)
+      for (const double turn : {0.25, -0.25}) {
+        const double angle = turn * std::acos(-1.0), c = std::cos(angle), s = std::sin(angle);
+        const Vec3 u = frames[f][(a + 1) % 3], v = frames[f][(a + 2) % 3];
+        Frame turned = frames[f];
+        turned[(a + 1) % 3] = c * u + s * v;
+        turned[(a + 2) % 3] = c * v - s * u;
+        frames.push_back(turned);
+      }
   return frames;
 }
 
@@ -395,8 +409,8 @@ void find_corners_and_curves(const TetMesh& mesh, const BoundaryGraph& graph,
     }
   }
   throw InputError(first_error +
-                   " (corners from the axes' box and from the principal axes' "
-                   "box both tried)");
+                   " (corners from the boxes along the axes and the principal axes, each also "
+                   "turned by 45° about each axis, all tried)");
 }
 
 // Cube face f = 2·axis + side: the mask of its four edges.

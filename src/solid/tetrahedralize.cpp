@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -164,8 +165,30 @@ TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions&
                                cell / kThinnestCellRatio);
   Criteria criteria(edge_size = sizing, facet_angle = 25, facet_size = sizing,
                     facet_distance = distance, cell_radius_edge_ratio = 3, cell_size = sizing);
-  const Complex complex =
-      CGAL::make_mesh_3<Complex>(domain, criteria, no_perturb(), no_exude(), manifold());
+  const Complex complex = [&] {
+    // Mesh_3 stops on an assertion where its protection of sharp edges meets a point twice
+    // (libcgal-demo's triceratops at 60°: "already inserted on surface"), and first dumps its
+    // triangulation into the working directory: that dump is removed, and the job refused with
+    // what to change, rather than reported as an internal error.
+    const std::filesystem::path dumps[] = {"dump-bug.mesh", "dump-bug.binary.cgal"};
+    bool dumped_before = false;
+    for (const auto& d : dumps) dumped_before = dumped_before || std::filesystem::exists(d);
+    try {
+      return CGAL::make_mesh_3<Complex>(domain, criteria, no_perturb(), no_exude(), manifold());
+    } catch (const CGAL::Failure_exception& e) {
+      std::error_code ignored;
+      if (!dumped_before)
+        for (const auto& d : dumps) std::filesystem::remove(d, ignored);
+      const std::string sentence = e.message().empty() ? e.expression() : e.message();
+      throw InputError(
+          "the tet mesher (CGAL Mesh_3) failed: " + sentence.substr(0, sentence.find('\n')) +
+          (options.feature_angle < 180
+               ? "; it was keeping the edges sharper than " +
+                     std::to_string(std::lround(options.feature_angle)) +
+                     "°: try a feature angle of 180 (none, as for an organic scan)"
+               : "; try another cell size"));
+    }
+  }();
 
   TetMesh tets;
   std::unordered_map<Triangulation::Vertex_handle, std::uint32_t, CGAL::Handle_hash_function> index;

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/io.hpp>
 #include <tpmsfill/solid/cube_map.hpp>
 #include <tpmsfill/solid/tetrahedralize.hpp>
 
@@ -107,6 +109,28 @@ TEST(Tetrahedralize, InwardSurfaceGivesTheSameSolid) {
   EXPECT_NEAR(check_tet_mesh(soup).volume, 2.0, 1e-9);
   EXPECT_NEAR(check_tet_mesh(out).volume, 2.0, 1e-9);
   EXPECT_NEAR(check_tet_mesh(in).volume, 2.0, 1e-9);
+}
+
+// Mesh_3 stops on an assertion where protecting triceratops's edges sharper than 60° meets a
+// point twice, and dumps its triangulation into the working directory first: the job is an
+// InputError saying what to change, and nothing is left behind.
+TEST(Tetrahedralize, MesherFailureIsARefusalWithoutLeftovers) {
+  const TriangleSoup surface =
+      read_mesh(std::filesystem::path(TPMSFILL_CGAL_MESHES) / "triceratops.off");
+  const std::filesystem::path here = std::filesystem::current_path();
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() / "tpmsfill-mesher-failure";
+  std::filesystem::create_directories(scratch);
+  std::filesystem::current_path(scratch);
+  try {
+    tetrahedralize(surface, {.feature_angle = 60});  // cells of the diagonal / 30
+    ADD_FAILURE() << "Mesh_3 did not stop (then this test no longer tests the refusal)";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("feature angle of 180"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(scratch));
+  std::filesystem::current_path(here);
+  std::filesystem::remove_all(scratch);
 }
 
 }  // namespace
