@@ -179,14 +179,16 @@ TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions&
       std::error_code ignored;
       if (!dumped_before)
         for (const auto& d : dumps) std::filesystem::remove(d, ignored);
-      const std::string sentence = e.message().empty() ? e.expression() : e.message();
-      throw InputError(
-          "the tet mesher (CGAL Mesh_3) failed: " + sentence.substr(0, sentence.find('\n')) +
-          (options.feature_angle < 180
-               ? "; it was keeping the edges sharper than " +
-                     std::to_string(std::lround(options.feature_angle)) +
-                     "°: try a feature angle of 180 (none, as for an organic scan)"
-               : "; try another cell size"));
+      std::string sentence = e.message().empty() ? e.expression() : e.message();
+      sentence = sentence.substr(0, sentence.find('\n'));
+      while (!sentence.empty() && (sentence.back() == '.' || sentence.back() == ' '))
+        sentence.pop_back();
+      throw InputError("the tet mesher (CGAL Mesh_3) failed: " + sentence +
+                       (options.feature_angle < 180
+                            ? "; it was keeping the edges sharper than " +
+                                  std::to_string(std::lround(options.feature_angle)) +
+                                  "°: try a feature angle of 180 (none, as for an organic scan)"
+                            : "; try another cell size"));
     }
   }();
 
