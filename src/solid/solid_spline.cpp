@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <tuple>
@@ -403,6 +404,9 @@ struct FieldFit {
   std::vector<double> sample_value;
   detail::RowMatrix matrix;
   std::size_t solve_iterations = 0;
+  // Called during a Newton step's solve (iterate() reports the step's progress again there,
+  // so that a cancel is honoured within a conjugate-gradient iteration, not after the step).
+  std::function<void()> between;
 
   // The regularisers are stiff on fine elements (their Hessian grows as 1 / h): an explicit
   // step of ε is stable only while ε · Σ_j |H_ij| ≤ 1. This bounds Σ_j |H_ij| per function
@@ -621,8 +625,9 @@ struct FieldFit {
                                  Dim == 1 ? &plate : nullptr, &mass},
                                 matrix);
     std::vector<double> delta;
-    const detail::SolveReport solved = detail::solve_conjugate_gradients(
-        basis, gather_map, matrix, downhill, Dim, kSolveTolerance, kSolveIterations, delta);
+    const detail::SolveReport solved =
+        detail::solve_conjugate_gradients(basis, gather_map, matrix, downhill, Dim, kSolveTolerance,
+                                          kSolveIterations, delta, between);
     solve_iterations += solved.iterations;
     double slope = 0;  // ∇E · δ
     for (std::size_t i = 0; i < delta.size(); ++i) slope -= downhill[i] * delta[i];
@@ -971,6 +976,7 @@ std::pair<int, double> iterate(FieldFit<Dim>& field, double start, const SolidFi
   // regularisers would only pull it off the data.
   if (!(now > 1e-12)) return {0, rs};
   for (int it = 1; it <= options.max_iterations; ++it) {
+    field.between = [&progress, it] { progress(it - 1); };
     euler ? field.step() : field.newton_step();
     const double next = similarity(field.measure(), start);
     const bool settled = std::abs(next - rs) < options.rs_change;
@@ -1042,8 +1048,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
         basis, lookup, samples, options.method == SolidFitMethod::Newton ? &units : nullptr);
     const Gather gather_map = detail::make_gather(basis);
     const Probe probe = make_probe(basis, map);
-    FieldFit<3> fit_g{basis, quadrature, samples, gather_map, options, 0, g, {}, {}, {}, {}, 0};
-    FieldFit<1> fit_m{basis, quadrature, samples, gather_map, options, 3, m, {}, {}, {}, {}, 0};
+    FieldFit<3> fit_g{basis, quadrature, samples, gather_map, options, 0, g, {}, {}, {}, {}, 0, {}};
+    FieldFit<1> fit_m{basis, quadrature, samples, gather_map, options, 3, m, {}, {}, {}, {}, 0, {}};
     if (round == 0) {
       start_g = fit_g.measure();
       start_m = has_material ? fit_m.measure() : 0;

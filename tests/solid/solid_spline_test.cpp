@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <tpmsfill/error.hpp>
+#include <tpmsfill/progress.hpp>
 #include <tpmsfill/sampling/spatial.hpp>
 #include <tpmsfill/solid/cube_map.hpp>
 #include <tpmsfill/solid/solid_slice.hpp>
@@ -172,6 +173,31 @@ TEST(SolidSpline, NewtonStepsFitTheUniformBasisCloserThanEulerSteps) {
   EXPECT_LT(n.material_rms, e.material_rms);
   EXPECT_LT(n.material_rms, a.greville_material_rms);
   EXPECT_LE(n.geometry_iterations, 50);
+}
+
+// A Newton step's solve may take seconds: progress is reported within it, once a
+// conjugate-gradient iteration, so that a cancel is honoured there and not after the step.
+TEST(SolidSpline, NewtonStepsReportProgressWithinTheirSolves) {
+  struct Counting : Progress {
+    std::size_t reports = 0;
+    std::size_t stop_at = 0;  // 0: never
+    bool report(double) override { return ++reports != stop_at; }
+  };
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  Counting counting;
+  const SolidFit fit = fit_solid_spline(
+      ball, map, {.uniform = 9, .method = SolidFitMethod::Newton, .progress = &counting});
+  std::size_t steps = 0;
+  for (const FitRound& r : fit.rounds) steps += r.geometry_iterations + r.material_iterations;
+  EXPECT_GE(counting.reports, fit.rounds[0].solve_iterations + steps);
+  Counting cancelling;
+  cancelling.stop_at = 3;  // inside the first step's solve
+  EXPECT_THROW(
+      fit_solid_spline(ball, map,
+                       {.uniform = 9, .method = SolidFitMethod::Newton, .progress = &cancelling}),
+      Cancelled);
+  EXPECT_EQ(cancelling.reports, 3u);
 }
 
 // Where the map squeezes the solid, its tets are large in the cube, and a fine uniform

@@ -205,7 +205,8 @@ std::vector<double> dots(const std::vector<double>& a, const std::vector<double>
 SolveReport solve_conjugate_gradients(const SplineBasis& basis, const Gather& g,
                                       const RowMatrix& matrix, const std::vector<double>& b,
                                       int dim, double tolerance, int max_iterations,
-                                      std::vector<double>& x) {
+                                      std::vector<double>& x,
+                                      const std::function<void()>& each_iteration) {
   const std::size_t n = basis.functions.size();
   const auto apply = [&](const std::vector<double>& v) {
     return functions_from_rows(basis, g,
@@ -242,6 +243,7 @@ SolveReport solve_conjugate_gradients(const SplineBasis& basis, const Gather& g,
   SolveReport report;
   std::vector<char> done(dim, 0);
   for (int it = 0; it < max_iterations; ++it) {
+    if (each_iteration) each_iteration();
     const std::vector<double> rr = dots(r, r, dim);
     bool all = true;
     report.relative_residual = 0;

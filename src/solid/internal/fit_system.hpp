@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "tpmsfill/solid/thb_basis.hpp"
@@ -89,10 +90,13 @@ struct SolveReport {
 
 /// Solves (Tᵀ K T) x = b for `dim` right-hand sides at once (function-major, as b), by
 /// conjugate gradients preconditioned by the diagonal, from x = 0, until every component's
-/// residual is below `tolerance` times its |b| or after `max_iterations`.
+/// residual is below `tolerance` times its |b| or after `max_iterations`. `each_iteration`,
+/// when given, is called before every iteration (a solve may take seconds: the caller's
+/// progress and cancel).
 SolveReport solve_conjugate_gradients(const SplineBasis& basis, const Gather& g,
                                       const RowMatrix& matrix, const std::vector<double>& b,
                                       int dim, double tolerance, int max_iterations,
-                                      std::vector<double>& x);
+                                      std::vector<double>& x,
+                                      const std::function<void()>& each_iteration = {});
 
 }  // namespace tpmsfill::detail
