@@ -487,7 +487,9 @@ void LayerFileWriter::Impl::write_folder_layer(const Layer& layer) {
                        " has contours but no plane field to draw the PNG from");
     std::vector<std::uint8_t> image = rasterise(layer, raster);
     int channels = 1;
-    if (options.material_colour && !layer.material.triangles.empty()) {
+    // A material layer, or one with nothing in it (which must be the white page like the
+    // others' empty pixels, not a grey image among RGB ones).
+    if (options.material_colour && (!layer.material.triangles.empty() || layer.contours.empty())) {
       // Grey 1 + 254 t back to t, on the material scale; 0 (empty) is the white page.
       std::vector<std::uint8_t> rgb(image.size() * 3, 255);
       for (std::size_t n = 0; n < image.size(); ++n)

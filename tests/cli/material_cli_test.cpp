@@ -174,6 +174,22 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   EXPECT_GT(filled, 100);
   EXPECT_LT(low, 40);  // the x ramp spans the layer: blue at one end, yellow at the other
   EXPECT_GT(high, 215);
+  // A layer below the solid, with nothing in it, is the white page too (it was a black grey
+  // image among the coloured ones).
+  const double bottom = sliced["box_mm"][0][2].get<double>();
+  ASSERT_EQ(test::run_command(command + "-below --layer 5 --format png --pixel 0.5 --colour " +
+                                  "--start " + std::to_string(bottom - 6),
+                              &out),
+            0)
+      << out;
+  const test::Png empty = test::decode_png(
+      test::read_file(fs::path(colour.string() + "-below") / "layer_00000.png"), 3);
+  ASSERT_GT(empty.width, 0);
+  for (int y = 0; y < empty.height; ++y)
+    for (int x = 0; x < empty.width; ++x) {
+      const std::uint8_t* c = empty.at(x, y);
+      ASSERT_TRUE(c[0] == 255 && c[1] == 255 && c[2] == 255) << x << " " << y;
+    }
   // A thickness in the wrong unit and a level that would not end: refused before any work.
   EXPECT_EQ(test::run_command(command + "-3 --layer 1e-7 --format png", &out), 2);
   EXPECT_NE(out.find("is the layer thickness in mm?"), std::string::npos) << out;
