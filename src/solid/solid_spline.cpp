@@ -386,6 +386,14 @@ struct LocalValue {
   }
 };
 
+// What Newton steps keep between steps, shared by G and M (one basis, one round): the local
+// B-splines at every data sample (64 each, quadrature.data's order) and the Hessian on the
+// rows (its shape the basis's, its values each step's).
+struct NewtonStorage {
+  std::vector<double> sample_value;
+  detail::RowMatrix matrix;
+};
+
 // A field F = Σ c_i φ_i of `Dim` components (3: G; 1: M) under fit on one basis.
 template <int Dim>
 struct FieldFit {
@@ -396,17 +404,11 @@ struct FieldFit {
   const SolidFitOptions& options;
   int target_offset;  // 0: x, y, z; 3: m
   std::vector<double>& c;
+  NewtonStorage& shared;
   std::vector<double> element_error;  // per element, Σ w |r|² / Σ w over its data (measure())
   // Per function, a Gershgorin bound of the regularisers' Hessian row (bound_stiffness()).
   std::vector<double> stiffness;
-  // Newton steps': the local B-splines at every data sample (64 each, quadrature.data's
-  // order), the Hessian on the rows, and the conjugate-gradient iterations spent.
-  std::vector<double> sample_value;
-  detail::RowMatrix matrix;
-  std::size_t solve_iterations = 0;
-  // Called during a Newton step's solve (iterate() reports the step's progress again there,
-  // so that a cancel is honoured within a conjugate-gradient iteration, not after the step).
-  std::function<void()> between;
+  std::size_t solve_iterations = 0;  // Newton steps' conjugate-gradient iterations
 
   // The regularisers are stiff on fine elements (their Hessian grows as 1 / h): an explicit
   // step of ε is stable only while ε · Σ_j |H_ij| ≤ 1. This bounds Σ_j |H_ij| per function
@@ -518,7 +520,7 @@ struct FieldFit {
     detail::parallel_for(elements, 16, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
-        data_forces(e, local, nullptr, slot_data.data() + e * 64 * Dim, slot_mass.data() + e * 64);
+        data_forces(e, local, slot_data.data() + e * 64 * Dim, slot_mass.data() + e * 64);
         smoothing_gradient(e, local, slot_smooth.data() + e * 64 * Dim);
         if constexpr (Dim == 3) boundary_gradient(e, local, slot_smooth.data() + e * 64 * Dim);
       }
@@ -545,9 +547,12 @@ struct FieldFit {
   // Hessian with g frozen (the area term's replaced by its isotropic bound 2|G_b|² I per
   // direction, element by element, which keeps K positive where the exact one need not be);
   // then halved until E falls.
-  void newton_step() {
+  // `between` runs within the solve (iterate() reports the step's progress again there, so
+  // that a cancel is honoured within a conjugate-gradient iteration, not after the step).
+  void newton_step(const std::function<void()>& between) {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     const std::size_t elements = basis.elements.size();
+    std::vector<double>& sample_value = shared.sample_value;
     if (sample_value.empty()) {
       sample_value.resize(quadrature.data.size() * 64);
       detail::parallel_for(elements, 16, [&](std::size_t begin, std::size_t end) {
@@ -585,13 +590,15 @@ struct FieldFit {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
         for (std::uint32_t i = quadrature.data_start[e]; i < quadrature.data_start[e + 1]; ++i) {
-          const LocalValue<Dim> at(local_basis(basis, e, samples.uvw[quadrature.data[i]], 1),
-                                   local.data(), 1);
+          const LocalBasis b = local_basis(basis, e, samples.uvw[quadrature.data[i]], 1);
+          const LocalValue<Dim> at(b, local.data(), 1);
           double grad2 = 0;
           for (int d = 0; d < Dim; ++d)
             for (int a = 0; a < 3; ++a) grad2 += at.first[a][d] * at.first[a][d];
           g[i] = data_scale / std::sqrt(options.gamma + grad2);
           sample_weight[i] = 2 * samples.weight[quadrature.data[i]] * g[i];
+          add_data_force(quadrature.data[i], g[i], b, at, slot_data.data() + e * 64 * Dim,
+                         slot_mass.data() + e * 64);
         }
         first[e].fill(2 * options.lambda1);
         if constexpr (Dim == 3) {
@@ -609,7 +616,6 @@ struct FieldFit {
           for (int a = 0; a < 3; ++a)
             first[e][a] += 2 * options.lambda2 * (mean[(a + 1) % 3] + mean[(a + 2) % 3]) / volume;
         }
-        data_forces(e, local, g.data(), slot_data.data() + e * 64 * Dim, slot_mass.data() + e * 64);
         smoothing_gradient(e, local, slot_smooth.data() + e * 64 * Dim);
         if constexpr (Dim == 3) boundary_gradient(e, local, slot_smooth.data() + e * 64 * Dim);
         anchor_gradient(e, local, anchor, slot_smooth.data() + e * 64 * Dim);
@@ -619,6 +625,7 @@ struct FieldFit {
     const std::vector<double> smooth = gather(basis, gather_map, slot_smooth, Dim);
     std::vector<double> downhill(data.size());  // −∇E
     for (std::size_t i = 0; i < data.size(); ++i) downhill[i] = data[i] - smooth[i];
+    detail::RowMatrix& matrix = shared.matrix;
     if (matrix.value.empty()) matrix = detail::row_matrix(basis, gather_map);
     detail::assemble_row_matrix(basis, gather_map,
                                 {&quadrature.data_start, &sample_value, &sample_weight, &first,
@@ -657,7 +664,7 @@ struct FieldFit {
           double f[Dim] = {};
           for (int l = 0; l < 64; ++l)
             for (int d = 0; d < Dim; ++d)
-              f[d] += sample_value[std::size_t(i) * 64 + l] * local[l * Dim + d];
+              f[d] += shared.sample_value[std::size_t(i) * 64 + l] * local[l * Dim + d];
           for (int d = 0; d < Dim; ++d) {
             const double r = samples.target[k][target_offset + d] - f[d];
             sum += samples.weight[k] * g[i] * r * r;
@@ -735,26 +742,32 @@ struct FieldFit {
   }
 
   // Per local B-spline of element e: Σ_k 2 w_k g_k φ(x_k) r_k over the element's data, and
-  // the normalisation Σ_k w_k g_k φ(x_k). g per sample (in quadrature.data's order) when
-  // given, else the seed's, capped where the Euler step would not be stable.
-  void data_forces(std::size_t e, const std::array<double, 64 * Dim>& local, const double* given,
-                   double* data, double* weighted_mass) const {
+  // the normalisation Σ_k w_k g_k φ(x_k), g the seed's, capped where the Euler step would not
+  // be stable.
+  void data_forces(std::size_t e, const std::array<double, 64 * Dim>& local, double* data,
+                   double* weighted_mass) const {
     const double g_cap = 1 / (2 * options.step);
     for (std::uint32_t i = quadrature.data_start[e]; i < quadrature.data_start[e + 1]; ++i) {
       const std::uint32_t k = quadrature.data[i];
-      const LocalBasis b = local_basis(basis, e, samples.uvw[k], given ? 0 : 1);
-      const LocalValue<Dim> at(b, local.data(), given ? 0 : 1);
+      const LocalBasis b = local_basis(basis, e, samples.uvw[k], 1);
+      const LocalValue<Dim> at(b, local.data(), 1);
       double grad2 = 0;
       for (int d = 0; d < Dim; ++d)
         for (int a = 0; a < 3; ++a) grad2 += at.first[a][d] * at.first[a][d];
-      const double g = given ? given[i] : std::min(1 / std::sqrt(options.gamma + grad2), g_cap);
-      std::array<double, Dim> scaled{};
-      for (int d = 0; d < Dim; ++d)
-        scaled[d] = 2 * samples.weight[k] * g * (samples.target[k][target_offset + d] - at.f[d]);
-      for (int j = 0; j < 64; ++j) {
-        for (int d = 0; d < Dim; ++d) data[j * Dim + d] += b.value[j] * scaled[d];
-        weighted_mass[j] += samples.weight[k] * g * b.value[j];
-      }
+      add_data_force(k, std::min(1 / std::sqrt(options.gamma + grad2), g_cap), b, at, data,
+                     weighted_mass);
+    }
+  }
+
+  // Sample k's share of data_forces() with velocity weight g, F there `at`.
+  void add_data_force(std::uint32_t k, double g, const LocalBasis& b, const LocalValue<Dim>& at,
+                      double* data, double* weighted_mass) const {
+    std::array<double, Dim> scaled{};
+    for (int d = 0; d < Dim; ++d)
+      scaled[d] = 2 * samples.weight[k] * g * (samples.target[k][target_offset + d] - at.f[d]);
+    for (int j = 0; j < 64; ++j) {
+      for (int d = 0; d < Dim; ++d) data[j * Dim + d] += b.value[j] * scaled[d];
+      weighted_mass[j] += samples.weight[k] * g * b.value[j];
     }
   }
 
@@ -976,8 +989,10 @@ std::pair<int, double> iterate(FieldFit<Dim>& field, double start, const SolidFi
   // regularisers would only pull it off the data.
   if (!(now > 1e-12)) return {0, rs};
   for (int it = 1; it <= options.max_iterations; ++it) {
-    field.between = [&progress, it] { progress(it - 1); };
-    euler ? field.step() : field.newton_step();
+    if (euler)
+      field.step();
+    else
+      field.newton_step([&progress, it] { progress(it - 1); });
     const double next = similarity(field.measure(), start);
     const bool settled = std::abs(next - rs) < options.rs_change;
     rs = next;
@@ -1048,8 +1063,9 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
         basis, lookup, samples, options.method == SolidFitMethod::Newton ? &units : nullptr);
     const Gather gather_map = detail::make_gather(basis);
     const Probe probe = make_probe(basis, map);
-    FieldFit<3> fit_g{basis, quadrature, samples, gather_map, options, 0, g, {}, {}, {}, {}, 0, {}};
-    FieldFit<1> fit_m{basis, quadrature, samples, gather_map, options, 3, m, {}, {}, {}, {}, 0, {}};
+    NewtonStorage shared;
+    FieldFit<3> fit_g{basis, quadrature, samples, gather_map, options, 0, g, shared, {}, {}, 0};
+    FieldFit<1> fit_m{basis, quadrature, samples, gather_map, options, 3, m, shared, {}, {}, 0};
     if (round == 0) {
       start_g = fit_g.measure();
       start_m = has_material ? fit_m.measure() : 0;
