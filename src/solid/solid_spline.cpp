@@ -926,12 +926,12 @@ void check_options(const TetMesh& mesh, const CubeMap& map, const SolidFitOption
     throw InputError("the fit's refinement rounds and sigmas must not be negative");
   if (o.uniform != 0 && o.uniform < 4)
     throw InputError("a uniform cubic spline needs at least 4 control points per axis");
-  // Newton steps hold the Hessian on the rows too: about 16 KB a control point (31³ peaked at
-  // 461 MB on bear, benchmarks §21).
+  // Newton steps hold the Hessian on the rows too: about 11 KB a control point (38³ peaked at
+  // 581 MB on bear, benchmarks §21).
   if (o.method == SolidFitMethod::Newton && o.uniform > 64)
     throw InputError("Newton steps on a uniform spline of " + std::to_string(o.uniform) +
                      "³ control points would need about " +
-                     std::to_string(std::lround(1.6e-5 * std::pow(o.uniform, 3))) +
+                     std::to_string(std::lround(1.1e-5 * std::pow(o.uniform, 3))) +
                      " GB; at most 64 per axis (262,144 control points), or Euler steps");
   // About 4 KB a control point while fitting (50³ = 125,000 peaked at 504 MB, benchmarks §21).
   if (o.uniform > 100)

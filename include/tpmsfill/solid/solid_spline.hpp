@@ -45,7 +45,7 @@ struct SolidSpline {
 ///   element anchored lightly to the tets' map, so that both bases reach the minimum of one
 ///   energy and compare fairly. Measured on bunny00 and bear (docs/benchmarks.md §21): the
 ///   uniform basis fits M 1.6–1.8 times closer than by Euler steps, THB about as closely, G
-///   neither closer; 2–9 times the time and 2.5–4.5 times the memory.
+///   neither closer; 2–6 times the time and 1.9–2.8 times the memory.
 enum class SolidFitMethod { Newton, Euler };
 
 struct SolidFitOptions {
