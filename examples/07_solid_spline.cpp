@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    TetMesh tets = tetrahedralize(read_mesh(argv[1]));
+    TetMesh tets = with_chords_split(tetrahedralize(read_mesh(argv[1])));
     const TetMeshReport report = check_tet_mesh(tets);
     if (const auto problem = ball_problem(report)) {
       std::fprintf(stderr, "cannot map onto the cube: %s\n", problem->c_str());

@@ -171,6 +171,11 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                          " % (sharp edges rounded? try --feature-angle 60 or a smaller --cell)");
   }
   if (out.problem) return out;
+  const std::size_t points_before = mesh.points.size();
+  mesh = with_chords_split(std::move(mesh));
+  j["split_points"] = mesh.points.size() - points_before;
+  j["points"] = mesh.points.size();
+  j["tets"] = mesh.tets.size();
   j["material"] = apply_material(a, mesh);
   if (!mesh.material.empty()) {
     const auto [lo, hi] = std::minmax_element(mesh.material.begin(), mesh.material.end());
@@ -185,13 +190,16 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
   const CubeMap& map = out.map.emplace(map_to_cube(mesh, options));
   j["cube_map"] = {{"corners", map.corners},
                    {"flipped_boundary_faces", map.flipped_boundary_faces},
+                   {"harmonic_inverted_tets", map.harmonic_inverted_tets},
+                   {"untangled_points", map.untangled_points},
                    {"inverted_tets", map.inverted_tets},
                    {"flat_tets", map.flat_tets},
                    {"interior_points", map.interior_points}};
-  if (map.inverted_tets > 0)
-    warnings.push_back(std::to_string(map.inverted_tets) + " of " + std::to_string(map.tets) +
-                       " tets fold over in the cube map (a 3D harmonic map need not be a "
-                       "bijection; smaller tets or other corners usually help)");
+  if (map.inverted_tets + map.flat_tets > 0)
+    warnings.push_back(std::to_string(map.inverted_tets + map.flat_tets) + " of " +
+                       std::to_string(map.tets) +
+                       " tets fold over or flatten in the cube map, untangled or not (smaller "
+                       "tets or other corners usually help)");
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "mesh/dirichlet.hpp"
 #include "mesh/exact_orientation.hpp"
 #include "solid/internal/harmonic.hpp"
+#include "solid/internal/untangle.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -507,6 +508,62 @@ void map_interior(const TetMesh& mesh, const std::vector<char>& fixed, CubeMap& 
     for (int a = 0; a < 3; ++a) map.uvw[v][a] = values[3 * v + a];
 }
 
+// Tets whose image is inverted or flat (exact orientation); `inverted` counts the inverted.
+std::vector<std::uint32_t> bad_tets(const TetMesh& mesh, const CubeMap& map,
+                                    std::uint64_t* inverted = nullptr) {
+  auto at = [&](std::uint32_t v) { return Vec3{map.uvw[v][0], map.uvw[v][1], map.uvw[v][2]}; };
+  std::vector<std::uint32_t> bad;
+  for (std::uint32_t t = 0; t < mesh.tets.size(); ++t) {
+    const Tet& c = mesh.tets[t];
+    const int sign = detail::orientation_3(at(c[0]), at(c[1]), at(c[2]), at(c[3]));
+    if (sign <= 0) bad.push_back(t);
+    if (inverted) *inverted += sign < 0;
+  }
+  return bad;
+}
+
+// The harmonic interior's inverted and flat tets untangled (untangle.hpp): the interior points
+// within two rings of them move, the rest of the map stays harmonic. Where that leaves tets
+// inverted, the whole interior moves. Tets whose corners are all on the boundary cannot
+// move: with_chords_split() leaves none that need to.
+void untangle_interior(const TetMesh& mesh, const std::vector<char>& fixed, CubeMap& map,
+                       Progress* progress) {
+  std::vector<std::uint32_t> bad = bad_tets(mesh, map, &map.harmonic_inverted_tets);
+  if (bad.empty()) return;
+  std::vector<char> movable(mesh.points.size(), 0);
+  for (std::uint32_t t : bad)
+    for (std::uint32_t v : mesh.tets[t]) movable[v] = !fixed[v];
+  auto grow = [&](int rings) {
+    for (int r = 0; r < rings; ++r) {
+      std::vector<char> next = movable;
+      for (const Tet& t : mesh.tets)
+        if (movable[t[0]] || movable[t[1]] || movable[t[2]] || movable[t[3]])
+          for (std::uint32_t v : t) next[v] = !fixed[v];
+      if (next == movable) return;
+      movable.swap(next);
+    }
+  };
+  const std::size_t harmonic_bad = bad.size();
+  const std::vector<Uvw> harmonic = map.uvw;
+  grow(2);
+  constexpr int kAttempts = 2;
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    detail::untangle(mesh, movable, map.uvw, [&](double done) {
+      detail::report_or_cancel(progress, 0.3 + 0.6 * (attempt + done) / kAttempts);
+    });
+    bad = bad_tets(mesh, map);
+    if (bad.empty()) break;
+    grow(std::numeric_limits<int>::max());
+  }
+  // Where the mesh leaves no fold-free map (a limb's tets all on its boundary), the schedule
+  // of ε can stop with more tets inverted than it began with: then the harmonic map stays.
+  if (bad.size() > harmonic_bad) {
+    map.uvw = harmonic;
+    movable.assign(movable.size(), 0);
+  }
+  map.untangled_points = static_cast<std::uint64_t>(std::count(movable.begin(), movable.end(), 1));
+}
+
 void count_flips(const TetMesh& mesh, const std::vector<Triangle>& faces,
                  const std::array<std::vector<std::uint32_t>, 6>& patches, CubeMap& map) {
   for (int face = 0; face < 6; ++face) {
@@ -570,6 +627,7 @@ CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options) {
   for (const Triangle& f : faces)
     for (std::uint32_t v : f) fixed[v] = 1;
   map_interior(mesh, fixed, map);
+  untangle_interior(mesh, fixed, map, options.progress);
   count_flips(mesh, faces, patches, map);
   if (2 * map.flipped_boundary_faces > map.boundary_faces)
     throw InputError(std::to_string(map.flipped_boundary_faces) + " of the " +

@@ -246,4 +246,120 @@ TetMesh with_positive_tets(TetMesh mesh, const TetMeshReport& report) {
   return mesh;
 }
 
+TetMesh with_chords_split(TetMesh mesh) {
+  auto key = [](std::uint32_t a, std::uint32_t b) {
+    return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+  };
+  std::vector<char> on_boundary(mesh.points.size(), 0);
+  std::vector<std::uint64_t> boundary_edges;
+  for (const Triangle& f : tet_boundary(mesh).triangles)
+    for (int i = 0; i < 3; ++i) {
+      on_boundary[f[i]] = 1;
+      boundary_edges.push_back(key(f[i], f[(i + 1) % 3]));
+    }
+  std::sort(boundary_edges.begin(), boundary_edges.end());
+  // The chords, each with its midpoint's index, in the order tets first meet them.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> chords;
+  for (const Tet& t : mesh.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (on_boundary[t[i]] && on_boundary[t[j]] &&
+            !std::binary_search(boundary_edges.begin(), boundary_edges.end(), key(t[i], t[j])))
+          chords.emplace_back(key(t[i], t[j]), 0);
+  std::sort(chords.begin(), chords.end());
+  chords.erase(std::unique(chords.begin(), chords.end()), chords.end());
+  for (auto& [edge, middle] : chords) {
+    const auto a = static_cast<std::uint32_t>(edge >> 32), b = static_cast<std::uint32_t>(edge);
+    middle = static_cast<std::uint32_t>(mesh.points.size());
+    mesh.points.push_back(0.5 * (mesh.points[a] + mesh.points[b]));
+    if (!mesh.material.empty())
+      mesh.material.push_back(0.5 * (mesh.material[a] + mesh.material[b]));
+  }
+  auto midpoint_of = [&](std::uint64_t edge) -> const std::uint32_t* {
+    const auto it = std::lower_bound(chords.begin(), chords.end(), std::pair{edge, 0u});
+    return it != chords.end() && it->first == edge ? &it->second : nullptr;
+  };
+  // Each tet is halved at its chords in one global order (by key), so that a face shared by
+  // two tets is cut the same way in both; the halves keep the tet's orientation (one end of
+  // the chord replaced by the midpoint in each).
+  std::vector<Tet> out;
+  out.reserve(mesh.tets.size() + 4 * chords.size());
+  std::vector<Tet> stack;
+  for (const Tet& tet : mesh.tets) {
+    stack.assign(1, tet);
+    while (!stack.empty()) {
+      const Tet t = stack.back();
+      stack.pop_back();
+      int first_i = -1, first_j = -1;
+      std::uint64_t first_key = 0;
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j)
+          if (midpoint_of(key(t[i], t[j])) && (first_i < 0 || key(t[i], t[j]) < first_key))
+            first_i = i, first_j = j, first_key = key(t[i], t[j]);
+      if (first_i < 0) {
+        out.push_back(t);
+        continue;
+      }
+      const std::uint32_t m = *midpoint_of(first_key);
+      Tet first = t, second = t;
+      first[first_j] = m;
+      second[first_i] = m;
+      stack.push_back(second);
+      stack.push_back(first);
+    }
+  }
+  mesh.tets = std::move(out);
+
+  // Then the faces inside whose three corners lie on the boundary (their edges are all on
+  // it, a thin part's tip): such a face on one patch would lie on a cube face with tets on
+  // both sides. Each gets a point at its centroid, and its two tets are cut in three there
+  // (each corner of the face replaced by the point in turn; the other faces stay whole).
+  on_boundary.resize(mesh.points.size(), 0);
+  std::vector<std::pair<std::array<std::uint32_t, 3>, std::uint32_t>> faces;
+  const std::vector<FaceUse> uses = sorted_face_uses(mesh);
+  for (std::size_t i = 0; i + 1 < uses.size(); ++i) {
+    const auto& k = uses[i].key;
+    if (uses[i + 1].key != k || !(on_boundary[k[0]] && on_boundary[k[1]] && on_boundary[k[2]]))
+      continue;
+    const auto centre = static_cast<std::uint32_t>(mesh.points.size());
+    mesh.points.push_back((1.0 / 3) * (mesh.points[k[0]] + mesh.points[k[1]] + mesh.points[k[2]]));
+    if (!mesh.material.empty())
+      mesh.material.push_back((mesh.material[k[0]] + mesh.material[k[1]] + mesh.material[k[2]]) /
+                              3);
+    faces.emplace_back(k, centre);
+  }
+  if (faces.empty()) return mesh;
+  auto centre_of = [&](std::array<std::uint32_t, 3> k) -> const std::uint32_t* {
+    std::sort(k.begin(), k.end());
+    const auto it = std::lower_bound(faces.begin(), faces.end(), std::pair{k, 0u});
+    return it != faces.end() && it->first == k ? &it->second : nullptr;
+  };
+  out.clear();
+  for (const Tet& tet : mesh.tets) {
+    stack.assign(1, tet);
+    while (!stack.empty()) {
+      const Tet t = stack.back();
+      stack.pop_back();
+      int opposite = -1;
+      const std::uint32_t* centre = nullptr;
+      for (int k = 0; k < 4 && !centre; ++k) {
+        centre = centre_of({t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]});
+        opposite = k;
+      }
+      if (!centre) {
+        out.push_back(t);
+        continue;
+      }
+      for (int k = 3; k >= 0; --k)
+        if (k != opposite) {
+          Tet child = t;
+          child[k] = *centre;
+          stack.push_back(child);
+        }
+    }
+  }
+  mesh.tets = std::move(out);
+  return mesh;
+}
+
 }  // namespace tpmsfill

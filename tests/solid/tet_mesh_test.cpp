@@ -1,7 +1,10 @@
 // The tet mesh's checks and boundary (tet_mesh.hpp): counts, orientation, topology, genus.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
 #include <tpmsfill/solid/tet_mesh.hpp>
+#include <utility>
 
 #include "test_util.hpp"
 
@@ -149,6 +152,51 @@ TEST(TetMesh, UnusedPointsAreCountedNotRefused) {
   EXPECT_EQ(r.unused_points, 1u);
   EXPECT_EQ(r.bounds.max, (Vec3{1, 1, 1}));
   EXPECT_FALSE(ball_problem(r));
+}
+
+// A slab one cell thick has every point on its boundary: each cube's inner diagonal (and the
+// faces' diagonals between two slabs' cubes) is a chord. Split, none is left, and the solid,
+// its boundary and a linear material are what they were.
+TEST(TetMesh, ChordsAreSplitKeepingTheBoundaryVolumeAndMaterial) {
+  TetMesh slab = make_tet_grid({0, 0, 0}, {3, 2, 1}, {3, 2, 1});
+  auto linear = [](Vec3 p) { return p.x + 2 * p.y - p.z; };
+  for (const Vec3& p : slab.points) slab.material.push_back(linear(p));
+  const TetMeshReport before = check_tet_mesh(slab);
+  const TetMesh split = with_chords_split(slab);
+  const TetMeshReport after = check_tet_mesh(split);
+  EXPECT_GT(split.points.size(), slab.points.size());
+  EXPECT_GT(split.tets.size(), slab.tets.size());
+  EXPECT_EQ(after.negative_tets + after.flat_tets + after.repeated_corner_tets, 0u);
+  EXPECT_FALSE(ball_problem(after)) << *ball_problem(after);
+  EXPECT_NEAR(after.volume, before.volume, 1e-12);
+  // The boundary is the same triangles of the same points (new points are appended).
+  auto sorted = [](std::vector<Triangle> t) {
+    for (Triangle& f : t) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  EXPECT_EQ(sorted(tet_boundary(split).triangles), sorted(tet_boundary(slab).triangles));
+  for (std::size_t v = 0; v < split.points.size(); ++v)
+    EXPECT_NEAR(split.material[v], linear(split.points[v]), 1e-12);
+  // No edge inside the solid has both ends on the boundary.
+  std::vector<char> on_boundary(split.points.size(), 0);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> boundary_edges;
+  for (const Triangle& f : tet_boundary(split).triangles)
+    for (int i = 0; i < 3; ++i) {
+      on_boundary[f[i]] = 1;
+      boundary_edges.insert(std::minmax(f[i], f[(i + 1) % 3]));
+    }
+  std::size_t chords = 0;
+  for (const Tet& t : split.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        chords += on_boundary[t[i]] && on_boundary[t[j]] &&
+                  !boundary_edges.count(std::minmax(t[i], t[j]));
+  EXPECT_EQ(chords, 0u);
+  // Splitting again changes nothing.
+  const TetMesh again = with_chords_split(split);
+  EXPECT_EQ(again.points.size(), split.points.size());
+  EXPECT_EQ(again.tets, split.tets);
 }
 
 }  // namespace

@@ -21,9 +21,13 @@
 ///     bijection (Floater 2003); the stage counts flipped triangles rather than assume it.
 ///  4. Interior: the P1 finite-element harmonic map, K_ij = Σ_T V_T ∇λ_i · ∇λ_j over the tets
 ///     T at edge ij (eq. 4 of Li & Fu 2021 with its two slips mended), solved as
-///     K_II f_I = −K_IB f_B for the three coordinates (one sparse Cholesky factorization). A 3D
-///     harmonic map is not always a bijection: the stage counts the tets whose image is
-///     inverted, and those that are flat.
+///     K_II f_I = −K_IB f_B for the three coordinates (one sparse Cholesky factorization).
+///  5. Untangling: a 3D harmonic map is not always a bijection (bear at diagonal / 30: 41 of
+///     7,211 tets inverted). The interior points within two rings of every inverted or flat
+///     tet move, by Garanzha et al.'s foldover-free maps (2021), until every image is positive
+///     (the rings widen when not). The stage counts the tets still inverted, and those flat.
+///     A flat image cannot be mended where a tet's four corners, or a chord's two ends, lie on
+///     one patch: split the chords first (with_chords_split()).
 ///
 /// A box whose corners are the box's corners maps to the box's affine image, to round-off:
 /// mean-value coordinates and P1 harmonic maps both reproduce linear functions.
@@ -61,17 +65,21 @@ struct CubeMap {
   std::array<std::uint64_t, 6> patch_faces{};
   std::uint64_t boundary_faces = 0;
   std::uint64_t flipped_boundary_faces = 0;  ///< image on their cube face reversed or flat
-  std::uint64_t inverted_tets = 0;           ///< image inverted (exact orientation)
+  std::uint64_t inverted_tets = 0;           ///< image inverted (exact orientation), untangled
   /// Image with no volume: all four corners on one cube face (a tet whose four corners lie on
   /// one patch of the boundary), or otherwise coplanar.
   std::uint64_t flat_tets = 0;
   std::uint64_t tets = 0;
   std::uint64_t interior_points = 0;  ///< unknowns of the harmonic solve
+  /// The harmonic interior's inverted tets, before untangling.
+  std::uint64_t harmonic_inverted_tets = 0;
+  std::uint64_t untangled_points = 0;  ///< interior points the untangling moved
 };
 
 /// Maps a tet mesh onto the unit cube (see the file comment).
 /// @param[in] mesh  a solid ball: check_tet_mesh() finds no ball_problem(); tets positive (an
-///                  all-negative mesh is refused: call with_positive_tets() first)
+///                  all-negative mesh is refused: call with_positive_tets() first); its chords
+///                  split (with_chords_split()) for a map with no flat tets
 /// @throws InputError  the mesh is not a ball (the sentence ball_problem() gives); corners
 ///                     given that are not boundary vertices, repeat, or are mirrored; corners
 ///                     found that coincide (a flat or thin part: give them); curves that do

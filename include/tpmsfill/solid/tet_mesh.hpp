@@ -132,6 +132,18 @@ std::optional<std::string> ball_problem(const TetMeshReport& report);
 /// from tools with the other orientation convention); otherwise unchanged.
 TetMesh with_positive_tets(TetMesh mesh, const TetMeshReport& report);
 
+/// The mesh with every chord (an edge inside the solid whose two ends lie on the boundary)
+/// split at its midpoint, each tet around it halved (the midpoint's material the ends' mean).
+/// A map onto the cube that keeps the boundary on the cube's faces cannot be fold-free with
+/// a chord whose ends land on one face: its tets, which wind all the way round it, would have
+/// to lie on both sides of that face. Mesh_3 leaves hundreds (libcgal-demo's bear, bunny00 and
+/// fandisk at diagonal / 30: 250, 401 and 1,046). Then every face inside whose three corners
+/// lie on the boundary (a thin part's tip) gets a point at its centroid, its two tets cut in
+/// three there, for the same reason.
+/// Points are appended; tets keep their order, each split tet's halves in its place.
+/// @pre tets positive
+TetMesh with_chords_split(TetMesh mesh);
+
 /// The boundary faces (those in one tet), oriented outward, over all of mesh.points (unused
 /// points stay, so indices are the mesh's). Face order: by tet, then by opposite corner.
 /// @pre tets positive

@@ -1,0 +1,42 @@
+/// @file untangle.hpp
+/// @brief Internal: moves the free points of a map of a tet mesh so that no tet's image is
+/// inverted or flat, by Garanzha, Kaporin, Kudryavtseva, Protais, Ray and Sokolov's
+/// foldover-free maps (SIGGRAPH 2021). Used by the cube map (cube_map.cpp), whose harmonic
+/// interior inverts tets where a limb squeezes into a thin slab of the cube.
+///
+/// Each tet's Jacobian J = U R⁻¹ maps its own shape R, scaled so the tets' total volume is the
+/// image's, onto its image U. The energy Σ_T w_T ((1 − θ) tr(JᵀJ) / χ^(2/3) + θ (det² + 1) / χ),
+/// χ(D, ε) = (D + √(ε² + D²)) / 2, is finite for every map while ε > 0, and tends to a barrier
+/// on det J ≤ 0 as ε → 0: L-BFGS minimises it for each ε, and ε shrinks by the paper's rule
+/// (eq. 6) from the smallest det J and the energy's decrease, until every det J > 0 and the
+/// energy no longer falls.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "tpmsfill/solid/tet_mesh.hpp"
+
+namespace tpmsfill::detail {
+
+struct UntangleResult {
+  int rounds = 0;             ///< values of ε tried
+  int steps = 0;              ///< L-BFGS steps over all rounds
+  double min_det_before = 0;  ///< smallest det J (of the scaled shapes) before and after
+  double min_det_after = 0;
+};
+
+/// Moves the points with `movable` set (and in a tet) to make every tet touching one of them
+/// positive; the others stay. Only tets with a movable corner count.
+/// @param[in] mesh     the tets; their shapes in mesh.points are the ideal the map keeps near
+/// @param[in,out] uvw  per point, its image
+/// @pre tets positive in mesh.points
+/// @param[in] report  called with the fraction of rounds done before each round (it may throw
+///                     Cancelled to stop); may be empty
+UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
+                        std::vector<std::array<double, 3>>& uvw,
+                        const std::function<void(double)>& report = {});
+
+}  // namespace tpmsfill::detail
