@@ -726,8 +726,11 @@ if [[ "$section" == all || "$section" == material ]]; then
   echo "tets of size diagonal / D, material = geodesic distance to the bottom (boundary points within"
   echo "diagonal / 100 of the lowest):"
   echo
-  echo "| mesh | D | tets | points | volume vs surface | genus | flipped boundary faces | inverted tets | flat tets | wall s | peak MB | outcome |"
-  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+  echo "Tets and points after the chords are split (the points that added in their column);"
+  echo "inverted: by the harmonic interior, then after untangling."
+  echo
+  echo "| mesh | D | tets | points | split points | volume vs surface | genus | flipped boundary faces | inverted tets, harmonic → untangled | flat tets | untangled points | wall s | peak MB | outcome |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
   mkdir -p "$tmp/mat"
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
     data/meshes/bunny00.off data/meshes/dino.off data/meshes/bear.off data/meshes/fandisk.off \
@@ -751,8 +754,9 @@ why = [l for l in err if "warning" not in l]
 outcome = "mapped" if code == "0" else ("refused: " + (why[-1] if why else "exit " + code))[:150].replace("|", "/")
 cm = d.get("cube_map", {})
 vol = (100 * (d["volume_mm3"] / d["surface_volume_mm3"] - 1)) if "volume_mm3" in d else float("nan")
-print(f"| {name} | {D} | {d.get('tets', '')} | {d.get('points', '')} | {vol:+.2f} % | {d.get('genus', '')} | "
-      f"{cm.get('flipped_boundary_faces', '')} | {cm.get('inverted_tets', '')} | {cm.get('flat_tets', '')} | "
+inverted = f"{cm['harmonic_inverted_tets']} → {cm['inverted_tets']}" if cm else ""
+print(f"| {name} | {D} | {d.get('tets', '')} | {d.get('points', '')} | {d.get('split_points', '')} | {vol:+.2f} % | {d.get('genus', '')} | "
+      f"{cm.get('flipped_boundary_faces', '')} | {inverted} | {cm.get('flat_tets', '')} | {cm.get('untangled_points', '')} | "
       f"{wall:.2f} | {kb / 1024:.0f} | {outcome} |")
 PY
     done
