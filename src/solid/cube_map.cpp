@@ -575,12 +575,9 @@ void count_flips(const TetMesh& mesh, const std::vector<Triangle>& faces,
       if (detail::orientation_2(q[0], q[1], q[2]) != outward) ++map.flipped_boundary_faces;
     }
   }
-  auto at = [&](std::uint32_t v) { return Vec3{map.uvw[v][0], map.uvw[v][1], map.uvw[v][2]}; };
-  for (const Tet& t : mesh.tets) {
-    const int sign = detail::orientation_3(at(t[0]), at(t[1]), at(t[2]), at(t[3]));
-    map.inverted_tets += sign < 0;
-    map.flat_tets += sign == 0;
-  }
+  map.inverted_tets = 0;
+  map.flat_tets = bad_tets(mesh, map, &map.inverted_tets).size();
+  map.flat_tets -= map.inverted_tets;
 }
 
 }  // namespace
