@@ -17,6 +17,7 @@
 #include "core/disjoint_sets.hpp"
 #include "core/stage_progress.hpp"
 #include "mesh/dirichlet.hpp"
+#include "mesh/edge_key.hpp"
 #include "mesh/exact_orientation.hpp"
 #include "solid/internal/harmonic.hpp"
 #include "solid/internal/untangle.hpp"
@@ -26,13 +27,9 @@ namespace tpmsfill {
 
 namespace {
 
+using detail::edge_key;
 using Uvw = std::array<double, 3>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (std::uint64_t{a} << 32) | b;
-}
 
 int corner_bit(int corner, int axis) {
   return (corner >> axis) & 1;

@@ -11,6 +11,7 @@
 
 #include "core/disjoint_sets.hpp"
 #include "core/parallel.hpp"
+#include "mesh/edge_key.hpp"
 #include "mesh/exact_orientation.hpp"
 
 namespace tpmsfill {
@@ -247,15 +248,13 @@ TetMesh with_positive_tets(TetMesh mesh, const TetMeshReport& report) {
 }
 
 TetMesh with_chords_split(TetMesh mesh) {
-  auto key = [](std::uint32_t a, std::uint32_t b) {
-    return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
-  };
+  using detail::edge_key;
   std::vector<char> on_boundary(mesh.points.size(), 0);
   std::vector<std::uint64_t> boundary_edges;
   for (const Triangle& f : tet_boundary(mesh).triangles)
     for (int i = 0; i < 3; ++i) {
       on_boundary[f[i]] = 1;
-      boundary_edges.push_back(key(f[i], f[(i + 1) % 3]));
+      boundary_edges.push_back(edge_key(f[i], f[(i + 1) % 3]));
     }
   std::sort(boundary_edges.begin(), boundary_edges.end());
   // The chords, each with its midpoint's index, in the order tets first meet them.
@@ -264,8 +263,8 @@ TetMesh with_chords_split(TetMesh mesh) {
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)
         if (on_boundary[t[i]] && on_boundary[t[j]] &&
-            !std::binary_search(boundary_edges.begin(), boundary_edges.end(), key(t[i], t[j])))
-          chords.emplace_back(key(t[i], t[j]), 0);
+            !std::binary_search(boundary_edges.begin(), boundary_edges.end(), edge_key(t[i], t[j])))
+          chords.emplace_back(edge_key(t[i], t[j]), 0);
   std::sort(chords.begin(), chords.end());
   chords.erase(std::unique(chords.begin(), chords.end()), chords.end());
   for (auto& [edge, middle] : chords) {
@@ -294,8 +293,9 @@ TetMesh with_chords_split(TetMesh mesh) {
       std::uint64_t first_key = 0;
       for (int i = 0; i < 4; ++i)
         for (int j = i + 1; j < 4; ++j)
-          if (midpoint_of(key(t[i], t[j])) && (first_i < 0 || key(t[i], t[j]) < first_key))
-            first_i = i, first_j = j, first_key = key(t[i], t[j]);
+          if (midpoint_of(edge_key(t[i], t[j])) &&
+              (first_i < 0 || edge_key(t[i], t[j]) < first_key))
+            first_i = i, first_j = j, first_key = edge_key(t[i], t[j]);
       if (first_i < 0) {
         out.push_back(t);
         continue;

@@ -6,11 +6,14 @@
 #include <limits>
 #include <unordered_map>
 
+#include "mesh/edge_key.hpp"
 #include "surface/surface_normals.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
 namespace {
+
+using detail::edge_key;
 
 // The layout's triangles in square buckets of the unit square: (u, v) → triangle and λ.
 class UvLocator {
@@ -63,10 +66,6 @@ class UvLocator {
   int n_ = 1;
   std::vector<std::vector<std::uint32_t>> buckets_;
 };
-
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-  return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-}
 
 }  // namespace
 
