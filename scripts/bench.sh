@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-tables|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -32,6 +32,8 @@
 #     libcgal-demo's genus-0 meshes at two tet sizes
 # 21. seed 001: `tpmsfill material fit`, THB against the uniform baseline (control points,
 #     iterations, RS of G and M, errors, time) on the same meshes at diagonal / 30
+# 21c (material-unfold). seed 001: G untangled (`material fit --fold-free`) against the fit as
+#     it folds, one round (--refinements 0), on the same meshes
 # 21b (material-tables). seed 001's Tables 1-2 side by side: its models' stand-ins (the genus-0
 #     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
 #     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
@@ -82,7 +84,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-tables|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -811,6 +813,45 @@ PY
       echo "${line%%$'\t'*}"
       [[ "$basis" == thb ]] && thb_nc=${line##*$'\t'}
     done
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-unfold ]]; then
+  echo
+  echo "## 21c. seed 001: G untangled (tpmsfill material fit --fold-free)"
+  echo
+  echo "Tets and material as §21, THB, one round (--refinements 0), Euler steps; without and with"
+  echo "--fold-free. folded: Gauss points with det J_G ≤ 0 (3³ an element); moved: control points"
+  echo "the untangling moved."
+  echo
+  echo "| mesh | control points | folded | RS G % | G rms mm | wall s | peak MB | folded --fold-free | moved | RS G % | G rms mm | wall s | peak MB |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  extract_material_meshes
+  for name in ${FIT_MESHES:-bunny00 bear fandisk sphere}; do
+    f="$tmp/mat/$name.off"
+    material_sizes "$f" || continue
+    row="| $name"
+    for flag in "" --fold-free; do
+      timed timeout 3600 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" \
+        --material geodesic "$depth" --refinements 0 --json $flag >"$tmp/fit.json" 2>"$tmp/err.txt"
+      row+=$(python3 - "$tmp/fit.json" "$wall" "$kb" "$code" "$flag" <<'PY'
+import json, sys
+wall, kb, code, flag = float(sys.argv[2]), int(sys.argv[3]), sys.argv[4], sys.argv[5] if len(sys.argv) > 5 else ""
+text = open(sys.argv[1]).read()
+try:
+    d = json.loads(text[text.index("{"):text.rindex("}") + 1])
+    r = d["rounds"][-1]
+except Exception:
+    print(f" | | (exit {code}) | | | {wall:.1f} | {kb / 1024:.0f}", end="")
+    sys.exit(0)
+lead = "" if flag else f" | {r['control_points']}"
+moved = f" | {r.get('untangled_control_points', 0)}" if flag else ""
+print(f"{lead} | {r['folded_samples']} of {r['samples']}{moved} | {r['geometry_rs_percent']:.2f} | "
+      f"{r['geometry_rms_mm']:.4g} | {wall:.1f} | {kb / 1024:.0f}", end="")
+PY
+)
+    done
+    echo "$row |"
   done
 fi
 

@@ -300,13 +300,19 @@ std::size_t basis_element_at(const SplineBasis& basis, std::array<double, 3> uvw
   throw InputError("the spline basis's elements do not tile the cube");
 }
 
+void detail::axis_basis(const SplineBasis& basis, std::size_t element, std::array<double, 3> uvw,
+                        int derivatives, double (&axis)[3][3][4]) {
+  const OctreeCell& e = basis.elements[element];
+  for (int a = 0; a < 3; ++a)
+    tpmsfill::basis_derivatives(basis.spans[e.level], e.index[a], uvw[a],
+                                std::clamp(derivatives, 0, 2), axis[a]);
+}
+
 LocalBasis local_basis(const SplineBasis& basis, std::size_t element, std::array<double, 3> uvw,
                        int derivatives) {
-  const OctreeCell& e = basis.elements[element];
   const int n = std::clamp(derivatives, 0, 2);
   double axis[3][3][4] = {};  // [axis][derivative][function]
-  for (int a = 0; a < 3; ++a)
-    basis_derivatives(basis.spans[e.level], e.index[a], uvw[a], n, axis[a]);
+  detail::axis_basis(basis, element, uvw, n, axis);
   LocalBasis local;
   for (int c = 0; c < 4; ++c)
     for (int b = 0; b < 4; ++b)

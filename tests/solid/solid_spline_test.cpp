@@ -15,6 +15,7 @@
 #include <tpmsfill/solid/tet_mesh.hpp>
 #include <tpmsfill/solid/tetrahedralize.hpp>
 
+#include "solid/internal/untangle_spline.hpp"
 #include "test_util.hpp"
 
 namespace tpmsfill {
@@ -84,6 +85,99 @@ TEST(SolidSpline, BallFitBeatsItsGrevilleStartAndRefinesWhereItIsWorst) {
   for (std::size_t p = 0; p < ball.points.size(); ++p)
     worst = std::max(worst, norm(evaluate_solid(fit.spline, map.uvw[p]).position - ball.points[p]));
   EXPECT_NEAR(worst, last.geometry_max, 1e-9);
+}
+
+// det J_G at the 3³ Gauss points of every element of G (coefficients c, 3 per function), and
+// at 5³ points within every element too when `fine`: the smallest.
+double least_det(const SplineBasis& basis, const std::vector<double>& c, bool fine) {
+  const double gauss[3] = {0.11270166537925831, 0.5, 0.88729833462074169};
+  const double even[5] = {0.1, 0.3, 0.5, 0.7, 0.9};
+  double least = 1e300;
+  for (const OctreeCell& e : basis.elements) {
+    const double h = 1.0 / basis.spans[e.level];
+    const int n = fine ? 5 : 3;
+    for (int k = 0; k < n * n * n; ++k) {
+      const int g[3] = {k % n, k / n % n, k / (n * n)};
+      std::array<double, 3> uvw;
+      for (int a = 0; a < 3; ++a) uvw[a] = (e.index[a] + (fine ? even : gauss)[g[a]]) * h;
+      double value[3], gradient[9];
+      evaluate_spline(basis, c, 3, uvw, value, gradient);
+      const Vec3 gu{gradient[0], gradient[1], gradient[2]},
+          gv{gradient[3], gradient[4], gradient[5]}, gw{gradient[6], gradient[7], gradient[8]};
+      least = std::min(least, dot(cross(gu, gv), gw));
+    }
+  }
+  return least;
+}
+
+// The foldover-free energy on a spline (untangle_spline.hpp): the identity map of the cube as
+// a uniform spline, one interior control point pushed through its neighbours so that G folds;
+// untangled, det J_G > 0 at every Gauss point, the fixed control points stay, and G returns
+// near the identity, which both its terms prefer.
+TEST(SolidSpline, UntangleOpensAFoldedSplineMovingOnlyItsFreeControlPoints) {
+  const SplineBasis basis = tensor_basis(7);
+  const std::vector<std::array<double, 3>> greville = greville_points(basis);
+  std::vector<double> c;
+  for (const auto& g : greville) c.insert(c.end(), g.begin(), g.end());
+  const std::size_t pushed = 3 + 7 * 3 + 49 * 3;  // the middle one
+  c[3 * pushed] -= 2.5;                           // far past its neighbours along u (0.25 apart)
+  ASSERT_LT(least_det(basis, c, false), 0);
+  std::vector<char> movable(basis.functions.size(), 0);
+  for (std::size_t f = 0; f < movable.size(); ++f) {
+    const auto& i = basis.functions[f].index;
+    movable[f] = i[0] >= 2 && i[0] <= 4 && i[1] >= 2 && i[1] <= 4 && i[2] >= 2 && i[2] <= 4;
+  }
+  std::vector<detail::JacobianSample> jacobians;
+  std::vector<detail::PositionSample> positions;
+  const double gauss[3] = {0.11270166537925831, 0.5, 0.88729833462074169};
+  for (std::uint32_t e = 0; e < basis.elements.size(); ++e) {
+    const OctreeCell& cell = basis.elements[e];
+    const double h = 1.0 / basis.spans[cell.level];
+    for (int k = 0; k < 27; ++k) {
+      const std::array<double, 3> uvw = {(cell.index[0] + gauss[k % 3]) * h,
+                                         (cell.index[1] + gauss[k / 3 % 3]) * h,
+                                         (cell.index[2] + gauss[k / 9]) * h};
+      jacobians.push_back({e, uvw, h * h * h / 27, {1, 0, 0, 0, 1, 0, 0, 0, 1}});
+      positions.push_back({e, uvw, h * h * h / 27, uvw});
+    }
+  }
+  const std::vector<double> before = c;
+  const detail::UntangleResult result =
+      detail::untangle_spline(basis, movable, jacobians, positions, 1.0, c);
+  EXPECT_LT(result.min_det_before, 0);
+  EXPECT_GT(result.min_det_after, 0);
+  EXPECT_GT(least_det(basis, c, false), 0);
+  double moved = 0;
+  for (std::size_t f = 0; f < movable.size(); ++f)
+    for (int a = 0; a < 3; ++a) {
+      if (!movable[f]) {
+        EXPECT_EQ(c[3 * f + a], before[3 * f + a]);
+      }
+      moved = std::max(moved, std::abs(c[3 * f + a] - greville[f][a]));
+    }
+  EXPECT_LT(moved, 0.1);  // from 2.5 off
+}
+
+// A ball's fit folds where the cube's edges meet the sphere; with fold_free it does not, at
+// its Gauss points (and, on this ball, at 5³ points an element), and keeps its accuracy.
+TEST(SolidSpline, FoldFreeFitOpensTheBallsFoldsAndKeepsItsAccuracy) {
+  const TetMesh ball = make_ball(8);
+  const CubeMap map = map_to_cube(ball);
+  SolidFitOptions options{.octree = {.max_per_cell = 10}, .refinements = 1};
+  const SolidFit folded = fit_solid_spline(ball, map, options);
+  options.fold_free = true;
+  const SolidFit fit = fit_solid_spline(ball, map, options);
+  const FitRound &before = folded.rounds.back(), &last = fit.rounds.back();
+  ASSERT_GT(before.folded_samples, 0u);
+  EXPECT_EQ(last.fitted_folded_samples, before.folded_samples);
+  EXPECT_GT(last.untangled_functions, 0u);
+  EXPECT_EQ(last.folded_samples, 0u);
+  std::vector<double> c;
+  for (const Vec3& p : fit.spline.geometry) c.insert(c.end(), {p.x, p.y, p.z});
+  EXPECT_GT(least_det(fit.spline.basis, c, false), 0);
+  EXPECT_LT(last.geometry_rms, 1.5 * before.geometry_rms);
+  EXPECT_GT(last.geometry_rs, before.geometry_rs - 5);
+  EXPECT_GT(least_det(fit.spline.basis, c, true), 0);  // between the Gauss points too, here
 }
 
 TEST(SolidSpline, WarpedBoxFitsWithoutFoldsAndCloserThanItsStart) {

@@ -58,10 +58,16 @@ struct SolidFitOptions {
   double lambda3 = 1e-3;  ///< boundary-normal term, G only (Li & Fu 2021)
   double gamma = 1e-2;    ///< in the velocity weight g (Li & Fu 2021)
   SolidFitMethod method = SolidFitMethod::Euler;
-  double step = 0.5;         ///< ε, the Euler step (Li & Fu 2021: 0.4 to 0.6)
-  double rs_change = 0.05;   ///< stop when RS moves by less, in percentage points
-  int max_iterations = 50;   ///< per field and round
-  int refinements = 2;       ///< progressive rounds after the first (THB only)
+  double step = 0.5;        ///< ε, the Euler step (Li & Fu 2021: 0.4 to 0.6)
+  double rs_change = 0.05;  ///< stop when RS moves by less, in percentage points
+  int max_iterations = 50;  ///< per field and round
+  int refinements = 2;      ///< progressive rounds after the first (THB only)
+  /// Untangle G after the last round where det J_G ≤ 0 at a Gauss point: the control points
+  /// over the folded elements move by the foldover-free energy of Garanzha et al. 2021, on
+  /// J_G against the fitted G's own Jacobian (the tets' map's where G folds), with the data
+  /// term keeping G near the tets. Slow: one round of bear, 462 folded points, took 62 s against
+  /// the fit's 9 (docs/benchmarks.md §21c).
+  bool fold_free = false;
   double refine_sigmas = 2;  ///< split leaves whose residual exceeds mean + this · σ
   /// The surface the tets were made from (tetrahedralize()), or null: the boundary samples
   /// then aim at it rather than at the point-normal triangles over the tets' boundary.
@@ -83,9 +89,12 @@ struct FitRound {
   double geometry_max = 0;           ///< mm
   double material_rms = 0;           ///< material units, |M − m| over the mesh's points
   double material_max = 0;
-  std::size_t folded_samples = 0;  ///< quadrature points where det J_G ≤ 0
-  std::size_t samples = 0;         ///< quadrature points
-  std::size_t split = 0;           ///< leaves split after the round
+  std::size_t folded_samples = 0;         ///< quadrature points where det J_G ≤ 0
+  std::size_t fitted_folded_samples = 0;  ///< the same before G was untangled (fold_free)
+  std::size_t untangled_functions = 0;    ///< control points the untangling moved
+  std::array<double, 3> worst_fold{};     ///< where det J_G is least, when folded_samples > 0
+  std::size_t samples = 0;                ///< quadrature points
+  std::size_t split = 0;                  ///< leaves split after the round
   double seconds = 0;
 };
 

@@ -23,6 +23,12 @@ void for_each_term(const SplineBasis& basis, std::size_t element, const Visit& v
   }
 }
 
+/// The element's 1D cubic B-splines per axis at (u, v, w): axis[a][k][i] is the kth
+/// derivative (k ≤ `derivatives` ≤ 2) of the ith B-spline along axis a; local B-spline
+/// (i, j, l) is their product (local_basis()).
+void axis_basis(const SplineBasis& basis, std::size_t element, std::array<double, 3> uvw,
+                int derivatives, double (&axis)[3][3][4]);
+
 /// G and M at (u, v, w), clamped onto the cube; their derivatives too when asked (what
 /// evaluate_solid returns), else left zero: the slices' samples need none.
 SolidPoint solid_point(const SolidSpline& spline, std::array<double, 3> uvw, bool derivatives);

@@ -11,19 +11,20 @@
 
 namespace tpmsfill::detail {
 
-namespace {
+// The volume term's share (the paper's θ). Small, so the untangled tets keep their shapes
+// rather than even out their volumes: bear's fit from a map untangled with θ = 0.5 was 1.4
+// times further from its points than from the harmonic map, with θ = 0.01 1.4 times closer
+// (the harmonic map's inverted tets gone; docs/benchmarks.md §20).
+constexpr double kTheta = 0.01;
 
-using M3 = std::array<double, 9>;  // row-major
-
-double determinant(const M3& a) {
+double determinant(const Matrix3& a) {
   return a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) +
          a[2] * (a[3] * a[7] - a[4] * a[6]);
 }
 
-// The cofactor matrix, det(a) a⁻ᵀ: rows r1 × r2, r2 × r0, r0 × r1. It is ∂ det / ∂a, and
-// exists where a is singular.
-M3 cofactor(const M3& a) {
-  M3 c;
+// Rows r1 × r2, r2 × r0, r0 × r1.
+Matrix3 cofactor(const Matrix3& a) {
+  Matrix3 c;
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     c[3 * i + 0] = a[3 * j + 1] * a[3 * k + 2] - a[3 * j + 2] * a[3 * k + 1];
@@ -33,11 +34,25 @@ M3 cofactor(const M3& a) {
   return c;
 }
 
-// The volume term's share (the paper's θ). Small, so the untangled tets keep their shapes
-// rather than even out their volumes: bear's fit from a map untangled with θ = 0.5 was 1.4
-// times further from its points than from the harmonic map, with θ = 0.01 1.4 times closer
-// (the harmonic map's inverted tets gone; docs/benchmarks.md §20).
-constexpr double kTheta = 0.01;
+double foldover_density(const Matrix3& j, double eps, Matrix3& derivative) {
+  const Matrix3 c = cofactor(j);
+  const double det = determinant(j);
+  double trace = 0;
+  for (double a : j) trace += a * a;
+  const double root = std::sqrt(eps * eps + det * det);
+  const double chi = 0.5 * (det + root);
+  const double chi_d = root > 0 ? 0.5 * (1 + det / root) : 0.5;
+  const double chi23 = std::cbrt(chi * chi);
+  const double shape = trace / chi23, volume = (det * det + 1) / chi;
+  for (int i = 0; i < 9; ++i)
+    derivative[i] = (1 - kTheta) * (2 * j[i] / chi23 - (2.0 / 3) * shape / chi * chi_d * c[i]) +
+                    kTheta * (2 * det - volume * chi_d) / chi * c[i];
+  return (1 - kTheta) * shape + kTheta * volume;
+}
+
+namespace {
+
+using M3 = Matrix3;
 
 // The tets with a movable corner: their corners, the inverse of their scaled shape (its
 // columns' edges from corner 0) and their share of the total volume.
@@ -47,10 +62,10 @@ struct Element {
   double weight;
 };
 
-class Energy {
+class TetEnergy final : public FoldoverEnergy {
  public:
-  Energy(const TetMesh& mesh, const std::vector<char>& movable,
-         const std::vector<std::array<double, 3>>& uvw)
+  TetEnergy(const TetMesh& mesh, const std::vector<char>& movable,
+            const std::vector<std::array<double, 3>>& uvw)
       : uvw_(uvw), variable_(mesh.points.size(), -1) {
     for (std::size_t v = 0; v < mesh.points.size(); ++v)
       if (movable[v]) variable_[v] = static_cast<std::int64_t>(points_++);
@@ -100,7 +115,7 @@ class Energy {
         for (int a = 0; a < 3; ++a) uvw[v][a] = x[3 * variable_[v] + a];
   }
 
-  double min_det(const std::vector<double>& x) const {
+  double min_det(const std::vector<double>& x) const override {
     double least = std::numeric_limits<double>::infinity();
     for (const Element& e : elements_) least = std::min(least, determinant(jacobian(e, x)));
     return least;
@@ -108,7 +123,8 @@ class Energy {
 
   // E at x for this ε, and its gradient (the same order as x). Per element in parallel, summed
   // in element order, so the result does not depend on the thread count.
-  double operator()(const std::vector<double>& x, double eps, std::vector<double>& gradient) const {
+  double operator()(const std::vector<double>& x, double eps,
+                    std::vector<double>& gradient) const override {
     std::vector<double> energy(elements_.size());
     std::vector<std::array<double, 12>> local(elements_.size());
     parallel_for(elements_.size(), 1024, [&](std::size_t begin, std::size_t end) {
@@ -157,30 +173,17 @@ class Energy {
   // One element's energy, and its gradient by corner (∂E/∂U = ∂E/∂J R⁻ᵀ).
   double element(const Element& e, const std::vector<double>& x, double eps,
                  std::array<double, 12>& gradient) const {
-    const M3 j = jacobian(e, x);
-    const M3 c = cofactor(j);
-    const double det = determinant(j);
-    double trace = 0;
-    for (double a : j) trace += a * a;
-    const double root = std::sqrt(eps * eps + det * det);
-    const double chi = 0.5 * (det + root);
-    const double chi_d = root > 0 ? 0.5 * (1 + det / root) : 0.5;
-    const double chi23 = std::cbrt(chi * chi);
-    const double shape = trace / chi23, volume = (det * det + 1) / chi;
-    M3 d;  // ∂E/∂J
-    for (int i = 0; i < 9; ++i)
-      d[i] =
-          e.weight * ((1 - kTheta) * (2 * j[i] / chi23 - (2.0 / 3) * shape / chi * chi_d * c[i]) +
-                      kTheta * (2 * det - volume * chi_d) / chi * c[i]);
+    M3 d;  // ∂f/∂J
+    const double f = foldover_density(jacobian(e, x), eps, d);
     gradient.fill(0.0);
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k) {
         double du = 0;  // ∂E/∂U[r][k]
         for (int m = 0; m < 3; ++m) du += d[3 * r + m] * e.inverse[3 * k + m];
-        gradient[3 * (k + 1) + r] += du;
-        gradient[r] -= du;
+        gradient[3 * (k + 1) + r] += e.weight * du;
+        gradient[r] -= e.weight * du;
       }
-    return e.weight * ((1 - kTheta) * shape + kTheta * volume);
+    return e.weight * f;
   }
 
   const std::vector<std::array<double, 3>>& uvw_;
@@ -197,13 +200,13 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 // L-BFGS (8 pairs) with a backtracking Armijo search; a step to a non-finite energy (ε = 0
 // makes det J ≤ 0 a wall) is backtracked like any other. Returns the steps taken.
-int minimise(const Energy& energy, double eps, std::vector<double>& x) {
-  constexpr int kPairs = 8, kMaxSteps = 400;
+int minimise(const FoldoverEnergy& energy, double eps, int max_steps, std::vector<double>& x) {
+  constexpr int kPairs = 8;
   std::vector<double> g, trial_g, trial(x.size()), direction(x.size());
   double e = energy(x, eps, g);
   std::deque<std::vector<double>> s_list, y_list;
   int steps = 0;
-  for (; steps < kMaxSteps; ++steps) {
+  for (; steps < max_steps; ++steps) {
     // The two-loop recursion: direction = −H g.
     direction = g;
     std::vector<double> alpha(s_list.size());
@@ -263,27 +266,24 @@ int minimise(const Energy& energy, double eps, std::vector<double>& x) {
 
 }  // namespace
 
-UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
-                        std::vector<std::array<double, 3>>& uvw,
-                        const std::function<void(double)>& report) {
+UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<double>& x,
+                                 const FoldoverSchedule& schedule,
+                                 const std::function<void(double)>& report) {
   UntangleResult result;
-  const Energy energy(mesh, movable, uvw);
-  if (energy.empty()) return result;
-  std::vector<double> x = energy.initial(), g;
+  std::vector<double> g;
   result.min_det_before = result.min_det_after = energy.min_det(x);
   // The schedule of ε (the paper's Algorithm 1 and eq. 6): after each minimisation,
   // μ = (1 − σ) χ(min det, ε), σ = max(1 − E / E_prev, 0.1), and ε = 2 √(μ (μ − min det)) while
   // min det < μ, else 0 (a barrier); done once min det > 0 and E stops falling.
-  double eps = 1;
-  constexpr int kMaxRounds = 100;
-  for (; result.rounds < kMaxRounds; ++result.rounds) {
-    if (report) report(double(result.rounds) / kMaxRounds);
+  double eps = schedule.first_eps;
+  for (; result.rounds < schedule.max_rounds; ++result.rounds) {
+    if (report) report(double(result.rounds) / schedule.max_rounds);
     const double before = energy(x, eps, g);
-    result.steps += minimise(energy, eps, x);
+    result.steps += minimise(energy, eps, schedule.max_steps, x);
     const double after = energy(x, eps, g);
     const double least = energy.min_det(x);
-    const double mu =
-        std::min(after / before, 0.9) * 0.5 * (least + std::sqrt(eps * eps + least * least));
+    const double mu = std::min(after / before, schedule.decrease_cap) * 0.5 *
+                      (least + std::sqrt(eps * eps + least * least));
     eps = least < mu ? 2 * std::sqrt(mu * (mu - least)) : 0;
     result.min_det_after = least;
     if (least > 0 && after > 0.999 * before) {
@@ -291,6 +291,16 @@ UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
       break;
     }
   }
+  return result;
+}
+
+UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
+                        std::vector<std::array<double, 3>>& uvw,
+                        const std::function<void(double)>& report) {
+  const TetEnergy energy(mesh, movable, uvw);
+  if (energy.empty()) return {};
+  std::vector<double> x = energy.initial();
+  const UntangleResult result = minimise_foldover(energy, x, {}, report);
   energy.write(x, uvw);
   return result;
 }

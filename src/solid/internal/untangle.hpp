@@ -10,6 +10,10 @@
 /// on det J ≤ 0 as ε → 0: L-BFGS minimises it for each ε, and ε shrinks by the paper's rule
 /// (eq. 6) from the smallest det J and the energy's decrease, until every det J > 0 and the
 /// energy no longer falls.
+///
+/// The density, the L-BFGS and the schedule serve any map whose Jacobians are linear in its
+/// unknowns (FoldoverEnergy): the tets' images here, the spline G of a solid
+/// (untangle_spline.hpp).
 #pragma once
 
 #include <array>
@@ -21,12 +25,49 @@
 
 namespace tpmsfill::detail {
 
+using Matrix3 = std::array<double, 9>;  ///< row-major
+
+double determinant(const Matrix3& a);
+
+/// The cofactor matrix det(a) a⁻ᵀ (∂ det / ∂a; it exists where a is singular).
+Matrix3 cofactor(const Matrix3& a);
+
+/// One element's density (1 − θ) tr(JᵀJ) / χ^(2/3) + θ (det² + 1) / χ, and ∂f/∂J.
+double foldover_density(const Matrix3& j, double eps, Matrix3& derivative);
+
+/// An energy Σ weight · foldover_density over elements whose Jacobians are linear in x (plus
+/// any smooth term), with its gradient, and the smallest det J.
+class FoldoverEnergy {
+ public:
+  virtual ~FoldoverEnergy() = default;
+  virtual double operator()(const std::vector<double>& x, double eps,
+                            std::vector<double>& gradient) const = 0;
+  virtual double min_det(const std::vector<double>& x) const = 0;
+};
+
 struct UntangleResult {
   int rounds = 0;             ///< values of ε tried
   int steps = 0;              ///< L-BFGS steps over all rounds
   double min_det_before = 0;  ///< smallest det J (of the scaled shapes) before and after
   double min_det_after = 0;
 };
+
+/// The schedule of ε and its limits. The defaults are the paper's (ε from 1, each new ε at
+/// least 10 % below what the last round's decrease allows).
+struct FoldoverSchedule {
+  double first_eps = 1;
+  double decrease_cap = 0.9;  ///< (1 − σ) at most this (eq. 6)
+  int max_rounds = 100;       ///< values of ε
+  int max_steps = 400;        ///< L-BFGS steps per value of ε
+};
+
+/// Minimises the energy from x under the schedule of ε, until min det J > 0 and the energy
+/// no longer falls, or after schedule.max_rounds values of ε.
+/// @param[in] report  called with the fraction of rounds done before each round (it may throw
+///                     Cancelled to stop); may be empty
+UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<double>& x,
+                                 const FoldoverSchedule& schedule = {},
+                                 const std::function<void(double)>& report = {});
 
 /// Moves the points with `movable` set (and in a tet) to make every tet touching one of them
 /// positive; the others stay. Only tets with a movable corner count.
