@@ -200,13 +200,15 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 // L-BFGS (8 pairs) with a backtracking Armijo search; a step to a non-finite energy (ε = 0
 // makes det J ≤ 0 a wall) is backtracked like any other. Returns the steps taken.
-int minimise(const FoldoverEnergy& energy, double eps, int max_steps, std::vector<double>& x) {
+int minimise(const FoldoverEnergy& energy, double eps, int max_steps,
+             const std::function<void()>& each_step, std::vector<double>& x) {
   constexpr int kPairs = 8;
   std::vector<double> g, trial_g, trial(x.size()), direction(x.size());
   double e = energy(x, eps, g);
   std::deque<std::vector<double>> s_list, y_list;
   int steps = 0;
   for (; steps < max_steps; ++steps) {
+    if (each_step) each_step();
     // The two-loop recursion: direction = −H g.
     direction = g;
     std::vector<double> alpha(s_list.size());
@@ -277,9 +279,14 @@ UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<doubl
   // min det < μ, else 0 (a barrier); done once min det > 0 and E stops falling.
   double eps = schedule.first_eps;
   for (; result.rounds < schedule.max_rounds; ++result.rounds) {
-    if (report) report(double(result.rounds) / schedule.max_rounds);
     const double before = energy(x, eps, g);
-    result.steps += minimise(energy, eps, schedule.max_steps, x);
+    const double done = double(result.rounds) / schedule.max_rounds;
+    result.steps += minimise(
+        energy, eps, schedule.max_steps,
+        [&] {
+          if (report) report(done);
+        },
+        x);
     const double after = energy(x, eps, g);
     const double least = energy.min_det(x);
     const double mu = std::min(after / before, schedule.decrease_cap) * 0.5 *

@@ -63,8 +63,8 @@ struct FoldoverSchedule {
 
 /// Minimises the energy from x under the schedule of ε, until min det J > 0 and the energy
 /// no longer falls, or after schedule.max_rounds values of ε.
-/// @param[in] report  called with the fraction of rounds done before each round (it may throw
-///                     Cancelled to stop); may be empty
+/// @param[in] report  called with the fraction of rounds done before every L-BFGS step (it
+///                     may throw Cancelled to stop); may be empty
 UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<double>& x,
                                  const FoldoverSchedule& schedule = {},
                                  const std::function<void(double)>& report = {});
@@ -74,8 +74,8 @@ UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<doubl
 /// @param[in] mesh     the tets; their shapes in mesh.points are the ideal the map keeps near
 /// @param[in,out] uvw  per point, its image
 /// @pre tets positive in mesh.points
-/// @param[in] report  called with the fraction of rounds done before each round (it may throw
-///                     Cancelled to stop); may be empty
+/// @param[in] report  called with the fraction of rounds done before every L-BFGS step (it
+///                     may throw Cancelled to stop); may be empty
 UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
                         std::vector<std::array<double, 3>>& uvw,
                         const std::function<void(double)>& report = {});
