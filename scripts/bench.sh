@@ -821,8 +821,8 @@ if [[ "$section" == all || "$section" == material || "$section" == material-unfo
   echo "## 21c. seed 001: G untangled (tpmsfill material fit --fold-free)"
   echo
   echo "Tets and material as §21, THB, one round (--refinements 0), Euler steps; without and with"
-  echo "--fold-free. folded: Gauss points with det J_G ≤ 0 (3³ an element); moved: control points"
-  echo "the untangling moved."
+  echo "--fold-free. folded: Gauss points with det J_G ≤ 0 (3³ an element), and in brackets points of"
+  echo "the finer sample (5³ an element); moved: control points the untangling moved."
   echo
   echo "| mesh | control points | folded | RS G % | G rms mm | wall s | peak MB | folded --fold-free | moved | RS G % | G rms mm | wall s | peak MB |"
   echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
@@ -846,7 +846,8 @@ except Exception:
     sys.exit(0)
 lead = "" if flag else f" | {r['control_points']}"
 moved = f" | {r.get('untangled_control_points', 0)}" if flag else ""
-print(f"{lead} | {r['folded_samples']} of {r['samples']}{moved} | {r['geometry_rs_percent']:.2f} | "
+fine = f" ({r.get('fine_folded_samples', 0)} of {r.get('fine_samples', 0)})"
+print(f"{lead} | {r['folded_samples']} of {r['samples']}{fine}{moved} | {r['geometry_rs_percent']:.2f} | "
       f"{r['geometry_rms_mm']:.4g} | {wall:.1f} | {kb / 1024:.0f}", end="")
 PY
 )

@@ -229,6 +229,10 @@ nlohmann::ordered_json round_json(const FitRound& r, bool material) {
   }
   j["folded_samples"] = r.folded_samples;
   j["samples"] = r.samples;
+  if (r.fine_samples > 0) {  // the last round; not in the file
+    j["fine_folded_samples"] = r.fine_folded_samples;
+    j["fine_samples"] = r.fine_samples;
+  }
   j["split_leaves"] = r.split;
   j["seconds"] = r.seconds;
   return j;
@@ -338,6 +342,11 @@ int run_material_fit(const MaterialArgs& a) {
                             ? " left after untangling " +
                                   std::to_string(last.fitted_folded_samples) + " folded ones"
                             : std::string(" (--fold-free untangles them)")));
+  if (last.fine_folded_samples > 0)
+    warnings.push_back("G folds between its Gauss points too: det J <= 0 at " +
+                       std::to_string(last.fine_folded_samples) + " of " +
+                       std::to_string(last.fine_samples) +
+                       " points of a finer sample (5^3 an element)");
   if (!material) warnings.push_back("the tets have no material: only G was fitted");
   write_solid_model(a.output, model);
   j["output"] = a.output;
@@ -454,7 +463,7 @@ Command add_material_command(CLI::App& app) {
       ->check(CLI::Range(1, 10000));
   fit->add_flag("--fold-free", args->fit.fold_free,
                 "Untangle G where it folds (det J <= 0 at a Gauss point) after the last round: "
-                "minutes on a scan; with --refinements 0, 3 to 10 times the fit's time");
+                "minutes on a scan; with --refinements 0, 3 to 7 times the fit's time");
   fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   auto model_commands = add_material_model_commands(material);
   return [args, fit, model_commands] {

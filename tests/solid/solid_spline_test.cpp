@@ -178,6 +178,9 @@ TEST(SolidSpline, FoldFreeFitOpensTheBallsFoldsAndKeepsItsAccuracy) {
   EXPECT_LT(last.geometry_rms, 1.5 * before.geometry_rms);
   EXPECT_GT(last.geometry_rs, before.geometry_rs - 5);
   EXPECT_GT(least_det(fit.spline.basis, c, true), 0);  // between the Gauss points too, here
+  EXPECT_EQ(last.fine_samples, fit.spline.basis.elements.size() * 125);
+  EXPECT_EQ(last.fine_folded_samples, 0u);
+  EXPECT_GT(before.fine_folded_samples, 0u);  // the fit folds between them too
 }
 
 TEST(SolidSpline, WarpedBoxFitsWithoutFoldsAndCloserThanItsStart) {

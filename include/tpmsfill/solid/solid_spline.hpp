@@ -65,8 +65,8 @@ struct SolidFitOptions {
   /// Untangle G after the last round where det J_G ≤ 0 at a Gauss point: the control points
   /// over the folded elements move by the foldover-free energy of Garanzha et al. 2021, on
   /// J_G against the fitted G's own Jacobian (the tets' map's where G folds), with the data
-  /// term keeping G near the tets. Slow: one round of bear, 462 folded points, took 62 s against
-  /// the fit's 9 (docs/benchmarks.md §21c).
+  /// term keeping G near the tets. Slow: one round of bear, 462 folded points, took 69 s against
+  /// the fit's 10 (docs/benchmarks.md §21c).
   bool fold_free = false;
   double refine_sigmas = 2;  ///< split leaves whose residual exceeds mean + this · σ
   /// The surface the tets were made from (tetrahedralize()), or null: the boundary samples
@@ -93,8 +93,12 @@ struct FitRound {
   std::size_t fitted_folded_samples = 0;  ///< the same before G was untangled (fold_free)
   std::size_t untangled_functions = 0;    ///< control points the untangling moved
   std::array<double, 3> worst_fold{};     ///< where det J_G is least, when folded_samples > 0
-  std::size_t samples = 0;                ///< quadrature points
-  std::size_t split = 0;                  ///< leaves split after the round
+  /// The last round only: points of a finer sample (5³ evenly inside every element) where
+  /// det J_G ≤ 0, and that sample's size: folds between the Gauss points.
+  std::size_t fine_folded_samples = 0;
+  std::size_t fine_samples = 0;
+  std::size_t samples = 0;  ///< quadrature points
+  std::size_t split = 0;    ///< leaves split after the round
   double seconds = 0;
 };
 
