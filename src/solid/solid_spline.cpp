@@ -491,6 +491,16 @@ struct FieldFit {
     return std::sqrt(total);
   }
 
+  // det J_G at (u, v, w) of element e, from its local coefficients.
+  double jacobian_determinant(const std::array<double, 64 * Dim>& local, std::size_t e,
+                              std::array<double, 3> uvw) const requires(Dim == 3) {
+    const LocalValue<Dim> at(local_basis(basis, e, uvw, 1), local.data(), 1);
+    const Vec3 j[3] = {{at.first[0][0], at.first[0][1], at.first[0][2]},
+                       {at.first[1][0], at.first[1][1], at.first[1][2]},
+                       {at.first[2][0], at.first[2][1], at.first[2][2]}};
+    return dot(cross(j[0], j[1]), j[2]);
+  }
+
   // Per element, its Gauss points where det J_G ≤ 0; `least`, when given, gets the Gauss
   // point (its index in quadrature.uvw) where det J_G is least.
   std::vector<std::uint32_t> folds_per_element(std::size_t* least = nullptr) const
@@ -504,12 +514,7 @@ struct FieldFit {
         lowest[e] = {std::numeric_limits<double>::infinity(), 0};
         for (int s = 0; s < kCellSamples; ++s) {
           const std::size_t point = e * kCellSamples + s;
-          const LocalValue<Dim> at(local_basis(basis, e, quadrature.uvw[point], 1), local.data(),
-                                   1);
-          const Vec3 j[3] = {{at.first[0][0], at.first[0][1], at.first[0][2]},
-                             {at.first[1][0], at.first[1][1], at.first[1][2]},
-                             {at.first[2][0], at.first[2][1], at.first[2][2]}};
-          const double det = dot(cross(j[0], j[1]), j[2]);
+          const double det = jacobian_determinant(local, e, quadrature.uvw[point]);
           count[e] += det <= 0;
           if (det < lowest[e].first) lowest[e] = {det, point};
         }
@@ -533,11 +538,7 @@ struct FieldFit {
           const int g[3] = {k % 5, k / 5 % 5, k / 25};
           std::array<double, 3> uvw;
           for (int a = 0; a < 3; ++a) uvw[a] = (cell.index[a] + (g[a] + 0.5) / 5) * h;
-          const LocalValue<Dim> at(local_basis(basis, e, uvw, 1), local.data(), 1);
-          const Vec3 j[3] = {{at.first[0][0], at.first[0][1], at.first[0][2]},
-                             {at.first[1][0], at.first[1][1], at.first[1][2]},
-                             {at.first[2][0], at.first[2][1], at.first[2][2]}};
-          count[e] += dot(cross(j[0], j[1]), j[2]) <= 0;
+          count[e] += jacobian_determinant(local, e, uvw) <= 0;
         }
       }
     });
