@@ -491,14 +491,19 @@ struct FieldFit {
     return std::sqrt(total);
   }
 
-  // det J_G at (u, v, w) of element e, from its local coefficients.
-  double jacobian_determinant(const std::array<double, 64 * Dim>& local, std::size_t e,
+  // J_G at (u, v, w) of element e from its local coefficients: [r][a] = ∂_a G_r.
+  detail::Matrix3 jacobian_at(const std::array<double, 64 * Dim>& local, std::size_t e,
                               std::array<double, 3> uvw) const requires(Dim == 3) {
     const LocalValue<Dim> at(local_basis(basis, e, uvw, 1), local.data(), 1);
-    const Vec3 j[3] = {{at.first[0][0], at.first[0][1], at.first[0][2]},
-                       {at.first[1][0], at.first[1][1], at.first[1][2]},
-                       {at.first[2][0], at.first[2][1], at.first[2][2]}};
-    return dot(cross(j[0], j[1]), j[2]);
+    detail::Matrix3 j;
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) j[3 * r + a] = at.first[a][r];
+    return j;
+  }
+
+  double jacobian_determinant(const std::array<double, 64 * Dim>& local, std::size_t e,
+                              std::array<double, 3> uvw) const requires(Dim == 3) {
+    return detail::determinant(jacobian_at(local, e, uvw));
   }
 
   // Per element, its Gauss points where det J_G ≤ 0; `least`, when given, gets the Gauss
@@ -544,12 +549,6 @@ struct FieldFit {
     });
     std::size_t total = 0;
     for (std::uint32_t n : count) total += n;
-    return total;
-  }
-
-  std::size_t folds() const requires(Dim == 3) {
-    std::size_t total = 0;
-    for (std::uint32_t n : folds_per_element()) total += n;
     return total;
   }
 
@@ -1072,21 +1071,12 @@ class ReferenceJacobians {
       return {even, even_ * even_ * even_};
     }
     // R⁻¹ = U X⁻¹.
-    const detail::Matrix3 x_inverse = inverse_of(x, dx);
+    const detail::Matrix3 x_inverse = detail::inverse(x, dx);
     detail::Matrix3 inverse{};
     for (int r = 0; r < 3; ++r)
       for (int col = 0; col < 3; ++col)
         for (int m = 0; m < 3; ++m) inverse[3 * r + col] += u[3 * r + m] * x_inverse[3 * m + col];
     return {inverse, det};
-  }
-
-  // a⁻¹ = cofactor(a)ᵀ / det a.
-  static detail::Matrix3 inverse_of(const detail::Matrix3& a, double det) {
-    const detail::Matrix3 c = detail::cofactor(a);
-    detail::Matrix3 inverse;
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 3; ++col) inverse[3 * r + col] = c[3 * col + r] / det;
-    return inverse;
   }
 
  private:
@@ -1106,7 +1096,14 @@ class ReferenceJacobians {
 
 // The position term's weight against the Jacobian term's when G is untangled.
 constexpr double kUntangleFidelity = 1;
-// Makes G fold-free at its Gauss points where the fit folded it: the functions over the
+std::size_t total(const std::vector<std::uint32_t>& counts) {
+  std::size_t sum = 0;
+  for (std::uint32_t n : counts) sum += n;
+  return sum;
+}
+
+// Makes G fold-free at its Gauss points where the fit folded it (`folded`: its folded Gauss
+// points per element, some): the functions over the
 // elements with a folded point move (then, if folds remain, those over every element they
 // reach), the rest of G stays; the barrier holds at every Gauss point of the elements they
 // touch, and the fit's data samples there keep G near the tets. (Watching only the points
@@ -1114,15 +1111,13 @@ constexpr double kUntangleFidelity = 1;
 // cost more than it saved: bunny00 74 s against 51, fandisk 282 against 180, bear 47 against
 // 62, each fit 0.4-2.7 points of RS lower.) Returns the functions moved; G is left as fitted
 // if the untangling would end with more folds.
-std::size_t unfold_geometry(FieldFit<3>& fit, const ReferenceJacobians& reference,
+std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
+                            const ReferenceJacobians& reference,
                             const std::function<void(double)>& report) {
   const SplineBasis& basis = fit.basis;
   const Quadrature& quadrature = fit.quadrature;
   const Gather& gather_map = fit.gather_map;
-  std::vector<std::uint32_t> folded = fit.folds_per_element();
-  std::size_t before = 0;
-  for (std::uint32_t n : folded) before += n;
-  if (before == 0) return 0;
+  const std::size_t before = total(folded);
   std::vector<char> movable(basis.functions.size(), 0), element_moves(basis.elements.size(), 0);
   for (std::size_t e = 0; e < folded.size(); ++e) element_moves[e] = folded[e] > 0;
   const std::vector<double> fitted = fit.c;
@@ -1157,13 +1152,9 @@ std::size_t unfold_geometry(FieldFit<3>& fit, const ReferenceJacobians& referenc
         for (int s = 0; s < kCellSamples; ++s) {
           const std::size_t at = e * kCellSamples + s;
           auto [inverse, det] = reference.at(quadrature.uvw[at]);
-          const LocalValue<3> g(local_basis(basis, e, quadrature.uvw[at], 1), local.data(), 1);
-          detail::Matrix3 jg;
-          for (int r = 0; r < 3; ++r)
-            for (int a = 0; a < 3; ++a) jg[3 * r + a] = g.first[a][r];
+          const detail::Matrix3 jg = fit.jacobian_at(local, e, quadrature.uvw[at]);
           const double fitted_det = detail::determinant(jg);
-          if (fitted_det > 0.1 * det)
-            inverse = ReferenceJacobians::inverse_of(jg, fitted_det), det = fitted_det;
+          if (fitted_det > 0.1 * det) inverse = detail::inverse(jg, fitted_det), det = fitted_det;
           ideal[at] = inverse, ideal_det[at] = det;
         }
       }
@@ -1188,14 +1179,10 @@ std::size_t unfold_geometry(FieldFit<3>& fit, const ReferenceJacobians& referenc
     fit.c = fitted;
     detail::untangle_spline(basis, movable, jacobians, positions, kUntangleFidelity, fit.c, report);
     folded = fit.folds_per_element();
-    std::size_t after = 0;
-    for (std::uint32_t n : folded) after += n;
-    if (after == 0) return moved;
+    if (total(folded) == 0) return moved;
     if (ring == 0) element_moves = active;
   }
-  std::size_t after = 0;
-  for (std::uint32_t n : folded) after += n;
-  if (after > before) fit.c = fitted;
+  if (total(folded) > before) fit.c = fitted;
   return moved;
 }
 
@@ -1305,9 +1292,10 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
       report.split = finer.leaves.size() > octree.leaves.size() ? chosen.size() : 0;
     }
     if (options.fold_free && report.split == 0) {
-      report.fitted_folded_samples = fit_g.folds();
+      const std::vector<std::uint32_t> folded = fit_g.folds_per_element();
+      report.fitted_folded_samples = total(folded);
       if (report.fitted_folded_samples > 0) {
-        report.untangled_functions = unfold_geometry(fit_g, reference, [&](double) {
+        report.untangled_functions = unfold_geometry(fit_g, folded, reference, [&](double) {
           detail::report_or_cancel(options.progress, (round + 1.0 / fields) / rounds);
         });
         report.geometry_rs = similarity(fit_g.measure(), start_g);
@@ -1317,7 +1305,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     report.geometry_rms = eg.rms * units.size;
     report.geometry_max = eg.max * units.size;
     std::size_t least = 0;
-    for (std::uint32_t n : fit_g.folds_per_element(&least)) report.folded_samples += n;
+    report.folded_samples = total(fit_g.folds_per_element(&least));
     if (report.folded_samples > 0) report.worst_fold = quadrature.uvw[least];
     if (report.split == 0) {  // the last round: its G is what is written
       report.fine_samples = basis.elements.size() * kFineSamples;

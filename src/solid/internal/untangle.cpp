@@ -34,6 +34,14 @@ Matrix3 cofactor(const Matrix3& a) {
   return c;
 }
 
+Matrix3 inverse(const Matrix3& a, double det) {
+  const Matrix3 c = cofactor(a);
+  Matrix3 out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[3 * i + j] = c[3 * j + i] / det;
+  return out;
+}
+
 double foldover_density(const Matrix3& j, double eps, Matrix3& derivative) {
   const Matrix3 c = cofactor(j);
   const double det = determinant(j);
@@ -79,11 +87,7 @@ class TetEnergy final : public FoldoverEnergy {
       }
       const double det = determinant(shape);
       if (!(det > 0)) continue;
-      const M3 c = cofactor(shape);
-      M3 inverse;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) inverse[3 * i + j] = c[3 * j + i] / det;
-      elements_.push_back({t, inverse, det / 6});
+      elements_.push_back({t, detail::inverse(shape, det), det / 6});
       volume += det / 6;
     }
     // The shapes scaled so that their total volume is their images' (a map that keeps

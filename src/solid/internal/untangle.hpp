@@ -32,6 +32,9 @@ double determinant(const Matrix3& a);
 /// The cofactor matrix det(a) a⁻ᵀ (∂ det / ∂a; it exists where a is singular).
 Matrix3 cofactor(const Matrix3& a);
 
+/// a⁻¹ = cofactor(a)ᵀ / det, given det = det a ≠ 0.
+Matrix3 inverse(const Matrix3& a, double det);
+
 /// One element's density (1 − θ) tr(JᵀJ) / χ^(2/3) + θ (det² + 1) / χ, and ∂f/∂J.
 double foldover_density(const Matrix3& j, double eps, Matrix3& derivative);
 

@@ -6,9 +6,10 @@
 /// edges and corners above all.
 ///
 /// At sample q, J = J_G(q) R_q⁻¹, R_q a reference Jacobian (the tets' own map there), so that
-/// J = I where G follows the tets. The energy is Σ_q ω_q f_ε(J_q) (ω_q ∝ weight · det R_q,
-/// summing to 1) plus fidelity · Σ_k w_k |G(x_k) − target_k|² / (its value at the start), so
-/// that the positions stay near the fit's while the folds open.
+/// J = I where G follows the tets. The energy is Σ_q ω_q f_ε(J_q) (ω_q the samples' weights
+/// scaled to sum to 1; the fit gives each Gauss point its quadrature weight · det R_q) plus
+/// fidelity · Σ_k w_k |G(x_k) − target_k|² / (its value at the start), so that the positions stay
+/// near the fit's while the folds open.
 #pragma once
 
 #include <array>
