@@ -227,6 +227,7 @@ nlohmann::ordered_json round_json(const FitRound& r, bool material) {
     j["fitted_folded_samples"] = r.fitted_folded_samples;
     j["untangled_control_points"] = r.untangled_functions;
   }
+  if (r.held_functions > 0) j["held_control_points"] = r.held_functions;  // not in the file
   j["folded_samples"] = r.folded_samples;
   j["samples"] = r.samples;
   if (r.fine_samples > 0) {  // the last round; not in the file
@@ -322,26 +323,24 @@ int run_material_fit(const MaterialArgs& a) {
   for (const FitRound& r : model.fit.rounds) rounds.push_back(round_json(r, material));
   j["rounds"] = rounds;
   const FitRound& last = model.fit.rounds.back();
-  // Asked fold-free, a folded G is not what was asked: refused, with where.
-  if (options.fold_free && last.folded_samples > 0) {
+  // Fold-free (the default), a folded G is not what was asked: refused, with where.
+  if (options.fold_free && (last.folded_samples > 0 || last.fine_folded_samples > 0)) {
     print_warnings(warnings);
     const std::array<double, 3>& p = last.worst_fold;
     const Vec3 x = evaluate_solid(model.fit.spline, p).position;
     std::fprintf(stderr,
-                 "tpmsfill: %s: G still folds at %zu of %zu Gauss points after untangling %zu "
-                 "(worst at (u, v, w) = (%.4f, %.4f, %.4f), near (%.6g, %.6g, %.6g) mm); nothing "
-                 "written; try --refinements 0 or a smaller --cell\n",
-                 a.input.c_str(), last.folded_samples, last.samples, last.fitted_folded_samples,
-                 p[0], p[1], p[2], x.x, x.y, x.z);
+                 "tpmsfill: %s: G still folds (det J <= 0) at %zu of %zu Gauss points and %zu "
+                 "of %zu points of a finer sample (worst at (u, v, w) = (%.4f, %.4f, %.4f), near "
+                 "(%.6g, %.6g, %.6g) mm); nothing written; try a smaller --cell, or "
+                 "--allow-folds\n",
+                 a.input.c_str(), last.folded_samples, last.samples, last.fine_folded_samples,
+                 last.fine_samples, p[0], p[1], p[2], x.x, x.y, x.z);
     return kNotValid;
   }
   if (last.folded_samples > 0)
     warnings.push_back("G folds (det J <= 0) at " + std::to_string(last.folded_samples) + " of " +
-                       std::to_string(last.samples) + " Gauss points" +
-                       (options.fold_free
-                            ? " left after untangling " +
-                                  std::to_string(last.fitted_folded_samples) + " folded ones"
-                            : std::string(" (--fold-free untangles them)")));
+                       std::to_string(last.samples) +
+                       " Gauss points (--allow-folds; without it the fit keeps G fold-free)");
   if (last.fine_folded_samples > 0)
     warnings.push_back("G folds between its Gauss points too: det J <= 0 at " +
                        std::to_string(last.fine_folded_samples) + " of " +
@@ -461,9 +460,10 @@ Command add_material_command(CLI::App& app) {
   fit->add_option("--max-iterations", args->fit.max_iterations,
                   "Steps per field and round, at most (default 50)")
       ->check(CLI::Range(1, 10000));
-  fit->add_flag("--fold-free", args->fit.fold_free,
-                "Untangle G where it folds (det J <= 0 at a Gauss point) after the last round: "
-                "minutes on a scan; with --refinements 0, 3 to 7 times the fit's time");
+  fit->add_flag("--fold-free,!--allow-folds", args->fit.fold_free,
+                "Keep G fold-free: det J > 0 at every Gauss point and 5^3 points an element, or "
+                "refuse with where (default). --allow-folds: the plain fit, about 3 times "
+                "faster, which folds near the cube's faces and edges and warns of it");
   fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   auto model_commands = add_material_model_commands(material);
   return [args, fit, model_commands] {

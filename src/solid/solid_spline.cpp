@@ -388,6 +388,112 @@ struct LocalValue {
   }
 };
 
+// The fractions of an element where det J_G is watched: its Gauss points, the finer check's
+// 5³, and the Gauss points of its eight children (where a refined round's start must not
+// fold). A grid is n of them, the same along each axis (point i + n j + n² k).
+constexpr double kWatchedFractions[14] = {kNode[0],
+                                          kNode[1],
+                                          kNode[2],
+                                          0.1,
+                                          0.3,
+                                          0.5,
+                                          0.7,
+                                          0.9,
+                                          kNode[0] / 2,
+                                          kNode[1] / 2,
+                                          kNode[2] / 2,
+                                          (1 + kNode[0]) / 2,
+                                          (1 + kNode[1]) / 2,
+                                          (1 + kNode[2]) / 2};
+struct Grid {
+  int first, n;  // in kWatchedFractions
+  std::array<double, 3> point(const OctreeCell& cell, const std::vector<std::uint32_t>& spans,
+                              int p) const {
+    const int g[3] = {p % n, p / n % n, p / (n * n)};
+    const double h = 1.0 / spans[cell.level];
+    std::array<double, 3> uvw;
+    for (int a = 0; a < 3; ++a) uvw[a] = (cell.index[a] + kWatchedFractions[first + g[a]]) * h;
+    return uvw;
+  }
+};
+constexpr Grid kGaussGrid{0, 3}, kFineGrid{3, 5}, kChildGrid{8, 6};
+constexpr Grid kWatched[3] = {kGaussGrid, kFineGrid, kChildGrid};
+
+// The 1D B-splines and their slopes at the watched fractions of every span of every level:
+// the same for a level's every element but the three at each end of an axis, so one table of
+// a few thousand values serves every check of every step.
+struct WatchedAxes {
+  // [level][(span · 14 + fraction) · 8 + (0-3: values, 4-7: slopes)]
+  std::vector<std::vector<double>> table;
+
+  explicit WatchedAxes(const SplineBasis& basis) : table(basis.spans.size()) {
+    for (std::size_t l = 0; l < basis.spans.size(); ++l) {
+      const std::uint32_t spans = basis.spans[l];
+      table[l].resize(std::size_t(spans) * 14 * 8);
+      for (std::uint32_t span = 0; span < spans; ++span)
+        for (int f = 0; f < 14; ++f) {
+          double ders[3][4] = {};
+          detail::span_basis(spans, span, (span + kWatchedFractions[f]) / spans, 1, ders);
+          double* out = &table[l][(std::size_t(span) * 14 + f) * 8];
+          for (int k = 0; k < 4; ++k) out[k] = ders[0][k], out[4 + k] = ders[1][k];
+        }
+    }
+  }
+  const double* at(int level, std::uint32_t span, int fraction) const {
+    return &table[level][(std::size_t(span) * 14 + fraction) * 8];
+  }
+};
+
+// det J_G at the points of a grid in element e, from its local coefficients (64 × 3), by sum
+// factorisation over the axes: 4 × 4 products a fraction rather than 64 a point, so that
+// watching 368 points an element costs about what 27 did.
+template <class Visit>
+void grid_determinants(const SplineBasis& basis, const WatchedAxes& axes, std::size_t e,
+                       const double* local, Grid grid, const Visit& visit) {
+  constexpr int kMax = 6;
+  const int n = grid.n;
+  const OctreeCell& cell = basis.elements[e];
+  const double* axis[3][kMax];
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < n; ++i) axis[a][i] = axes.at(cell.level, cell.index[a], grid.first + i);
+  // Along u: p0 = Σ_a U(a) y, p1 = Σ_a U'(a) y, per (i, b + 4 c, r).
+  double p0[kMax][16][3] = {}, p1[kMax][16][3] = {};
+  for (int i = 0; i < n; ++i)
+    for (int bc = 0; bc < 16; ++bc)
+      for (int a = 0; a < 4; ++a)
+        for (int r = 0; r < 3; ++r) {
+          const double y = local[3 * (a + 4 * bc) + r];
+          p0[i][bc][r] += axis[0][i][a] * y, p1[i][bc][r] += axis[0][i][4 + a] * y;
+        }
+  // Along v: G, ∂_u G and ∂_v G per (i, j, c, r).
+  double q[kMax][kMax][4][3][3] = {};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int c = 0; c < 4; ++c)
+        for (int b = 0; b < 4; ++b) {
+          const double v = axis[1][j][b], dv = axis[1][j][4 + b];
+          for (int r = 0; r < 3; ++r) {
+            q[i][j][c][0][r] += v * p0[i][b + 4 * c][r];
+            q[i][j][c][1][r] += v * p1[i][b + 4 * c][r];
+            q[i][j][c][2][r] += dv * p0[i][b + 4 * c][r];
+          }
+        }
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        detail::Matrix3 jg{};
+        for (int c = 0; c < 4; ++c) {
+          const double w = axis[2][k][c], dw = axis[2][k][4 + c];
+          for (int r = 0; r < 3; ++r) {
+            jg[3 * r + 0] += w * q[i][j][c][1][r];
+            jg[3 * r + 1] += w * q[i][j][c][2][r];
+            jg[3 * r + 2] += dw * q[i][j][c][0][r];
+          }
+        }
+        visit(i + n * j + n * n * k, detail::determinant(jg));
+      }
+}
+
 // What Newton steps keep between steps, shared by G and M (one basis, one round): the local
 // B-splines at every data sample (64 each, quadrature.data's order) and the Hessian on the
 // rows (its shape the basis's, its values each step's).
@@ -411,6 +517,9 @@ struct FieldFit {
   // Per function, a Gershgorin bound of the regularisers' Hessian row (bound_stiffness()).
   std::vector<double> stiffness;
   std::size_t solve_iterations = 0;  // Newton steps' conjugate-gradient iterations
+  std::size_t held = 0;              // functions whose step was held back (fold_free)
+  WatchedAxes axes{basis};           // where det J_G is checked
+  bool watch_children = true;        // hold_unfolded() watches the children's Gauss points
 
   // The regularisers are stiff on fine elements (their Hessian grows as 1 / h): an explicit
   // step of ε is stable only while ε · Σ_j |H_ij| ≤ 1. This bounds Σ_j |H_ij| per function
@@ -491,41 +600,47 @@ struct FieldFit {
     return std::sqrt(total);
   }
 
-  // J_G at (u, v, w) of element e from its local coefficients: [r][a] = ∂_a G_r.
-  detail::Matrix3 jacobian_at(const std::array<double, 64 * Dim>& local, std::size_t e,
-                              std::array<double, 3> uvw) const requires(Dim == 3) {
-    const LocalValue<Dim> at(local_basis(basis, e, uvw, 1), local.data(), 1);
+  // J_G from an element's local B-splines at a point and its local coefficients:
+  // [r][a] = ∂_a G_r.
+  static detail::Matrix3 jacobian_of(const LocalBasis& b,
+                                     const std::array<double, 64 * Dim>& local) requires(Dim == 3) {
+    const LocalValue<Dim> at(b, local.data(), 1);
     detail::Matrix3 j;
     for (int r = 0; r < 3; ++r)
       for (int a = 0; a < 3; ++a) j[3 * r + a] = at.first[a][r];
     return j;
   }
 
-  double jacobian_determinant(const std::array<double, 64 * Dim>& local, std::size_t e,
+  detail::Matrix3 jacobian_at(const std::array<double, 64 * Dim>& local, std::size_t e,
                               std::array<double, 3> uvw) const requires(Dim == 3) {
-    return detail::determinant(jacobian_at(local, e, uvw));
+    return jacobian_of(local_basis(basis, e, uvw, 1), local);
   }
 
-  // Per element, its Gauss points where det J_G ≤ 0; `least`, when given, gets the Gauss
-  // point (its index in quadrature.uvw) where det J_G is least.
-  std::vector<std::uint32_t> folds_per_element(std::size_t* least = nullptr) const
-      requires(Dim == 3) {
+  // Per element, its Gauss points where det J_G ≤ 0 (and, `fine`, the finer check's);
+  // `least`, when given, gets the point where det J_G is least.
+  std::vector<std::uint32_t> folds_per_element(std::array<double, 3>* least = nullptr,
+                                               bool fine = false) const requires(Dim == 3) {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     std::vector<std::uint32_t> count(basis.elements.size(), 0);
-    std::vector<std::pair<double, std::size_t>> lowest(count.size());
+    std::vector<std::pair<double, std::array<double, 3>>> lowest(count.size());
     detail::parallel_for(count.size(), 64, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
-        lowest[e] = {std::numeric_limits<double>::infinity(), 0};
-        for (int s = 0; s < kCellSamples; ++s) {
-          const std::size_t point = e * kCellSamples + s;
-          const double det = jacobian_determinant(local, e, quadrature.uvw[point]);
-          count[e] += det <= 0;
-          if (det < lowest[e].first) lowest[e] = {det, point};
+        lowest[e].first = std::numeric_limits<double>::infinity();
+        for (const Grid& grid : {kGaussGrid, kFineGrid}) {
+          if (grid.first == kFineGrid.first && !fine) break;
+          grid_determinants(basis, axes, e, local.data(), grid, [&](int p, double det) {
+            count[e] += det <= 0;
+            if (det < lowest[e].first)
+              lowest[e] = {det, grid.point(basis.elements[e], basis.spans, p)};
+          });
         }
       }
     });
-    if (least) *least = std::min_element(lowest.begin(), lowest.end())->second;
+    if (least)
+      *least = std::min_element(lowest.begin(), lowest.end(), [](const auto& a, const auto& b) {
+                 return a.first < b.first;
+               })->second;
     return count;
   }
 
@@ -534,22 +649,215 @@ struct FieldFit {
   std::size_t fine_folds() const requires(Dim == 3) {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     std::vector<std::uint32_t> count(basis.elements.size(), 0);
-    detail::parallel_for(count.size(), 16, [&](std::size_t begin, std::size_t end) {
+    detail::parallel_for(count.size(), 64, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
-        const OctreeCell& cell = basis.elements[e];
-        const double h = 1.0 / basis.spans[cell.level];
-        for (int k = 0; k < kFineSamples; ++k) {
-          const int g[3] = {k % 5, k / 5 % 5, k / 25};
-          std::array<double, 3> uvw;
-          for (int a = 0; a < 3; ++a) uvw[a] = (cell.index[a] + (g[a] + 0.5) / 5) * h;
-          count[e] += jacobian_determinant(local, e, uvw) <= 0;
-        }
+        grid_determinants(basis, axes, e, local.data(), kFineGrid,
+                          [&](int, double det) { count[e] += det <= 0; });
       }
     });
     std::size_t total = 0;
     for (std::uint32_t n : count) total += n;
     return total;
+  }
+
+  // A watched point where det J_G ≤ 0, and det J_G there before the step that folded it.
+  struct Fold {
+    std::array<double, 3> uvw;
+    double det_was;
+  };
+
+  // Per element (those `dirty`), the watched points (Gauss, finer check's and, while
+  // watch_children, the children's Gauss points) where det J_G ≤ 0 on `rows`; with `was`, only
+  // those where it was > 0 on it.
+  std::vector<std::vector<Fold>> folded_points(const std::vector<double>& rows,
+                                               const std::vector<double>* was,
+                                               const std::vector<char>& dirty) const
+      requires(Dim == 3) {
+    std::vector<std::vector<Fold>> folded(basis.elements.size());
+    detail::parallel_for(folded.size(), 64, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e) {
+        if (!dirty[e]) continue;
+        const auto now = local_coefficients(rows, e);
+        for (const Grid& grid : kWatched) {
+          if (grid.first == kChildGrid.first && !watch_children) continue;
+          bool any = false;
+          grid_determinants(basis, axes, e, now.data(), grid,
+                            [&](int, double det) { any = any || det <= 0; });
+          if (!any) continue;
+          std::vector<double> det_was(grid.n * grid.n * grid.n, 1.0);
+          if (was) {
+            const auto then = local_coefficients(*was, e);
+            grid_determinants(basis, axes, e, then.data(), grid,
+                              [&](int p, double det) { det_was[p] = det; });
+          }
+          grid_determinants(basis, axes, e, now.data(), grid, [&](int p, double det) {
+            if (det <= 0 && det_was[p] > 0)
+              folded[e].push_back({grid.point(basis.elements[e], basis.spans, p), det_was[p]});
+          });
+        }
+      }
+    });
+    return folded;
+  }
+
+  // det J_G at a point of element e from its local coefficients, and ∂ det / ∂c_f for every
+  // function f over e: Σ_k w_kf cof(J_G) ∇φ_k, summed per function (one may name several rows).
+  double determinant_gradient(
+      std::size_t e, std::array<double, 3> uvw, const std::array<double, 64 * 3>& local,
+      std::vector<std::pair<std::uint32_t, std::array<double, 3>>>& out) const requires(Dim == 3) {
+    const LocalBasis b = local_basis(basis, e, uvw, 1);
+    const detail::Matrix3 jg = jacobian_of(b, local);
+    const detail::Matrix3 cof = detail::cofactor(jg);
+    out.clear();
+    detail::for_each_term(basis, e, [&](int k, std::uint32_t f, double w) {
+      if (w == 0) return;
+      std::array<double, 3> d{};
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a) d[r] += w * cof[3 * r + a] * b.first[a][k];
+      out.push_back({f, d});
+    });
+    std::sort(out.begin(), out.end(),
+              [](const auto& p, const auto& q) { return p.first < q.first; });
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (kept > 0 && out[kept - 1].first == out[i].first) {
+        for (int r = 0; r < 3; ++r) out[kept - 1].second[r] += out[i].second[r];
+      } else {
+        out[kept++] = out[i];
+      }
+    }
+    out.resize(kept);
+    return detail::determinant(jg);
+  }
+
+  // Marks the elements under the functions `moved` names (and clears it).
+  void mark_reached(std::vector<char>& moved, std::vector<char>& dirty) const {
+    for (std::size_t f = 0; f < moved.size(); ++f) {
+      if (!moved[f]) continue;
+      moved[f] = 0;
+      for (std::uint32_t i = gather_map.function_start[f]; i < gather_map.function_start[f + 1];
+           ++i) {
+        const std::uint32_t r = gather_map.function_row[i];
+        for (std::uint32_t k = gather_map.row_start[r]; k < gather_map.row_start[r + 1]; ++k)
+          dirty[gather_map.row_slot[k] / 64] = 1;
+      }
+    }
+  }
+
+  // After a step from `before` to c: where the step folds G at a watched point (det J_G ≤ 0
+  // where it was > 0), the step slides along the fold rather than into it: the part of it
+  // that lowers det J_G there, to first order, is taken out until det J_G keeps half its value
+  // (a projection onto that half-space, point after point). What the first order misses is
+  // tried again; after kSlides tries, the functions whose step lowers det J_G there take half
+  // of it, and none on the last try, so that a G fold-free at its watched points stays so
+  // whatever the step. (Holding back every function over a folded element cost bear's one
+  // round 7 points of RS, sliding 1.) Returns the functions whose step changed.
+  std::size_t hold_unfolded(const std::vector<double>& before) requires(Dim == 3) {
+    const std::vector<double> rows_before = row_coefficients(basis, before, Dim);
+    std::vector<double> share(basis.functions.size(), 1.0);
+    std::vector<char> changed(share.size(), 0), moved(share.size(), 0);
+    // The elements to check: all after the step, then those still folded or under a function
+    // the last try moved.
+    std::vector<char> dirty(basis.elements.size(), 1);
+    constexpr int kSlides = 4, kHalvings = 6;
+    std::vector<std::pair<std::uint32_t, std::array<double, 3>>> gradient;
+    for (int attempt = 0;; ++attempt) {
+      const std::vector<std::vector<Fold>> folded =
+          folded_points(row_coefficients(basis, c, Dim), &rows_before, dirty);
+      const bool slide = attempt < kSlides;
+      std::vector<char> marked(share.size(), 0);
+      bool worse = false;
+      for (std::size_t e = 0; e < folded.size(); ++e) {
+        if (folded[e].empty()) continue;
+        worse = true;
+        const auto was = local_coefficients(rows_before, e);
+        for (const Fold& fold : folded[e]) {
+          determinant_gradient(e, fold.uvw, was, gradient);  // before the step
+          if (slide) {
+            double change = 0, norm = 0;  // first-order change of det J_G, |∂ det / ∂c|²
+            for (const auto& [f, d] : gradient)
+              for (int r = 0; r < 3; ++r) {
+                change += d[r] * (c[3 * f + r] - before[3 * f + r]);
+                norm += d[r] * d[r];
+              }
+            const double deficit = 0.5 * fold.det_was - (fold.det_was + change);
+            if (!(deficit > 0) || !(norm > 0)) continue;
+            for (const auto& [f, d] : gradient) {
+              for (int r = 0; r < 3; ++r) c[3 * f + r] += deficit / norm * d[r];
+              changed[f] = moved[f] = 1;
+            }
+            continue;
+          }
+          bool lowered = false;
+          for (const auto& [f, d] : gradient) {
+            if (share[f] == 0) continue;
+            double change = 0;
+            for (int r = 0; r < 3; ++r) change += d[r] * (c[3 * f + r] - before[3 * f + r]);
+            if (change < 0) marked[f] = 1, lowered = true;
+          }
+          // Second order only: every function still moving there.
+          if (!lowered)
+            for (const auto& [f, d] : gradient)
+              if (share[f] > 0) marked[f] = 1;
+        }
+      }
+      // Ends: an element whose functions all take none of the step is as it was, and each try
+      // after the slides holds back a function still moving over every folded point.
+      if (!worse) break;
+      const int halving = attempt - kSlides;
+      for (std::size_t f = 0; f < share.size() && !slide; ++f) {
+        if (!marked[f]) continue;
+        changed[f] = moved[f] = 1;
+        const double factor = halving + 1 < kHalvings ? 0.5 : 0;
+        share[f] *= factor;
+        for (int d = 0; d < 3; ++d)
+          c[3 * f + d] = before[3 * f + d] + factor * (c[3 * f + d] - before[3 * f + d]);
+      }
+      // A folded element stays to check even if no function over it moved (its fold was
+      // second order).
+      for (std::size_t e = 0; e < dirty.size(); ++e) dirty[e] = !folded[e].empty();
+      mark_reached(moved, dirty);
+    }
+    std::size_t held = 0;
+    for (char x : changed) held += x;
+    return held;
+  }
+
+  // Opens the folds G starts a round with (det J_G ≤ 0 at a watched point: the Greville
+  // start's, or a refined G's at the finer elements' points) without folding it elsewhere:
+  // each folded point's det J_G is pushed, to first order, up to `target(uvw)` (a projection,
+  // point after point), and hold_unfolded() keeps the push from folding another point.
+  // Returns the watched points folded at first, and after `sweeps` such pushes.
+  std::pair<std::size_t, std::size_t> open_folds(
+      const std::function<double(std::array<double, 3>)>& target, int sweeps) requires(Dim == 3) {
+    std::size_t first = 0;
+    std::vector<char> all(basis.elements.size(), 1);
+    std::vector<std::pair<std::uint32_t, std::array<double, 3>>> gradient;
+    for (int sweep = 0;; ++sweep) {
+      const std::vector<double> rows = row_coefficients(basis, c, Dim);
+      const std::vector<std::vector<Fold>> folded = folded_points(rows, nullptr, all);
+      std::size_t left = 0;
+      for (const auto& points : folded) left += points.size();
+      if (sweep == 0) first = left;
+      if (left == 0 || sweep == sweeps) return {first, left};
+      const std::vector<double> before = c;
+      for (std::size_t e = 0; e < folded.size(); ++e) {
+        if (folded[e].empty()) continue;
+        const auto local = local_coefficients(rows, e);
+        for (const Fold& fold : folded[e]) {
+          const double det = determinant_gradient(e, fold.uvw, local, gradient);
+          double norm = 0;
+          for (const auto& [f, d] : gradient)
+            for (int r = 0; r < 3; ++r) norm += d[r] * d[r];
+          const double deficit = target(fold.uvw) - det;
+          if (!(deficit > 0) || !(norm > 0)) continue;
+          for (const auto& [f, d] : gradient)
+            for (int r = 0; r < 3; ++r) c[3 * f + r] += deficit / norm * d[r];
+        }
+      }
+      held += hold_unfolded(before);
+    }
   }
 
   // One Euler step.
@@ -1029,11 +1337,18 @@ std::pair<int, double> iterate(FieldFit<Dim>& field, double start, const SolidFi
   // Already exact to round-off (a part whose map is affine, a linear material): the
   // regularisers would only pull it off the data.
   if (!(now > 1e-12)) return {0, rs};
+  // Fold-free: each step is held back where it would fold G (hold_unfolded()).
+  const bool hold = Dim == 3 && options.fold_free;
+  std::vector<double> before;
   for (int it = 1; it <= options.max_iterations; ++it) {
+    if constexpr (Dim == 3)
+      if (hold) before = field.c;
     if (euler)
       field.step();
     else
       field.newton_step([&progress, it] { progress(it - 1); });
+    if constexpr (Dim == 3)
+      if (hold) field.held += field.hold_unfolded(before);
     const double next = similarity(field.measure(), start);
     const bool settled = std::abs(next - rs) < options.rs_change;
     rs = next;
@@ -1094,6 +1409,11 @@ class ReferenceJacobians {
   double even_ = 1;
 };
 
+// A fold G starts a round with is pushed open to this share of the tets' map's det J there,
+// in at most so many sweeps (FieldFit::open_folds()).
+constexpr double kOpenTo = 0.25;
+constexpr int kOpenSweeps = 10;
+
 // The position term's weight against the Jacobian term's when G is untangled.
 constexpr double kUntangleFidelity = 1;
 std::size_t total(const std::vector<std::uint32_t>& counts) {
@@ -1111,7 +1431,7 @@ std::size_t total(const std::vector<std::uint32_t>& counts) {
 // cost more than it saved: bunny00 74 s against 51, fandisk 282 against 180, bear 47 against
 // 62, each fit 0.4-2.7 points of RS lower.) Returns the functions moved; G is left as fitted
 // if the untangling would end with more folds.
-std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
+std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded, bool fine,
                             const ReferenceJacobians& reference,
                             const std::function<void(double)>& report) {
   const SplineBasis& basis = fit.basis;
@@ -1122,11 +1442,22 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
   for (std::size_t e = 0; e < folded.size(); ++e) element_moves[e] = folded[e] > 0;
   const std::vector<double> fitted = fit.c;
   const std::vector<double> rows = row_coefficients(basis, fitted, 3);
-  // Per Gauss point, its ideal: the fitted G's own Jacobian, so that the energy starts at its
-  // least but where G folds (or nearly: det J_G under a tenth of the tets'), where the tets'
-  // map's stands in. Filled element by element as the region grows.
-  std::vector<detail::Matrix3> ideal(quadrature.uvw.size());
-  std::vector<double> ideal_det(quadrature.uvw.size(), 0);
+  // The watched points of an element: its Gauss points, then (`fine`) the finer check's.
+  const int per = kCellSamples + (fine ? kFineSamples : 0);
+  const auto point = [&](std::size_t e, int s) {
+    return s < kCellSamples ? quadrature.uvw[e * kCellSamples + s]
+                            : kFineGrid.point(basis.elements[e], basis.spans, s - kCellSamples);
+  };
+  const auto weight = [&](std::size_t e, int s) {
+    if (s < kCellSamples) return quadrature.weight[e * kCellSamples + s];
+    const double h = 1.0 / basis.spans[basis.elements[e].level];
+    return h * h * h / kFineSamples;
+  };
+  // Per watched point, its ideal: the fitted G's own Jacobian, so that the energy starts at
+  // its least but where G folds (or nearly: det J_G under a tenth of the tets'), where the
+  // tets' map's stands in. Filled element by element as the region grows.
+  std::vector<detail::Matrix3> ideal(basis.elements.size() * per);
+  std::vector<double> ideal_det(ideal.size(), 0);
   std::size_t moved = 0;
   for (int ring = 0; ring < 2; ++ring) {
     // The functions non-zero on a marked element, then every element they reach.
@@ -1147,12 +1478,12 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
     }
     detail::parallel_for(active.size(), 16, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
-        if (!active[e] || ideal_det[e * kCellSamples] > 0) continue;
+        if (!active[e] || ideal_det[e * per] > 0) continue;
         const auto local = fit.local_coefficients(rows, e);
-        for (int s = 0; s < kCellSamples; ++s) {
-          const std::size_t at = e * kCellSamples + s;
-          auto [inverse, det] = reference.at(quadrature.uvw[at]);
-          const detail::Matrix3 jg = fit.jacobian_at(local, e, quadrature.uvw[at]);
+        for (int s = 0; s < per; ++s) {
+          const std::size_t at = e * per + s;
+          auto [inverse, det] = reference.at(point(e, s));
+          const detail::Matrix3 jg = fit.jacobian_at(local, e, point(e, s));
           const double fitted_det = detail::determinant(jg);
           if (fitted_det > 0.1 * det) inverse = detail::inverse(jg, fitted_det), det = fitted_det;
           ideal[at] = inverse, ideal_det[at] = det;
@@ -1169,16 +1500,15 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
         }
     std::vector<detail::JacobianSample> jacobians;
     for (std::uint32_t e = 0; e < active.size(); ++e)
-      for (int s = 0; active[e] && s < kCellSamples; ++s) {
-        const std::size_t at = std::size_t(e) * kCellSamples + s;
-        jacobians.push_back(
-            {e, quadrature.uvw[at], quadrature.weight[at] * ideal_det[at], ideal[at]});
+      for (int s = 0; active[e] && s < per; ++s) {
+        const std::size_t at = std::size_t(e) * per + s;
+        jacobians.push_back({e, point(e, s), weight(e, s) * ideal_det[at], ideal[at]});
       }
     moved = 0;
     for (char m : movable) moved += m;
     fit.c = fitted;
     detail::untangle_spline(basis, movable, jacobians, positions, kUntangleFidelity, fit.c, report);
-    folded = fit.folds_per_element();
+    folded = fit.folds_per_element(nullptr, fine);
     if (total(folded) == 0) return moved;
     if (ring == 0) element_moves = active;
   }
@@ -1268,8 +1598,27 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
             (round + (field + double(it) / options.max_iterations) / fields) / rounds);
       };
     };
+    // Fold-free: G starts each round fold-free at its watched points (the Greville start, or
+    // a refined G at the finer elements' points, folds in places), and its steps keep it so
+    // (hold_unfolded()). The last round watches the finer check's points too, and no
+    // children's.
+    const bool last = round + 1 == rounds;
+    fit_g.watch_children = !last;
+    if (options.fold_free) {
+      std::size_t left = 0;
+      std::tie(report.fitted_folded_samples, left) = fit_g.open_folds(
+          [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
+          kOpenSweeps);
+      // What the pushes could not open, the foldover-free energy does (slower).
+      const std::vector<std::uint32_t> folded = fit_g.folds_per_element(nullptr, last);
+      if (left > 0 && total(folded) > 0)
+        report.untangled_functions = unfold_geometry(fit_g, folded, last, reference, [&](double) {
+          detail::report_or_cancel(options.progress, double(round) / rounds);
+        });
+    }
     std::tie(report.geometry_iterations, report.geometry_rs) =
         iterate(fit_g, start_g, options, progress(0));
+    report.held_functions = fit_g.held;
     if (has_material)
       std::tie(report.material_iterations, report.material_rs) =
           iterate(fit_m, start_m, options, progress(1));
@@ -1282,8 +1631,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
                            " (a control value is not finite); try a smaller step (the seed's "
                            "0.4-0.6) or more tets per cell");
     report.solve_iterations = fit_g.solve_iterations + fit_m.solve_iterations;
-    // The leaves to split are chosen from the fit's own residuals; only the last round's G,
-    // the one written, is untangled (a refined round fits from the refined spline again).
+    // The leaves to split are chosen from the fit's own residuals.
     std::vector<std::size_t> chosen;
     CubeOctree finer;
     if (round + 1 < rounds) {
@@ -1291,11 +1639,13 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
       finer = split_octree_leaves(octree, chosen, centroids, options.octree);
       report.split = finer.leaves.size() > octree.leaves.size() ? chosen.size() : 0;
     }
+    // The G written: untangled again where its start's folds outlived the round's first
+    // untangling (a round that ends the refinement early watches its finer points here first).
     if (options.fold_free && report.split == 0) {
-      const std::vector<std::uint32_t> folded = fit_g.folds_per_element();
-      report.fitted_folded_samples = total(folded);
-      if (report.fitted_folded_samples > 0) {
-        report.untangled_functions = unfold_geometry(fit_g, folded, reference, [&](double) {
+      const std::vector<std::uint32_t> folded = fit_g.folds_per_element(nullptr, true);
+      if (total(folded) > 0) {
+        report.fitted_folded_samples += total(folded);
+        report.untangled_functions += unfold_geometry(fit_g, folded, true, reference, [&](double) {
           detail::report_or_cancel(options.progress, (round + 1.0 / fields) / rounds);
         });
         report.geometry_rs = similarity(fit_g.measure(), start_g);
@@ -1304,12 +1654,11 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     const ProbeError eg = probe_error<3>(basis, probe, g, points.g);
     report.geometry_rms = eg.rms * units.size;
     report.geometry_max = eg.max * units.size;
-    std::size_t least = 0;
-    report.folded_samples = total(fit_g.folds_per_element(&least));
-    if (report.folded_samples > 0) report.worst_fold = quadrature.uvw[least];
+    report.folded_samples = total(fit_g.folds_per_element(&report.worst_fold));
     if (report.split == 0) {  // the last round: its G is what is written
       report.fine_samples = basis.elements.size() * kFineSamples;
       report.fine_folded_samples = fit_g.fine_folds();
+      if (report.fine_folded_samples > 0) fit_g.folds_per_element(&report.worst_fold, true);
     }
     if (has_material) {
       const ProbeError em = probe_error<1>(basis, probe, m, points.m);

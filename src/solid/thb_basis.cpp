@@ -300,6 +300,11 @@ std::size_t basis_element_at(const SplineBasis& basis, std::array<double, 3> uvw
   throw InputError("the spline basis's elements do not tile the cube");
 }
 
+void detail::span_basis(std::uint32_t spans, std::uint32_t span, double t, int derivatives,
+                        double (&ders)[3][4]) {
+  tpmsfill::basis_derivatives(spans, span, t, std::clamp(derivatives, 0, 2), ders);
+}
+
 void detail::axis_basis(const SplineBasis& basis, std::size_t element, std::array<double, 3> uvw,
                         int derivatives, double (&axis)[3][3][4]) {
   const OctreeCell& e = basis.elements[element];

@@ -218,35 +218,36 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   EXPECT_NE(out.find("byte"), std::string::npos) << out;
 }
 
-// A material slice's preflight slices a few layers first and forecasts the stack from them:
-// near what the whole slice makes, and a stack past the limits refused before any file.
-// libcgal-demo's fandisk in coarse tets (diagonal / 12), whose one-round fit folds: the warning
-// names --fold-free, and with it the model is written with G fold-free at its Gauss points
-// (between them, at 5³ points an element, the folds left are counted and warned of).
+// libcgal-demo's fandisk in coarse tets (diagonal / 12): with --allow-folds its fit folds, at
+// its Gauss points and between them, and warns; by default the same fit is written with G
+// fold-free at both, its steps having slid along the folds, and no warning.
 TEST(MaterialCli, FoldFreeFitOpensWhatThePlainFitWarnsOf) {
   const fs::path dir = test::scratch_dir();
   const fs::path fandisk = fs::path(TPMSFILL_CGAL_MESHES) / "fandisk.off";
   if (!fs::exists(fandisk)) GTEST_SKIP() << "libcgal-demo's meshes are not installed";
-  const std::string args = "--cell 0.121 --material x 0 1 --refinements 0 --json";
+  const std::string args = "--cell 0.121 --material x 0 1 --refinements 1 --json";
   std::string out;
-  ASSERT_EQ(material_fit(fandisk, dir / "folded.tsm", args, &out), 0) << out;
+  ASSERT_EQ(material_fit(fandisk, dir / "folded.tsm", args + " --allow-folds", &out), 0) << out;
   const nlohmann::json plain = json_of(out)["rounds"].back();
-  const std::size_t folded = plain["folded_samples"];
-  ASSERT_GT(folded, 0u);
-  EXPECT_NE(out.find("--fold-free untangles them"), std::string::npos) << out;
-  ASSERT_EQ(material_fit(fandisk, dir / "free.tsm", args + " --fold-free", &out), 0) << out;
-  const nlohmann::json last = json_of(out)["rounds"].back();
-  EXPECT_EQ(last["fitted_folded_samples"].get<std::size_t>(), folded);
-  EXPECT_GT(last["untangled_control_points"].get<std::size_t>(), 0u);
-  EXPECT_EQ(last["folded_samples"].get<std::size_t>(), 0u);
-  EXPECT_EQ(out.find("G folds (det J"), std::string::npos) << out;
-  // Between the Gauss points, at 5³ points an element, far fewer folds, and said so.
-  const std::size_t fine = last["fine_folded_samples"];
-  EXPECT_LT(fine, plain["fine_folded_samples"].get<std::size_t>() / 4);
-  EXPECT_EQ(fine > 0, out.find("between its Gauss points") != std::string::npos) << out;
+  ASSERT_GT(plain["folded_samples"].get<std::size_t>(), 0u);
+  ASSERT_GT(plain["fine_folded_samples"].get<std::size_t>(), 0u);
+  EXPECT_NE(out.find("G folds (det J <= 0) at"), std::string::npos) << out;
+  EXPECT_NE(out.find("between its Gauss points"), std::string::npos) << out;
+  ASSERT_EQ(material_fit(fandisk, dir / "free.tsm", args, &out), 0) << out;
+  const nlohmann::json fit = json_of(out);
+  for (const nlohmann::json& round : fit["rounds"])
+    EXPECT_EQ(round["folded_samples"].get<std::size_t>(), 0u) << round;
+  const nlohmann::json& last = fit["rounds"].back();
+  EXPECT_EQ(last["fine_folded_samples"].get<std::size_t>(), 0u);
+  EXPECT_GT(last["held_control_points"].get<std::size_t>(), 0u);
+  EXPECT_GT(last["geometry_rs_percent"].get<double>(),
+            plain["geometry_rs_percent"].get<double>() - 3);
+  EXPECT_EQ(out.find("G folds"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "free.tsm"));
 }
 
+// A material slice's preflight slices a few layers first and forecasts the stack from them:
+// near what the whole slice makes, and a stack past the limits refused before any file.
 TEST(MaterialCli, SlicePreflightForecastsTheStack) {
   const fs::path dir = test::scratch_dir();
   const fs::path tets = dir / "blob.vtk", model = dir / "blob.tsm";

@@ -23,6 +23,11 @@ void for_each_term(const SplineBasis& basis, std::size_t element, const Visit& v
   }
 }
 
+/// The four cubic B-splines of span `span` of a level with `spans` spans at t, and their first
+/// `derivatives` (≤ 2) derivatives: ders[k][i] is the kth derivative of the span's ith.
+void span_basis(std::uint32_t spans, std::uint32_t span, double t, int derivatives,
+                double (&ders)[3][4]);
+
 /// The element's 1D cubic B-splines per axis at (u, v, w): axis[a][k][i] is the kth
 /// derivative (k ≤ `derivatives` ≤ 2) of the ith B-spline along axis a; local B-spline
 /// (i, j, l) is their product (local_basis()).
