@@ -391,20 +391,14 @@ struct LocalValue {
 // The fractions of an element where det J_G is watched: its Gauss points, the finer check's
 // 5³, and the Gauss points of its eight children (where a refined round's start must not
 // fold). A grid is n of them, the same along each axis (point i + n j + n² k).
-constexpr double kWatchedFractions[14] = {kNode[0],
-                                          kNode[1],
-                                          kNode[2],
-                                          0.1,
-                                          0.3,
-                                          0.5,
-                                          0.7,
-                                          0.9,
-                                          kNode[0] / 2,
-                                          kNode[1] / 2,
-                                          kNode[2] / 2,
-                                          (1 + kNode[0]) / 2,
-                                          (1 + kNode[1]) / 2,
-                                          (1 + kNode[2]) / 2};
+constexpr double kWatchedFractions[14] = {
+    // the Gauss points
+    kNode[0], kNode[1], kNode[2],
+    // the finer check's
+    0.1, 0.3, 0.5, 0.7, 0.9,
+    // the children's Gauss points
+    kNode[0] / 2, kNode[1] / 2, kNode[2] / 2, (1 + kNode[0]) / 2, (1 + kNode[1]) / 2,
+    (1 + kNode[2]) / 2};
 struct Grid {
   int first, n;  // in kWatchedFractions
   std::array<double, 3> point(const OctreeCell& cell, const std::vector<std::uint32_t>& spans,
@@ -661,10 +655,13 @@ struct FieldFit {
     return total;
   }
 
-  // A watched point where det J_G ≤ 0, and det J_G there before the step that folded it.
+  // A watched point where det J_G ≤ 0, and det J_G there before the step that folded it;
+  // linearise() adds det J_G and its gradient in c (per function over the element) there.
   struct Fold {
     std::array<double, 3> uvw;
     double det_was;
+    double det = 0;
+    std::vector<std::pair<std::uint32_t, std::array<double, 3>>> gradient{};
   };
 
   // Per element (those `dirty`), the watched points (Gauss, finer check's and, while
@@ -701,34 +698,38 @@ struct FieldFit {
     return folded;
   }
 
-  // det J_G at a point of element e from its local coefficients, and ∂ det / ∂c_f for every
-  // function f over e: Σ_k w_kf cof(J_G) ∇φ_k, summed per function (one may name several rows).
-  double determinant_gradient(
-      std::size_t e, std::array<double, 3> uvw, const std::array<double, 64 * 3>& local,
-      std::vector<std::pair<std::uint32_t, std::array<double, 3>>>& out) const requires(Dim == 3) {
-    const LocalBasis b = local_basis(basis, e, uvw, 1);
-    const detail::Matrix3 jg = jacobian_of(b, local);
-    const detail::Matrix3 cof = detail::cofactor(jg);
-    out.clear();
-    detail::for_each_term(basis, e, [&](int k, std::uint32_t f, double w) {
-      if (w == 0) return;
-      std::array<double, 3> d{};
-      for (int r = 0; r < 3; ++r)
-        for (int a = 0; a < 3; ++a) d[r] += w * cof[3 * r + a] * b.first[a][k];
-      out.push_back({f, d});
-    });
-    std::sort(out.begin(), out.end(),
-              [](const auto& p, const auto& q) { return p.first < q.first; });
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      if (kept > 0 && out[kept - 1].first == out[i].first) {
-        for (int r = 0; r < 3; ++r) out[kept - 1].second[r] += out[i].second[r];
-      } else {
-        out[kept++] = out[i];
+  // At every fold, det J_G on `rows` and ∂ det / ∂c_f for every function f over its element:
+  // Σ_k w_kf cof(J_G) ∇φ_k, summed per function (one may name several rows). In parallel:
+  // the projections that use them go point after point.
+  void linearise(std::vector<std::vector<Fold>>& folded, const std::vector<double>& rows) const
+      requires(Dim == 3) {
+    detail::parallel_for(folded.size(), 16, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::int32_t> slot;  // per function, its place in a gradient, or −1
+      for (std::size_t e = begin; e < end; ++e) {
+        if (folded[e].empty()) continue;
+        if (slot.empty()) slot.assign(basis.functions.size(), -1);
+        const auto local = local_coefficients(rows, e);
+        for (Fold& fold : folded[e]) {
+          const LocalBasis b = local_basis(basis, e, fold.uvw, 1);
+          const detail::Matrix3 jg = jacobian_of(b, local);
+          const detail::Matrix3 cof = detail::cofactor(jg);
+          fold.det = detail::determinant(jg);
+          auto& out = fold.gradient;
+          out.clear();
+          detail::for_each_term(basis, e, [&](int k, std::uint32_t f, double w) {
+            if (w == 0) return;
+            if (slot[f] < 0) {
+              slot[f] = static_cast<std::int32_t>(out.size());
+              out.push_back({f, {}});
+            }
+            std::array<double, 3>& d = out[slot[f]].second;
+            for (int r = 0; r < 3; ++r)
+              for (int a = 0; a < 3; ++a) d[r] += w * cof[3 * r + a] * b.first[a][k];
+          });
+          for (const auto& [f, d] : out) slot[f] = -1;
+        }
       }
-    }
-    out.resize(kept);
-    return detail::determinant(jg);
+    });
   }
 
   // Marks the elements under the functions `moved` names (and clears it).
@@ -761,19 +762,18 @@ struct FieldFit {
     // the last try moved.
     std::vector<char> dirty(basis.elements.size(), 1);
     constexpr int kSlides = 4, kHalvings = 6;
-    std::vector<std::pair<std::uint32_t, std::array<double, 3>>> gradient;
     for (int attempt = 0;; ++attempt) {
-      const std::vector<std::vector<Fold>> folded =
+      std::vector<std::vector<Fold>> folded =
           folded_points(row_coefficients(basis, c, Dim), &rows_before, dirty);
+      linearise(folded, rows_before);  // before the step
       const bool slide = attempt < kSlides;
       std::vector<char> marked(share.size(), 0);
       bool worse = false;
       for (std::size_t e = 0; e < folded.size(); ++e) {
         if (folded[e].empty()) continue;
         worse = true;
-        const auto was = local_coefficients(rows_before, e);
         for (const Fold& fold : folded[e]) {
-          determinant_gradient(e, fold.uvw, was, gradient);  // before the step
+          const auto& gradient = fold.gradient;
           if (slide) {
             double change = 0, norm = 0;  // first-order change of det J_G, |∂ det / ∂c|²
             for (const auto& [f, d] : gradient)
@@ -833,29 +833,25 @@ struct FieldFit {
       const std::function<double(std::array<double, 3>)>& target, int sweeps) requires(Dim == 3) {
     std::size_t first = 0;
     std::vector<char> all(basis.elements.size(), 1);
-    std::vector<std::pair<std::uint32_t, std::array<double, 3>>> gradient;
     for (int sweep = 0;; ++sweep) {
       const std::vector<double> rows = row_coefficients(basis, c, Dim);
-      const std::vector<std::vector<Fold>> folded = folded_points(rows, nullptr, all);
+      std::vector<std::vector<Fold>> folded = folded_points(rows, nullptr, all);
       std::size_t left = 0;
       for (const auto& points : folded) left += points.size();
       if (sweep == 0) first = left;
       if (left == 0 || sweep == sweeps) return {first, left};
       const std::vector<double> before = c;
-      for (std::size_t e = 0; e < folded.size(); ++e) {
-        if (folded[e].empty()) continue;
-        const auto local = local_coefficients(rows, e);
-        for (const Fold& fold : folded[e]) {
-          const double det = determinant_gradient(e, fold.uvw, local, gradient);
+      linearise(folded, rows);
+      for (const std::vector<Fold>& points : folded)
+        for (const Fold& fold : points) {
           double norm = 0;
-          for (const auto& [f, d] : gradient)
+          for (const auto& [f, d] : fold.gradient)
             for (int r = 0; r < 3; ++r) norm += d[r] * d[r];
-          const double deficit = target(fold.uvw) - det;
+          const double deficit = target(fold.uvw) - fold.det;
           if (!(deficit > 0) || !(norm > 0)) continue;
-          for (const auto& [f, d] : gradient)
+          for (const auto& [f, d] : fold.gradient)
             for (int r = 0; r < 3; ++r) c[3 * f + r] += deficit / norm * d[r];
         }
-      }
       held += hold_unfolded(before);
     }
   }
