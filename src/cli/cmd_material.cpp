@@ -462,7 +462,7 @@ Command add_material_command(CLI::App& app) {
       ->check(CLI::Range(1, 10000));
   fit->add_flag("--fold-free,!--allow-folds", args->fit.fold_free,
                 "Keep G fold-free: det J > 0 at every Gauss point and 5^3 points an element, or "
-                "refuse with where (default). --allow-folds: the plain fit, about 3 times "
+                "refuse with where (default). --allow-folds: the plain fit, up to 1.7 times "
                 "faster, which folds near the cube's faces and edges and warns of it");
   fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   auto model_commands = add_material_model_commands(material);
