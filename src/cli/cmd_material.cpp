@@ -45,7 +45,8 @@ struct MaterialArgs {
   std::vector<std::uint32_t> corners;
   SolidFitOptions fit;
   std::string method = "euler";
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, allow_folds = false;
+  bool fold_free = false;  // --fold-free, the default: changes nothing
 };
 
 double number_argument(const std::string& text, const std::string& what) {
@@ -309,6 +310,7 @@ int run_material_fit(const MaterialArgs& a) {
   std::unique_ptr<TerminalProgress> progress;
   if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   SolidFitOptions options = a.fit;
+  options.fold_free = !a.allow_folds;
   options.method = a.method == "euler" ? SolidFitMethod::Euler : SolidFitMethod::Newton;
   options.progress = progress.get();
   if (solid.surface) options.surface = &*solid.surface;
@@ -460,10 +462,14 @@ Command add_material_command(CLI::App& app) {
   fit->add_option("--max-iterations", args->fit.max_iterations,
                   "Steps per field and round, at most (default 50)")
       ->check(CLI::Range(1, 10000));
-  fit->add_flag("--fold-free,!--allow-folds", args->fit.fold_free,
-                "Keep G fold-free: det J > 0 at every Gauss point and 5^3 points an element, or "
-                "refuse with where (default). --allow-folds: the plain fit, up to 1.7 times "
-                "faster, which folds near the cube's faces and edges and warns of it");
+  auto* allow = fit->add_flag("--allow-folds", args->allow_folds,
+                              "Let G fold (det J <= 0) near the cube's faces and edges, and warn "
+                              "of it: the plain fit, up to 1.7 times faster. By default G is "
+                              "kept fold-free at every Gauss point and 5^3 points an element, "
+                              "or the model is refused with where");
+  fit->add_flag("--fold-free", args->fold_free,
+                "The default: keep G fold-free (for scripts written when it was not)")
+      ->excludes(allow);
   fit->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");
   auto model_commands = add_material_model_commands(material);
   return [args, fit, model_commands] {
