@@ -389,16 +389,21 @@ struct LocalValue {
 };
 
 // The fractions of an element where det J_G is watched: its Gauss points, the finer check's
-// 5³, and the Gauss points of its eight children (where a refined round's start must not
-// fold). A grid is n of them, the same along each axis (point i + n j + n² k).
-constexpr double kWatchedFractions[14] = {
+// 5³, the Gauss points of its eight children (where a refined round's start must not fold),
+// and 4³ with points on its faces (where the cube's boundary is: with the first three alone,
+// bear's G still folded at 1,151 points of the cube's faces, and its slices turned 2,388
+// triangles over; with them, 0 and 469). A grid is n of them, the same along each axis
+// (point i + n j + n² k).
+constexpr double kWatchedFractions[18] = {
     // the Gauss points
     kNode[0], kNode[1], kNode[2],
     // the finer check's
     0.1, 0.3, 0.5, 0.7, 0.9,
     // the children's Gauss points
     kNode[0] / 2, kNode[1] / 2, kNode[2] / 2, (1 + kNode[0]) / 2, (1 + kNode[1]) / 2,
-    (1 + kNode[2]) / 2};
+    (1 + kNode[2]) / 2,
+    // on the faces
+    0.0, 1.0 / 3, 2.0 / 3, 1.0};
 struct Grid {
   int first, n;  // in kWatchedFractions
   std::array<double, 3> point(const OctreeCell& cell, const std::vector<std::uint32_t>& spans,
@@ -411,36 +416,37 @@ struct Grid {
   }
 };
 constexpr Grid kGaussGrid{0, 3}, kFineGrid{3, 5}, kChildGrid{8, 6};
-constexpr Grid kWatched[3] = {kGaussGrid, kFineGrid, kChildGrid};
+constexpr Grid kFaceGrid{14, 4};
+constexpr Grid kWatched[4] = {kGaussGrid, kFineGrid, kChildGrid, kFaceGrid};
 
 // The 1D B-splines and their slopes at the watched fractions of every span of every level:
 // the same for a level's every element but the three at each end of an axis, so one table of
 // a few thousand values serves every check of every step.
 struct WatchedAxes {
-  // [level][(span · 14 + fraction) · 8 + (0-3: values, 4-7: slopes)]
+  // [level][(span · 18 + fraction) · 8 + (0-3: values, 4-7: slopes)]
   std::vector<std::vector<double>> table;
 
   explicit WatchedAxes(const SplineBasis& basis) : table(basis.spans.size()) {
     for (std::size_t l = 0; l < basis.spans.size(); ++l) {
       const std::uint32_t spans = basis.spans[l];
-      table[l].resize(std::size_t(spans) * 14 * 8);
+      table[l].resize(std::size_t(spans) * 18 * 8);
       for (std::uint32_t span = 0; span < spans; ++span)
-        for (int f = 0; f < 14; ++f) {
+        for (int f = 0; f < 18; ++f) {
           double ders[3][4] = {};
           detail::span_basis(spans, span, (span + kWatchedFractions[f]) / spans, 1, ders);
-          double* out = &table[l][(std::size_t(span) * 14 + f) * 8];
+          double* out = &table[l][(std::size_t(span) * 18 + f) * 8];
           for (int k = 0; k < 4; ++k) out[k] = ders[0][k], out[4 + k] = ders[1][k];
         }
     }
   }
   const double* at(int level, std::uint32_t span, int fraction) const {
-    return &table[level][(std::size_t(span) * 14 + fraction) * 8];
+    return &table[level][(std::size_t(span) * 18 + fraction) * 8];
   }
 };
 
 // det J_G at the points of a grid in element e, from its local coefficients (64 × 3), by sum
 // factorisation over the axes: 4 × 4 products a fraction rather than 64 a point, so that
-// watching 368 points an element costs about what 27 did.
+// watching 432 points an element costs about what 27 did.
 template <class Visit>
 void grid_determinants(const SplineBasis& basis, const WatchedAxes& axes, std::size_t e,
                        const double* local, Grid grid, const Visit& visit) {
