@@ -824,10 +824,12 @@ if [[ "$section" == all || "$section" == material || "$section" == material-unfo
   echo "by default. folded: the last round's Gauss points with det J_G ≤ 0 (3³ an element), and in"
   echo "brackets points of the finer sample (5³ an element); opened: watched points folded at the"
   echo "rounds' starts, over all rounds; untangled: control points the foldover-free energy moved"
-  echo "where pushing them open failed."
+  echo "where pushing them open failed; found: folds between the watched points that det J_G's"
+  echo "Bernstein bound found on the last G and that were pushed open; proven: the written model's"
+  echo "elements where the bound proves det J_G > 0 (folded / undecided in brackets)."
   echo
-  echo "| mesh | control points | folded | RS G / M % | G rms mm | wall s | peak MB | control points | folded | opened | untangled | RS G / M % | G rms mm | wall s | peak MB |"
-  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  echo "| mesh | control points | folded | proven | RS G / M % | G rms mm | wall s | peak MB | control points | folded | opened | untangled | found | proven | RS G / M % | G rms mm | wall s | peak MB |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
   extract_material_meshes
   for name in ${FIT_MESHES:-bunny00 bear fandisk sphere}; do
     f="$tmp/mat/$name.off"
@@ -844,12 +846,15 @@ try:
     d = json.loads(text[text.index("{"):text.rindex("}") + 1])
     r = d["rounds"][-1]
 except Exception:
-    print(f" | | (exit {code}) | | | | {wall:.1f} | {kb / 1024:.0f}", end="")
+    print(f" | | (exit {code}) | | | | | {wall:.1f} | {kb / 1024:.0f}", end="")
     sys.exit(0)
 fine = f" ({r.get('fine_folded_samples', 0)} of {r.get('fine_samples', 0)})"
 opened = "" if flag else (f" | {sum(x.get('fitted_folded_samples', 0) for x in d['rounds'])}"
-                          f" | {sum(x.get('untangled_control_points', 0) for x in d['rounds'])}")
-print(f" | {r['control_points']} | {r['folded_samples']} of {r['samples']}{fine}{opened} | "
+                          f" | {sum(x.get('untangled_control_points', 0) for x in d['rounds'])}"
+                          f" | {r.get('found_folded_points', 0)}")
+c = d.get("fold_certificate", {})
+proven = f" | {c.get('proven')} of {c.get('elements')} ({c.get('folded')} / {c.get('undecided')})"
+print(f" | {r['control_points']} | {r['folded_samples']} of {r['samples']}{fine}{opened}{proven} | "
       f"{r['geometry_rs_percent']:.2f} / {r.get('material_rs_percent', 0):.2f} | "
       f"{r['geometry_rms_mm']:.4g} | {wall:.1f} | {kb / 1024:.0f}", end="")
 PY

@@ -21,6 +21,7 @@ namespace tpmsfill {
 namespace {
 
 constexpr int kMaxLevel = 16;
+constexpr int kTurnedPasses = 8;  // LevelSetFinder::extract_section()
 constexpr double kFlat = 1;  // above any ear's shape (area over the sum of squared sides: < 0.15)
 
 using Cell = OctreeCell;
@@ -75,17 +76,49 @@ class LevelSetFinder {
       }
       current = std::move(next);
     }
-    int deepest = options_.initial_level;
-    for (const Cell& c : kept) deepest = std::max(deepest, c.level);
-    contour_leaves(kept, deepest);
-    close_surface(kept, deepest);
-    level_ = options_.initial_level;
-    for (const Cell& c : kept) level_ = std::max(level_, c.level);
-    std::sort(kept.begin(), kept.end(), [](const Cell& a, const Cell& b) {
-      const Index p = corner_index(a, 0), q = corner_index(b, 0);
-      return std::tie(p[2], p[1], p[0], a.level) < std::tie(q[2], q[1], q[0], b.level);
-    });
+    deepest_ = options_.initial_level;
+    for (const Cell& c : kept) deepest_ = std::max(deepest_, c.level);
+    contour_leaves(kept, deepest_);
+    close_surface(kept, deepest_, kept);
+    in_order(kept);
     return kept;
+  }
+
+  // A section's leaves whose disks turn a triangle over in its plane where G does not fold:
+  // a leaf's chords cut its curved image short, or cross (bear's default model, proven
+  // fold-free in all but one of its 14,330 elements by fold_certificate.hpp, turned 284
+  // triangles over in its stack). Each such leaf is split, the level set closed again
+  // (close_surface) and extracted again, a level deeper a pass, for kTurnedPasses passes, no
+  // deeper than so many levels below max_level. Where det J_G ≤ 0 at a triangle's corner G
+  // folds, and splitting mends nothing there.
+  SolidLevelSet extract_section(std::vector<Cell> cells) {
+    SolidLevelSet out = extract(cells);
+    for (int pass = 0; pass < kTurnedPasses; ++pass) {
+      std::vector<char> turned(cells.size(), 0);
+      bool any = false;
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i].level >= std::min(kMaxLevel, options_.max_level + kTurnedPasses)) continue;
+        for (std::uint32_t t = cell_triangles_[i]; t < cell_triangles_[i + 1] && !turned[i]; ++t)
+          turned[i] = turned_over(out, out.triangles[t]) && unfolded(out, out.triangles[t]);
+        any = any || turned[i];
+      }
+      if (!any) break;
+      std::vector<Cell> todo;
+      const std::size_t n = cells.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!turned[i]) continue;
+        split_.insert(cell_key(cells[i].level, cells[i].index));
+        around(cells[i], todo);
+        for (int o = 0; o < 8; ++o)
+          if (keep(child(cells[i], o))) cells.push_back(child(cells[i], o));
+      }
+      todo.insert(todo.end(), cells.begin() + static_cast<std::ptrdiff_t>(n), cells.end());
+      close_surface(cells, deepest_, std::move(todo));
+      in_order(cells);
+      extract(cells, out);
+    }
+    drop_unused_points(out);
+    return out;
   }
 
   // A section's area and contours are those of its border, where the level set crosses the
@@ -130,58 +163,77 @@ class LevelSetFinder {
   // across kept, with its crossed siblings on the way; and a kept leaf whose own corners miss
   // a crossing on one of its faces is split too (below the deepest level), since its loop
   // would lie flat on that face and cap the neighbour's bump turned over (fandisk's 60 %
-  // section). Until a whole pass changes nothing, as a split changes its neighbours' pieces.
-  // The level set is then closed inside the cube (no cracks).
-  void close_surface(std::vector<Cell>& cells, int deepest) {
+  // section). A split changes the pieces and edges of the leaves around it, which are checked
+  // again, until none changes. The level set is then closed inside the cube (no cracks).
+  // `todo`: the leaves to check first (all of them, or those around a few splits).
+  void close_surface(std::vector<Cell>& cells, int deepest, std::vector<Cell> todo) {
     const detail::McTables& tables = detail::mc_tables();
     std::unordered_set<std::uint64_t> have;
     for (const Cell& c : cells) have.insert(cell_key(c.level, c.index));
     std::vector<Index> walk;
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (std::size_t at = 0; at < cells.size(); ++at) {
-        const Cell c = cells[at];
-        if (split_.count(cell_key(c.level, c.index))) continue;
-        bool misses = false;
-        for_each_piece(c, [&](const Piece& p) {
-          samples(p, walk);
-          bool inside = sample(walk.back()).f < 0, crossed = false;
-          for (const Index& i : walk) crossed |= (sample(i).f < 0) != inside;
-          if (!crossed) return;
-          if (c.level < deepest && !misses) {
-            bool below = false, above = false;
-            for (int k : tables.face_corners[2 * p.axis + p.side])
-              (corner_at(c, k).f < 0 ? below : above) = true;
-            misses = !(below && above);
-          }
-          if (p.border) return;
-          Cell leaf = leaf_at(p.other);
-          if (have.count(cell_key(leaf.level, leaf.index))) return;
-          changed = true;
-          for (; leaf.level < p.level; ++leaf.level) {
-            split_.insert(cell_key(leaf.level, leaf.index));
-            const int s = p.level - leaf.level - 1;
-            const Index on = {p.other.index[0] >> s, p.other.index[1] >> s, p.other.index[2] >> s};
-            for (int o = 0; o < 8; ++o) {
-              const Cell ch = child(leaf, o);
-              if (ch.index != on && keep(ch) && have.insert(cell_key(ch.level, ch.index)).second)
-                cells.push_back(ch);
-            }
-            leaf.index = on;
-          }
-          if (have.insert(cell_key(leaf.level, leaf.index)).second) cells.push_back(leaf);
-        });
-        if (!misses) continue;
-        changed = true;
-        split_.insert(cell_key(c.level, c.index));
-        for (int o = 0; o < 8; ++o) {
-          const Cell ch = child(c, o);
-          if (keep(ch) && have.insert(cell_key(ch.level, ch.index)).second) cells.push_back(ch);
+    const auto split_cell = [&](const Cell& c) {
+      split_.insert(cell_key(c.level, c.index));
+      around(c, todo);
+    };
+    while (!todo.empty()) {
+      const Cell c = todo.back();
+      todo.pop_back();
+      if (split_.count(cell_key(c.level, c.index)) || !have.count(cell_key(c.level, c.index)))
+        continue;
+      bool misses = false;
+      for_each_piece(c, [&](const Piece& p) {
+        samples(p, walk);
+        bool inside = sample(walk.back()).f < 0, crossed = false;
+        for (const Index& i : walk) crossed |= (sample(i).f < 0) != inside;
+        if (!crossed) return;
+        if (c.level < deepest && !misses) {
+          bool below = false, above = false;
+          for (int k : tables.face_corners[2 * p.axis + p.side])
+            (corner_at(c, k).f < 0 ? below : above) = true;
+          misses = !(below && above);
         }
+        if (p.border) return;
+        Cell leaf = leaf_at(p.other);
+        if (have.count(cell_key(leaf.level, leaf.index))) return;
+        for (; leaf.level < p.level; ++leaf.level) {
+          split_cell(leaf);
+          const int s = p.level - leaf.level - 1;
+          const Index on = {p.other.index[0] >> s, p.other.index[1] >> s, p.other.index[2] >> s};
+          for (int o = 0; o < 8; ++o) {
+            const Cell ch = child(leaf, o);
+            if (ch.index != on && keep(ch) && have.insert(cell_key(ch.level, ch.index)).second)
+              cells.push_back(ch), todo.push_back(ch);
+          }
+          leaf.index = on;
+        }
+        if (have.insert(cell_key(leaf.level, leaf.index)).second)
+          cells.push_back(leaf), todo.push_back(leaf);
+      });
+      if (!misses) continue;
+      split_cell(c);
+      for (int o = 0; o < 8; ++o) {
+        const Cell ch = child(c, o);
+        if (keep(ch) && have.insert(cell_key(ch.level, ch.index)).second)
+          cells.push_back(ch), todo.push_back(ch);
       }
     }
     std::erase_if(cells,
                   [&](const Cell& c) { return split_.count(cell_key(c.level, c.index)) > 0; });
+  }
+
+  // The leaves no finer than c that share a face, an edge or a corner with it: those whose
+  // pieces and edges c's split changes (finer ones already see c's children's level).
+  void around(const Cell& c, std::vector<Cell>& out) const {
+    const std::int64_t n = std::int64_t{1} << c.level;
+    for (int d = 0; d < 27; ++d) {
+      if (d == 13) continue;  // c itself
+      std::int64_t i[3] = {c.index[0] + d % 3 - 1, c.index[1] + d / 3 % 3 - 1,
+                           c.index[2] + d / 9 - 1};
+      if (std::min({i[0], i[1], i[2]}) < 0 || std::max({i[0], i[1], i[2]}) >= n) continue;
+      out.push_back(leaf_at({c.level,
+                             {static_cast<std::uint32_t>(i[0]), static_cast<std::uint32_t>(i[1]),
+                              static_cast<std::uint32_t>(i[2])}}));
+    }
   }
 
   // Step 4: marching cubes over the leaves, vertices shared by their segment's key. A leaf
@@ -190,14 +242,24 @@ class LevelSetFinder {
   // al. 2005): both leaves sharing a piece see the same samples and segments, whatever their
   // levels, so no 2:1 balance is needed and no crack opens. Each loop becomes a disk (disk).
   SolidLevelSet extract(const std::vector<Cell>& cells) {
-    const detail::McTables& tables = detail::mc_tables();
     SolidLevelSet out;
+    extract(cells, out);
+    return out;
+  }
+
+  // The same into `out`, replacing its triangles and keeping its points (the segments' found
+  // again by their keys, not computed again).
+  void extract(const std::vector<Cell>& cells, SolidLevelSet& out) {
+    const detail::McTables& tables = detail::mc_tables();
+    out.triangles.clear();
     out.level = level_;
     out.cells = cells.size();
     std::vector<Index> walk;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
     std::vector<std::uint32_t> loop;
+    cell_triangles_.clear();
     for (const Cell& c : cells) {
+      cell_triangles_.push_back(static_cast<std::uint32_t>(out.triangles.size()));
       if (!plain(c)) {
         links.clear();
         for_each_piece(c, [&](const Piece& p) { link(p, walk, links, out); });
@@ -224,13 +286,61 @@ class LevelSetFinder {
         disk(c, loop, out);
       }
     }
+    cell_triangles_.push_back(static_cast<std::uint32_t>(out.triangles.size()));
     out.evaluations = evaluations_;
-    return out;
   }
 
   const Box3& box() const { return box_; }  // of the control points, which hold the solid
 
  private:
+  // The leaves in one order (their first corner's z, y, x, then level), whatever order the
+  // splits left them in, so that the points' and triangles' order is the same every run.
+  void in_order(std::vector<Cell>& cells) {
+    level_ = options_.initial_level;
+    for (const Cell& c : cells) level_ = std::max(level_, c.level);
+    std::sort(cells.begin(), cells.end(), [](const Cell& a, const Cell& b) {
+      const Index p = corner_index(a, 0), q = corner_index(b, 0);
+      return std::tie(p[2], p[1], p[0], a.level) < std::tie(q[2], q[1], q[0], b.level);
+    });
+  }
+
+  // The points no triangle uses (the split leaves' own: their fans' centres, their segments'
+  // crossings that no leaf kept shares) taken out, in order; vertices_ forgets them all.
+  void drop_unused_points(SolidLevelSet& mesh) {
+    std::vector<std::uint32_t> at(mesh.points.size(), 0);
+    for (const auto& t : mesh.triangles)
+      for (std::uint32_t v : t) at[v] = 1;
+    std::uint32_t kept = 0;
+    for (std::size_t v = 0; v < at.size(); ++v) {
+      if (!at[v]) continue;
+      mesh.points[kept] = mesh.points[v], mesh.uvw[kept] = mesh.uvw[v];
+      mesh.material[kept] = mesh.material[v];
+      at[v] = kept++;
+    }
+    mesh.points.resize(kept), mesh.uvw.resize(kept), mesh.material.resize(kept);
+    for (auto& t : mesh.triangles)
+      for (std::uint32_t& v : t) v = at[v];
+    vertices_.clear();
+  }
+
+  // det J_G > 0 at the triangle's three corners: where G folds, a split leaf turns over
+  // again, as many times as it is split.
+  bool unfolded(const SolidLevelSet& mesh, const std::array<std::uint32_t, 3>& t) {
+    for (std::uint32_t v : t) {
+      const SolidPoint p = evaluate(mesh.uvw[v]);
+      if (!(dot(cross(p.jacobian[0], p.jacobian[1]), p.jacobian[2]) > 0)) return false;
+    }
+    return true;
+  }
+
+  // Turned over by more than rounding: a layer along a grid plane makes triangles flat to
+  // rounding, either way up, which no split mends.
+  static bool turned_over(const SolidLevelSet& mesh, const std::array<std::uint32_t, 3>& t) {
+    const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
+    const Vec3 u = b - a, v = c - a;
+    return u.x * v.y - v.x * u.y < -1e-9 * (dot(u, u) + dot(v, v));
+  }
+
   double scalar(const SolidPoint& p) const {
     return (component_ < 3 ? (&p.position.x)[component_] : p.material) - value_;
   }
@@ -702,7 +812,9 @@ class LevelSetFinder {
   bool dyadic_ = true;
   Box3 box_;
   double size_ = 1;
-  int level_ = 0;
+  int level_ = 0;                              // the deepest leaf's
+  int deepest_ = 0;                            // the deepest level τ asked for (cells())
+  std::vector<std::uint32_t> cell_triangles_;  // per leaf extracted, its first triangle
   std::size_t evaluations_ = 0;
   std::vector<Range> ranges_;
   std::vector<double> local_;  // per element, f + value's 64 local B-spline coefficients
@@ -764,7 +876,7 @@ SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOp
   const double tau = options.tau > 0 ? options.tau : default_slice_tau(finder.box());
   SolidSection section;
   section.z = z;
-  section.mesh = finder.extract(finder.cells(tau));
+  section.mesh = finder.extract_section(finder.cells(tau));
   for (Vec3& p : section.mesh.points) p.z = z;  // on the plane (edge points are, to 1e-9)
   std::vector<std::vector<Vec2>> turned;        // the turned-over triangles, reversed
   for (const auto& t : section.mesh.triangles) {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <tuple>
@@ -14,6 +15,7 @@
 #include "core/parallel.hpp"
 #include "core/stage_progress.hpp"
 #include "solid/cube_lookup.hpp"
+#include "solid/internal/det_grid.hpp"
 #include "solid/internal/fit_system.hpp"
 #include "solid/internal/spline_terms.hpp"
 #include "solid/internal/untangle_spline.hpp"
@@ -33,7 +35,8 @@ using detail::row_coefficients;
 constexpr double kNode[3] = {0.11270166537925831, 0.5, 0.88729833462074169};
 constexpr double kWeight[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
 constexpr int kCellSamples = 27;
-constexpr int kFineSamples = 125;  // the finer check of det J_G, 5³ an element
+// The finer check of det J_G: 5³ points inside an element and 4³ reaching its faces.
+constexpr int kFineSamples = 125 + 64;
 // A Newton step's solve: its residual relative to the right-hand side, and its iteration cap.
 constexpr double kSolveTolerance = 1e-2;
 constexpr int kSolveIterations = 2000;
@@ -389,11 +392,11 @@ struct LocalValue {
 };
 
 // The fractions of an element where det J_G is watched: its Gauss points, the finer check's
-// 5³, the Gauss points of its eight children (where a refined round's start must not fold),
-// and 4³ with points on its faces (where the cube's boundary is: with the first three alone,
-// bear's G still folded at 1,151 points of the cube's faces, and its slices turned 2,388
-// triangles over; with them, 0 and 469). A grid is n of them, the same along each axis
-// (point i + n j + n² k).
+// 5³ inside it, the Gauss points of its eight children (where a refined round's start must
+// not fold), and the finer check's 4³ reaching its faces (where the cube's boundary is: with
+// the first three alone, bear's G still folded at 1,151 points of the cube's faces, and its
+// slices turned 2,388 triangles over; with them, 0 and 469). A grid is n of them, the same
+// along each axis (point i + n j + n² k).
 constexpr double kWatchedFractions[18] = {
     // the Gauss points
     kNode[0], kNode[1], kNode[2],
@@ -404,95 +407,19 @@ constexpr double kWatchedFractions[18] = {
     (1 + kNode[2]) / 2,
     // on the faces
     0.0, 1.0 / 3, 2.0 / 3, 1.0};
-struct Grid {
-  int first, n;  // in kWatchedFractions
-  std::array<double, 3> point(const OctreeCell& cell, const std::vector<std::uint32_t>& spans,
-                              int p) const {
-    const int g[3] = {p % n, p / n % n, p / (n * n)};
-    const double h = 1.0 / spans[cell.level];
-    std::array<double, 3> uvw;
-    for (int a = 0; a < 3; ++a) uvw[a] = (cell.index[a] + kWatchedFractions[first + g[a]]) * h;
-    return uvw;
-  }
-};
-constexpr Grid kGaussGrid{0, 3}, kFineGrid{3, 5}, kChildGrid{8, 6};
-constexpr Grid kFaceGrid{14, 4};
+using Grid = detail::ElementGrid;
+constexpr Grid kGaussGrid{kWatchedFractions, 0, 3}, kFineGrid{kWatchedFractions, 3, 5},
+    kChildGrid{kWatchedFractions, 8, 6}, kFaceGrid{kWatchedFractions, 14, 4};
 constexpr Grid kWatched[4] = {kGaussGrid, kFineGrid, kChildGrid, kFaceGrid};
+constexpr Grid kFinerCheck[2] = {kFineGrid, kFaceGrid};
 
-// The 1D B-splines and their slopes at the watched fractions of every span of every level:
-// the same for a level's every element but the three at each end of an axis, so one table of
-// a few thousand values serves every check of every step.
-struct WatchedAxes {
-  // [level][(span · 18 + fraction) · 8 + (0-3: values, 4-7: slopes)]
-  std::vector<std::vector<double>> table;
-
-  explicit WatchedAxes(const SplineBasis& basis) : table(basis.spans.size()) {
-    for (std::size_t l = 0; l < basis.spans.size(); ++l) {
-      const std::uint32_t spans = basis.spans[l];
-      table[l].resize(std::size_t(spans) * 18 * 8);
-      for (std::uint32_t span = 0; span < spans; ++span)
-        for (int f = 0; f < 18; ++f) {
-          double ders[3][4] = {};
-          detail::span_basis(spans, span, (span + kWatchedFractions[f]) / spans, 1, ders);
-          double* out = &table[l][(std::size_t(span) * 18 + f) * 8];
-          for (int k = 0; k < 4; ++k) out[k] = ders[0][k], out[4 + k] = ders[1][k];
-        }
-    }
-  }
-  const double* at(int level, std::uint32_t span, int fraction) const {
-    return &table[level][(std::size_t(span) * 18 + fraction) * 8];
-  }
+// The 1D B-splines and their slopes at the watched fractions (one table serves every check
+// of every step).
+struct WatchedAxes : detail::SpanTable {
+  explicit WatchedAxes(const SplineBasis& basis)
+      : SpanTable(basis, kWatchedFractions, static_cast<int>(std::size(kWatchedFractions))) {}
 };
-
-// det J_G at the points of a grid in element e, from its local coefficients (64 × 3), by sum
-// factorisation over the axes: 4 × 4 products a fraction rather than 64 a point, so that
-// watching 432 points an element costs about what 27 did.
-template <class Visit>
-void grid_determinants(const SplineBasis& basis, const WatchedAxes& axes, std::size_t e,
-                       const double* local, Grid grid, const Visit& visit) {
-  constexpr int kMax = 6;
-  const int n = grid.n;
-  const OctreeCell& cell = basis.elements[e];
-  const double* axis[3][kMax];
-  for (int a = 0; a < 3; ++a)
-    for (int i = 0; i < n; ++i) axis[a][i] = axes.at(cell.level, cell.index[a], grid.first + i);
-  // Along u: p0 = Σ_a U(a) y, p1 = Σ_a U'(a) y, per (i, b + 4 c, r).
-  double p0[kMax][16][3] = {}, p1[kMax][16][3] = {};
-  for (int i = 0; i < n; ++i)
-    for (int bc = 0; bc < 16; ++bc)
-      for (int a = 0; a < 4; ++a)
-        for (int r = 0; r < 3; ++r) {
-          const double y = local[3 * (a + 4 * bc) + r];
-          p0[i][bc][r] += axis[0][i][a] * y, p1[i][bc][r] += axis[0][i][4 + a] * y;
-        }
-  // Along v: G, ∂_u G and ∂_v G per (i, j, c, r).
-  double q[kMax][kMax][4][3][3] = {};
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int c = 0; c < 4; ++c)
-        for (int b = 0; b < 4; ++b) {
-          const double v = axis[1][j][b], dv = axis[1][j][4 + b];
-          for (int r = 0; r < 3; ++r) {
-            q[i][j][c][0][r] += v * p0[i][b + 4 * c][r];
-            q[i][j][c][1][r] += v * p1[i][b + 4 * c][r];
-            q[i][j][c][2][r] += dv * p0[i][b + 4 * c][r];
-          }
-        }
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        detail::Matrix3 jg{};
-        for (int c = 0; c < 4; ++c) {
-          const double w = axis[2][k][c], dw = axis[2][k][4 + c];
-          for (int r = 0; r < 3; ++r) {
-            jg[3 * r + 0] += w * q[i][j][c][1][r];
-            jg[3 * r + 1] += w * q[i][j][c][2][r];
-            jg[3 * r + 2] += dw * q[i][j][c][0][r];
-          }
-        }
-        visit(i + n * j + n * n * k, detail::determinant(jg));
-      }
-}
+using detail::grid_determinants;
 
 // What Newton steps keep between steps, shared by G and M (one basis, one round): the local
 // B-splines at every data sample (64 each, quadrature.data's order) and the Hessian on the
@@ -520,6 +447,9 @@ struct FieldFit {
   std::size_t held = 0;              // functions whose step was held back (fold_free)
   WatchedAxes axes{basis};           // where det J_G is checked
   bool watch_children = true;        // hold_unfolded() watches the children's Gauss points
+  // Per element, points where the fold certificate found det J_G ≤ 0 between the grids'
+  // points (open_found_folds()): watched like theirs from then on.
+  std::vector<std::vector<std::array<double, 3>>> found{};
 
   // The regularisers are stiff on fine elements (their Hessian grows as 1 / h): an explicit
   // step of ε is stable only while ε · Σ_j |H_ij| ≤ 1. This bounds Σ_j |H_ij| per function
@@ -627,8 +557,8 @@ struct FieldFit {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
         lowest[e].first = std::numeric_limits<double>::infinity();
-        for (const Grid& grid : {kGaussGrid, kFineGrid}) {
-          if (grid.first == kFineGrid.first && !fine) break;
+        for (const Grid& grid : {kGaussGrid, kFineGrid, kFaceGrid}) {
+          if (grid.first != kGaussGrid.first && !fine) break;
           grid_determinants(basis, axes, e, local.data(), grid, [&](int p, double det) {
             count[e] += det <= 0;
             if (det < lowest[e].first)
@@ -644,16 +574,17 @@ struct FieldFit {
     return count;
   }
 
-  // Points of a finer sample, 5³ evenly inside every element, where det J_G ≤ 0: folds
-  // between the Gauss points that the fit and the untangling watch.
+  // Points of the finer check (5³ evenly inside every element, 4³ reaching its faces) where
+  // det J_G ≤ 0: folds between the Gauss points and on the elements' faces.
   std::size_t fine_folds() const requires(Dim == 3) {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     std::vector<std::uint32_t> count(basis.elements.size(), 0);
     detail::parallel_for(count.size(), 64, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
-        grid_determinants(basis, axes, e, local.data(), kFineGrid,
-                          [&](int, double det) { count[e] += det <= 0; });
+        for (const Grid& grid : kFinerCheck)
+          grid_determinants(basis, axes, e, local.data(), grid,
+                            [&](int, double det) { count[e] += det <= 0; });
       }
     });
     std::size_t total = 0;
@@ -670,9 +601,9 @@ struct FieldFit {
     std::vector<std::pair<std::uint32_t, std::array<double, 3>>> gradient{};
   };
 
-  // Per element (those `dirty`), the watched points (Gauss, finer check's and, while
-  // watch_children, the children's Gauss points) where det J_G ≤ 0 on `rows`; with `was`, only
-  // those where it was > 0 on it.
+  // Per element (those `dirty`), the watched points (Gauss, finer check's, those `found` and,
+  // while watch_children, the children's Gauss points) where det J_G ≤ 0 on `rows`; with
+  // `was`, only those where it was > 0 on it.
   std::vector<std::vector<Fold>> folded_points(const std::vector<double>& rows,
                                                const std::vector<double>* was,
                                                const std::vector<char>& dirty) const
@@ -698,6 +629,13 @@ struct FieldFit {
             if (det <= 0 && det_was[p] > 0)
               folded[e].push_back({grid.point(basis.elements[e], basis.spans, p), det_was[p]});
           });
+        }
+        if (found.empty()) continue;
+        for (const std::array<double, 3>& uvw : found[e]) {
+          if (detail::determinant(jacobian_at(now, e, uvw)) > 0) continue;
+          const double det_was =
+              was ? detail::determinant(jacobian_at(local_coefficients(*was, e), e, uvw)) : 1.0;
+          if (det_was > 0) folded[e].push_back({uvw, det_was});
         }
       }
     });
@@ -867,6 +805,33 @@ struct FieldFit {
       });
       held += hold_unfolded(before);
     }
+  }
+
+  // The folds the fold certificate finds between the grids' points (element_verdicts(): the
+  // least corner seen where det J_G ≤ 0, one an element), watched from then on and pushed
+  // open like a round's start's, then the certificate again, up to `passes` times. Returns
+  // the points found.
+  std::size_t open_found_folds(const std::function<double(std::array<double, 3>)>& target,
+                               int sweeps, int passes) requires(Dim == 3) {
+    const int depth = detail::kCertificateDepth;
+    // An element whose fold outlives so many pushes at its points is left (bear: one at a
+    // corner of the cube, pushed from a pass's fifth to its sixteenth to no end).
+    constexpr std::size_t kFoundPerElement = 4;
+    found.resize(basis.elements.size());
+    std::size_t count = 0;
+    for (int pass = 0; pass < passes; ++pass) {
+      const std::vector<detail::ElementVerdict> verdicts =
+          detail::element_verdicts(basis, row_coefficients(basis, c, Dim), depth);
+      std::size_t added = 0;
+      for (std::size_t e = 0; e < verdicts.size(); ++e)
+        if (verdicts[e].kind == detail::ElementVerdict::Kind::folded &&
+            found[e].size() < kFoundPerElement)
+          found[e].push_back(verdicts[e].uvw), ++added;
+      if (added == 0) break;
+      count += added;
+      open_folds(target, sweeps);
+    }
+    return count;
   }
 
   // One Euler step.
@@ -1422,6 +1387,8 @@ class ReferenceJacobians {
 // in at most so many sweeps (FieldFit::open_folds()).
 constexpr double kOpenTo = 0.25;
 constexpr int kOpenSweeps = 10;
+// Rounds of the fold certificate and pushes on the last G (FieldFit::open_found_folds()).
+constexpr int kFoundPasses = 12;
 
 // The position term's weight against the Jacobian term's when G is untangled.
 constexpr double kUntangleFidelity = 1;
@@ -1454,8 +1421,11 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
   // The watched points of an element: its Gauss points, then (`fine`) the finer check's.
   const int per = kCellSamples + (fine ? kFineSamples : 0);
   const auto point = [&](std::size_t e, int s) {
-    return s < kCellSamples ? quadrature.uvw[e * kCellSamples + s]
-                            : kFineGrid.point(basis.elements[e], basis.spans, s - kCellSamples);
+    if (s < kCellSamples) return quadrature.uvw[e * kCellSamples + s];
+    s -= kCellSamples;
+    const int inside = kFineGrid.n * kFineGrid.n * kFineGrid.n;
+    return s < inside ? kFineGrid.point(basis.elements[e], basis.spans, s)
+                      : kFaceGrid.point(basis.elements[e], basis.spans, s - inside);
   };
   const auto weight = [&](std::size_t e, int s) {
     if (s < kCellSamples) return quadrature.weight[e * kCellSamples + s];
@@ -1659,6 +1629,14 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
         });
         report.geometry_rs = similarity(fit_g.measure(), start_g);
       }
+    }
+    // Positive at the watched points is not positive everywhere: the last G's folds between
+    // them, found by det J_G's Bernstein bound, are opened too.
+    if (options.fold_free && report.split == 0) {
+      report.found_folds = fit_g.open_found_folds(
+          [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
+          kOpenSweeps, kFoundPasses);
+      if (report.found_folds > 0) report.geometry_rs = similarity(fit_g.measure(), start_g);
     }
     const ProbeError eg = probe_error<3>(basis, probe, g, points.g);
     report.geometry_rms = eg.rms * units.size;

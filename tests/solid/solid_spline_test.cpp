@@ -10,6 +10,7 @@
 #include <tpmsfill/progress.hpp>
 #include <tpmsfill/sampling/spatial.hpp>
 #include <tpmsfill/solid/cube_map.hpp>
+#include <tpmsfill/solid/fold_certificate.hpp>
 #include <tpmsfill/solid/solid_slice.hpp>
 #include <tpmsfill/solid/solid_spline.hpp>
 #include <tpmsfill/solid/tet_mesh.hpp>
@@ -88,19 +89,25 @@ TEST(SolidSpline, BallFitBeatsItsGrevilleStartAndRefinesWhereItIsWorst) {
   EXPECT_NEAR(worst, last.geometry_max, 1e-9);
 }
 
-// det J_G at the 3³ Gauss points of every element of G (coefficients c, 3 per function), and
-// at 5³ points within every element too when `fine`: the smallest.
-double least_det(const SplineBasis& basis, const std::vector<double>& c, bool fine) {
-  const double gauss[3] = {0.11270166537925831, 0.5, 0.88729833462074169};
-  const double even[5] = {0.1, 0.3, 0.5, 0.7, 0.9};
+// Fractions of an element along each axis: its Gauss points, 5 evenly inside it, 4 reaching
+// its faces.
+const std::vector<double> kGauss{0.11270166537925831, 0.5, 0.88729833462074169};
+const std::vector<double> kEven{0.1, 0.3, 0.5, 0.7, 0.9};
+const std::vector<double> kFaces{0, 1.0 / 3, 2.0 / 3, 1};
+
+// The least det J_G of G (coefficients c, 3 per function) over every element's grid of
+// `fractions` along each axis.
+
+double least_det(const SplineBasis& basis, const std::vector<double>& c,
+                 const std::vector<double>& fractions) {
+  const int n = static_cast<int>(fractions.size());
   double least = 1e300;
   for (const OctreeCell& e : basis.elements) {
     const double h = 1.0 / basis.spans[e.level];
-    const int n = fine ? 5 : 3;
     for (int k = 0; k < n * n * n; ++k) {
       const int g[3] = {k % n, k / n % n, k / (n * n)};
       std::array<double, 3> uvw;
-      for (int a = 0; a < 3; ++a) uvw[a] = (e.index[a] + (fine ? even : gauss)[g[a]]) * h;
+      for (int a = 0; a < 3; ++a) uvw[a] = (e.index[a] + fractions[g[a]]) * h;
       double value[3], gradient[9];
       evaluate_spline(basis, c, 3, uvw, value, gradient);
       const Vec3 gu{gradient[0], gradient[1], gradient[2]},
@@ -122,7 +129,7 @@ TEST(SolidSpline, UntangleOpensAFoldedSplineMovingOnlyItsFreeControlPoints) {
   for (const auto& g : greville) c.insert(c.end(), g.begin(), g.end());
   const std::size_t pushed = 3 + 7 * 3 + 49 * 3;  // the middle one
   c[3 * pushed] -= 2.5;                           // far past its neighbours along u (0.25 apart)
-  ASSERT_LT(least_det(basis, c, false), 0);
+  ASSERT_LT(least_det(basis, c, kGauss), 0);
   std::vector<char> movable(basis.functions.size(), 0);
   for (std::size_t f = 0; f < movable.size(); ++f) {
     const auto& i = basis.functions[f].index;
@@ -147,7 +154,7 @@ TEST(SolidSpline, UntangleOpensAFoldedSplineMovingOnlyItsFreeControlPoints) {
       detail::untangle_spline(basis, movable, jacobians, positions, 1.0, c);
   EXPECT_LT(result.min_det_before, 0);
   EXPECT_GT(result.min_det_after, 0);
-  EXPECT_GT(least_det(basis, c, false), 0);
+  EXPECT_GT(least_det(basis, c, kGauss), 0);
   double moved = 0;
   for (std::size_t f = 0; f < movable.size(); ++f)
     for (int a = 0; a < 3; ++a) {
@@ -179,13 +186,21 @@ TEST(SolidSpline, FoldFreeFitOpensTheBallsFoldsAndKeepsItsAccuracy) {
     held += r.held_functions;
   }
   EXPECT_GT(held, 0u);  // the steps were held back where they would fold G
-  // Checked here independently of the fit's own counts, at 3³ and 5³ points an element.
+  // Checked here independently of the fit's own counts, at 3³, 5³ and 4³ points an element.
   std::vector<double> c;
   for (const Vec3& p : fit.spline.geometry) c.insert(c.end(), {p.x, p.y, p.z});
-  EXPECT_GT(least_det(fit.spline.basis, c, false), 0);
-  EXPECT_GT(least_det(fit.spline.basis, c, true), 0);
-  EXPECT_EQ(last.fine_samples, fit.spline.basis.elements.size() * 125);
+  EXPECT_GT(least_det(fit.spline.basis, c, kGauss), 0);
+  EXPECT_GT(least_det(fit.spline.basis, c, kEven), 0);
+  EXPECT_GT(least_det(fit.spline.basis, c, kFaces), 0);
+  EXPECT_EQ(last.fine_samples, fit.spline.basis.elements.size() * (125 + 64));
   EXPECT_EQ(last.fine_folded_samples, 0u);
+  // Between those points too: det J_G's Bernstein bound finds no fold (it finds the plain
+  // fit's), and the direct slices turn no triangle over.
+  const FoldCertificate certificate = certify_fold_free(fit.spline);
+  EXPECT_EQ(certificate.folded, 0u);
+  EXPECT_GT(certify_fold_free(folded.spline).folded, 0u);  // the plain fit's are found
+  for (double z : {-8.0, -4.5, 0.3, 5.2, 8.7})
+    EXPECT_EQ(slice_solid(fit.spline, z, {}).flipped, 0u) << z;
   EXPECT_LT(last.geometry_rms, 1.5 * before.geometry_rms);
   EXPECT_GT(last.geometry_rs, before.geometry_rs - 5);
 }

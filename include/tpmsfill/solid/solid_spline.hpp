@@ -62,8 +62,9 @@ struct SolidFitOptions {
   double rs_change = 0.05;  ///< stop when RS moves by less, in percentage points
   int max_iterations = 50;  ///< per field and round
   int refinements = 2;      ///< progressive rounds after the first (THB only)
-  /// Keep G fold-free: det J_G > 0 at every Gauss point and at 5³ points evenly inside every
-  /// element of the model written. Each round starts fold-free (the folds of the Greville
+  /// Keep G fold-free: det J_G > 0 at every Gauss point, at 5³ points evenly inside every
+  /// element and at 4³ points of it reaching its faces (the cube's boundary among them), in
+  /// the model written. Each round starts fold-free (the folds of the Greville
   /// start, or of a refined G at the finer elements' points, pushed open along ∇det J_G, and
   /// where that fails untangled by Garanzha et al. 2021's foldover-free energy), and each step
   /// slides along a fold rather than into it (it also watches the children's Gauss points, so
@@ -98,11 +99,15 @@ struct FitRound {
   std::size_t fitted_folded_samples = 0;
   std::size_t untangled_functions = 0;  ///< fold_free: control points the energy moved
   std::size_t held_functions = 0;       ///< fold_free: per step, control points slid or held
+  /// fold_free, the last round: points between the watched ones where det J_G ≤ 0, found by
+  /// its Bernstein bound (fold_certificate.hpp) and pushed open.
+  std::size_t found_folds = 0;
   /// Where det J_G is least (Gauss points; on the last round with folds between them, the
   /// finer sample's too).
   std::array<double, 3> worst_fold{};
-  /// The last round only: points of a finer sample (5³ evenly inside every element) where
-  /// det J_G ≤ 0, and that sample's size: folds between the Gauss points.
+  /// The last round only: points of a finer sample (5³ evenly inside every element and 4³
+  /// reaching its faces) where det J_G ≤ 0, and that sample's size: folds between the Gauss
+  /// points and on the elements' faces.
   std::size_t fine_folded_samples = 0;
   std::size_t fine_samples = 0;
   std::size_t samples = 0;  ///< quadrature points
