@@ -822,8 +822,9 @@ if [[ "$section" == all || "$section" == material || "$section" == material-unfo
   echo
   echo "Tets and material as §21, THB, the default three rounds, Euler steps; with --allow-folds and"
   echo "by default. folded: the last round's Gauss points with det J_G ≤ 0 (3³ an element), and in"
-  echo "brackets points of the finer sample (5³ an element); opened: watched points folded at the"
-  echo "rounds' starts, over all rounds; untangled: control points the foldover-free energy moved"
+  echo "brackets points of the finer sample (5³ inside an element, 4³ reaching its faces); opened:"
+  echo "watched points folded at the rounds' starts, over all rounds; untangled: control points the"
+  echo "foldover-free energy moved"
   echo "where pushing them open failed; found: folds between the watched points that det J_G's"
   echo "Bernstein bound found on the last G and that were pushed open; proven: the written model's"
   echo "elements where the bound proves det J_G > 0 (folded / undecided in brackets)."
