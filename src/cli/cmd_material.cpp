@@ -242,20 +242,25 @@ nlohmann::ordered_json round_json(const FitRound& r, bool material) {
   return j;
 }
 
+// A point of the cube as the user can find it: (u, v, w) and its image in mm.
+std::string where_in_solid(const SolidSpline& spline, const std::array<double, 3>& uvw) {
+  const Vec3 x = evaluate_solid(spline, uvw).position;
+  char where[160];
+  std::snprintf(where, sizeof where, "(u, v, w) = (%.4f, %.4f, %.4f), near (%.6g, %.6g, %.6g) mm",
+                uvw[0], uvw[1], uvw[2], x.x, x.y, x.z);
+  return where;
+}
+
 // Where det J_G > 0 is proven (fold_certificate.hpp), as the report's "fold_certificate",
 // and a warning where a fold was found between the points the fit watched.
 nlohmann::ordered_json certify(const SolidSpline& spline, std::vector<std::string>& warnings) {
   const auto t0 = std::chrono::steady_clock::now();
   const FoldCertificate c = certify_fold_free(spline);
-  if (c.folded > 0) {
-    const Vec3 x = evaluate_solid(spline, c.fold).position;
-    char where[160];
-    std::snprintf(where, sizeof where, "(u, v, w) = (%.4f, %.4f, %.4f), near (%.6g, %.6g, %.6g) mm",
-                  c.fold[0], c.fold[1], c.fold[2], x.x, x.y, x.z);
+  if (c.folded > 0)
     warnings.push_back("G folds between the points the fit watched: det J <= 0 found in " +
                        std::to_string(c.folded) + " of " + std::to_string(c.elements) +
-                       " elements (least at " + where + "); slices may turn triangles over there");
-  }
+                       " elements (least at " + where_in_solid(spline, c.fold) +
+                       "); slices may turn triangles over there");
   return {
       {"elements", c.elements},
       {"proven", c.proven},
@@ -355,15 +360,12 @@ int run_material_fit(const MaterialArgs& a) {
   // Fold-free (the default), a folded G is not what was asked: refused, with where.
   if (options.fold_free && (last.folded_samples > 0 || last.fine_folded_samples > 0)) {
     print_warnings(warnings);
-    const std::array<double, 3>& p = last.worst_fold;
-    const Vec3 x = evaluate_solid(model.fit.spline, p).position;
     std::fprintf(stderr,
                  "tpmsfill: %s: G still folds (det J <= 0) at %zu of %zu Gauss points and %zu "
-                 "of %zu points of a finer sample (worst at (u, v, w) = (%.4f, %.4f, %.4f), near "
-                 "(%.6g, %.6g, %.6g) mm); nothing written; try a smaller --cell, or "
-                 "--allow-folds\n",
+                 "of %zu points of a finer sample (worst at %s); nothing written; try a smaller "
+                 "--cell, or --allow-folds\n",
                  a.input.c_str(), last.folded_samples, last.samples, last.fine_folded_samples,
-                 last.fine_samples, p[0], p[1], p[2], x.x, x.y, x.z);
+                 last.fine_samples, where_in_solid(model.fit.spline, last.worst_fold).c_str());
     return kNotValid;
   }
   if (last.folded_samples > 0)

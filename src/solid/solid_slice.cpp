@@ -24,6 +24,12 @@ constexpr int kMaxLevel = 16;
 constexpr int kTurnedPasses = 8;  // LevelSetFinder::extract_section()
 constexpr double kFlat = 1;  // above any ear's shape (area over the sum of squared sides: < 0.15)
 
+// A triangle's signed area in the xy plane: > 0 counter-clockwise from +z.
+double plane_area(const SolidLevelSet& mesh, const std::array<std::uint32_t, 3>& t) {
+  const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
+  return ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)) / 2;
+}
+
 using Cell = OctreeCell;
 using Index = std::array<std::uint32_t, 3>;  // a grid point of the deepest level
 
@@ -348,9 +354,8 @@ class LevelSetFinder {
   // Turned over by more than rounding: a layer along a grid plane makes triangles flat to
   // rounding, either way up, which no split mends.
   static bool turned_over(const SolidLevelSet& mesh, const std::array<std::uint32_t, 3>& t) {
-    const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
-    const Vec3 u = b - a, v = c - a;
-    return u.x * v.y - v.x * u.y < -1e-9 * (dot(u, u) + dot(v, v));
+    const Vec3 u = mesh.points[t[1]] - mesh.points[t[0]], v = mesh.points[t[2]] - mesh.points[t[0]];
+    return 2 * plane_area(mesh, t) < -1e-9 * (dot(u, u) + dot(v, v));
   }
 
   double scalar(const SolidPoint& p) const {
@@ -892,10 +897,10 @@ SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOp
   for (Vec3& p : section.mesh.points) p.z = z;  // on the plane (edge points are, to 1e-9)
   std::vector<std::vector<Vec2>> turned;        // the turned-over triangles, reversed
   for (const auto& t : section.mesh.triangles) {
+    const double area = plane_area(section.mesh, t);
+    section.area += area;
     const Vec3 a = section.mesh.points[t[0]], b = section.mesh.points[t[1]],
                c = section.mesh.points[t[2]];
-    const double area = ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)) / 2;
-    section.area += area;
     if (area < 0) turned.push_back({{a.x, a.y}, {c.x, c.y}, {b.x, b.y}});
   }
   section.flipped = turned.size();

@@ -812,7 +812,8 @@ struct FieldFit {
   // open like a round's start's, then the certificate again, up to `passes` times. Returns
   // the points found.
   std::size_t open_found_folds(const std::function<double(std::array<double, 3>)>& target,
-                               int sweeps, int passes) requires(Dim == 3) {
+                               int sweeps, int passes,
+                               const std::function<void()>& poll) requires(Dim == 3) {
     const int depth = detail::kCertificateDepth;
     // An element whose fold outlives so many pushes at its points is left (bear: one at a
     // corner of the cube, pushed from a pass's fifth to its sixteenth to no end).
@@ -820,6 +821,7 @@ struct FieldFit {
     found.resize(basis.elements.size());
     std::size_t count = 0;
     for (int pass = 0; pass < passes; ++pass) {
+      poll();  // a pass takes seconds on a large G: Ctrl-C is heard between them
       const std::vector<detail::ElementVerdict> verdicts =
           detail::element_verdicts(basis, row_coefficients(basis, c, Dim), depth);
       std::size_t added = 0;
@@ -1635,7 +1637,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     if (options.fold_free && report.split == 0) {
       report.found_folds = fit_g.open_found_folds(
           [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
-          kOpenSweeps, kFoundPasses);
+          kOpenSweeps, kFoundPasses,  // between passes: the round's steps are all done
+          [&] { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); });
       if (report.found_folds > 0) report.geometry_rs = similarity(fit_g.measure(), start_g);
     }
     const ProbeError eg = probe_error<3>(basis, probe, g, points.g);
