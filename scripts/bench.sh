@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -38,6 +38,8 @@
 #     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
 #     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
 #     steps, with the seed's nc / ni / RS in the same rows
+# 21d (material-tspline). seed 001's T-splines on the octrees of those six models: functions
+#     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
 #     areas against the surface's and the tets' own, and their cracks (bench_solid_slice), and
 #     `material slice` of whole stacks
@@ -84,7 +86,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -120,6 +122,36 @@ extract_material_meshes() {
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
     data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
     2>/dev/null || true
+}
+# The seed's models' stand-ins (§21b): the upper femur and the duck, as $tmp/mat/upper-femur.off
+# and $tmp/mat/duck.off.
+extract_seed_models() {
+  mkdir -p "$tmp/mat"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
+    data/meshes/femur.off 2>/dev/null || true
+  command -v assimp >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq assimp-utils >/dev/null
+  # The femur's upper piece: the triangles above 30 % of its height, the cut capped by repair.
+  # (Its lower end holds both of the mesh's handles, genus 1-2 however it is cut: the cube
+  # map needs genus 0.)
+  python3 - "$tmp/mat/femur.off" "$tmp/mat/femur-cut.off" <<'PY'
+import sys
+tok = open(sys.argv[1]).read().split()
+nv, nf = int(tok[1]), int(tok[2]); at = 4
+pts = [tuple(map(float, tok[at + 3 * i: at + 3 * i + 3])) for i in range(nv)]; at += 3 * nv
+lo = min(p[2] for p in pts) + 0.3 * (max(p[2] for p in pts) - min(p[2] for p in pts))
+faces = []
+for _ in range(nf):
+    n = int(tok[at]); f = list(map(int, tok[at + 1: at + 1 + n])); at += 1 + n
+    if all(pts[v][2] >= lo for v in f): faces.append(f)
+used = sorted({v for f in faces for v in f}); new = {v: i for i, v in enumerate(used)}
+with open(sys.argv[2], "w") as o:
+    o.write(f"OFF\n{len(used)} {len(faces)} 0\n")
+    for v in used: o.write("%r %r %r\n" % pts[v])
+    for f in faces: o.write(f"{len(f)} " + " ".join(str(new[v]) for v in f) + "\n")
+PY
+  ./build/tpmsfill repair "$tmp/mat/femur-cut.off" "$tmp/mat/upper-femur.off" --quiet
+  assimp export /usr/share/assimp/models/Collada/duck.dae "$tmp/mat/duck.obj" >/dev/null
+  ./build/tpmsfill repair "$tmp/mat/duck.obj" "$tmp/mat/duck.off" --quiet
 }
 # A mesh's box diagonal and height, its tet size (diagonal / 30) and geodesic source depth
 # (diagonal / 100), as diag, zspan, cell, depth; fails for a mesh `tpmsfill check` refuses.
@@ -899,31 +931,7 @@ if [[ "$section" == all || "$section" == material || "$section" == material-tabl
   echo "## 21b. seed 001's Tables 1-2 side by side (tpmsfill material fit)"
   echo
   extract_material_meshes
-  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
-    data/meshes/femur.off 2>/dev/null || true
-  command -v assimp >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq assimp-utils >/dev/null
-  # The femur's upper piece: the triangles above 30 % of its height, the cut capped by repair.
-  # (Its lower end holds both of the mesh's handles, genus 1-2 however it is cut: the cube
-  # map needs genus 0.)
-  python3 - "$tmp/mat/femur.off" "$tmp/mat/femur-cut.off" <<'PY'
-import sys
-tok = open(sys.argv[1]).read().split()
-nv, nf = int(tok[1]), int(tok[2]); at = 4
-pts = [tuple(map(float, tok[at + 3 * i: at + 3 * i + 3])) for i in range(nv)]; at += 3 * nv
-lo = min(p[2] for p in pts) + 0.3 * (max(p[2] for p in pts) - min(p[2] for p in pts))
-faces = []
-for _ in range(nf):
-    n = int(tok[at]); f = list(map(int, tok[at + 1: at + 1 + n])); at += 1 + n
-    if all(pts[v][2] >= lo for v in f): faces.append(f)
-used = sorted({v for f in faces for v in f}); new = {v: i for i, v in enumerate(used)}
-with open(sys.argv[2], "w") as o:
-    o.write(f"OFF\n{len(used)} {len(faces)} 0\n")
-    for v in used: o.write("%r %r %r\n" % pts[v])
-    for f in faces: o.write(f"{len(f)} " + " ".join(str(new[v]) for v in f) + "\n")
-PY
-  ./build/tpmsfill repair "$tmp/mat/femur-cut.off" "$tmp/mat/upper-femur.off" --quiet
-  assimp export /usr/share/assimp/models/Collada/duck.dae "$tmp/mat/duck.obj" >/dev/null
-  ./build/tpmsfill repair "$tmp/mat/duck.obj" "$tmp/mat/duck.off" --quiet
+  extract_seed_models
   echo "Tets of size diagonal / 30 (the seed: ≤ 5 tets a cell, as here); material: the femur's geodesic"
   echo "distance from its cut (diagonal / 100 deep), the duck's distance to its box's centre (the seed's"
   echo "rules). THB: 2 rounds of progressive refinement; uniform: n³ ≈ 4 × THB's count. Seed columns"
@@ -973,6 +981,34 @@ PY
         [[ $basis == thb && $method == euler ]] && thb_nc=${line##*$'\t'}
       done
     done
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-tspline ]]; then
+  echo
+  echo "## 21d. seed 001's T-splines on the octrees it fits (tpmsfill material info --tspline)"
+  echo
+  extract_material_meshes
+  extract_seed_models
+  echo "Tets of size diagonal / 30, the seed's octree (≤ 5 tets a cell, 2:1 balanced, levels 2-8);"
+  echo "on it THB (the fit's basis) and the seed's T-splines (anchors at every vertex, knots by rays)."
+  echo "Σ φ sampled at 27 points an element; the bound is the largest |coefficient| of Σ φ − 1."
+  echo
+  echo "| model | tets | cells (deepest) | THB functions | T-spline functions | T-spline elements | Σ φ from / to | bound | incompatible pairs | cells affected | wall s | peak MB |"
+  echo "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"
+  for name in bunny00 bear fandisk sphere upper-femur duck; do
+    f="$tmp/mat/$name.off"
+    material_sizes "$f" || continue
+    timed ./build/tpmsfill material info "$f" --cell "$cell" --material geodesic "$depth" --tspline \
+      --json >"$tmp/i.json" 2>/dev/null
+    python3 - "$tmp/i.json" "$name" "$wall" "$kb" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); o = d["octree"]; t = d["tspline"]
+print(f"| {sys.argv[2]} | {d['tets']} | {o['leaves']} ({o['deepest_level']}) | {d['thb']['functions']} | "
+      f"{t['functions']} | {t['elements']} | {t['sum_range'][0]:.3f} / {t['sum_range'][1]:.3f} | "
+      f"{t['unity_error']:.3g} | {t['incompatible_pairs']} | {t['cells_affected']} | "
+      f"{float(sys.argv[3]):.1f} | {int(sys.argv[4]) / 1024:.0f} |")
+PY
   done
 fi
 

@@ -18,6 +18,7 @@
 #include <tpmsfill/sampling/spatial.hpp>
 #include <tpmsfill/solid/cube_map.hpp>
 #include <tpmsfill/solid/cube_octree.hpp>
+#include <tpmsfill/solid/tspline_basis.hpp>
 #include <tpmsfill/solid/fold_certificate.hpp>
 #include <tpmsfill/solid/solid_model.hpp>
 #include <tpmsfill/solid/solid_spline.hpp>
@@ -48,6 +49,7 @@ struct MaterialArgs {
   std::string method = "euler";
   bool json = false, quiet = false, allow_folds = false;
   bool fold_free = false;  // --fold-free, the default: changes nothing
+  bool tspline = false;    // info --tspline
 };
 
 double number_argument(const std::string& text, const std::string& what) {
@@ -317,6 +319,31 @@ int run_material_info(const MaterialArgs& a) {
                    {"deepest_level", octree.deepest},
                    {"balance_splits", octree.balance_splits},
                    {"overfull_leaves", octree.overfull}};
+    if (a.tspline) {
+      // The seed's T-splines on that octree, beside the THB basis the fit uses.
+      const SplineBasis tspline = tspline_basis(octree);
+      const TSplineCheck check = check_tspline(tspline);
+      j["thb"] = {{"functions", thb_basis(octree).functions.size()}};
+      j["tspline"] = {{"functions", tspline.functions.size()},
+                      {"elements", tspline.elements.size()},
+                      {"unity_error", check.unity_error},
+                      {"sum_range", check.sum_range},
+                      {"incompatible_pairs", check.incompatible_pairs},
+                      {"duplicate_functions", check.duplicates},
+                      {"cells_affected", check.cells.size()},
+                      {"suitable", check.suitable()}};
+      char off[64];
+      std::snprintf(off, sizeof off, "%.3g to %.3g", check.sum_range[0], check.sum_range[1]);
+      if (!check.suitable())
+        warnings.push_back(
+            "the seed's T-splines on this octree do not sum to one (sums from " +
+            std::string(off) + ") and " +
+            std::to_string(check.incompatible_pairs) +
+            " pairs of functions are not dual-compatible (linear independence is not assured), "
+            "in " + std::to_string(check.cells.size()) + " of " +
+            std::to_string(octree.leaves.size()) +
+            " cells: `material fit` uses THB, which has both on every octree");
+    }
   }
   j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.tets_output.empty() && !solid.problem) write_tet_mesh(a.tets_output, solid.mesh);
@@ -444,6 +471,10 @@ Command add_material_command(CLI::App& app) {
   add_input_options(info, *args);
   info->add_option("--tets", args->tets_output,
                    "Write the tets with their material here (.vtk or .mesh + .sol)");
+  info->add_flag("--tspline", args->tspline,
+                 "Also build the seed's trivariate T-splines on the octree (anchors at its "
+                 "vertices, knots by rays) and check them: do they sum to one, are they "
+                 "dual-compatible (so linearly independent)? Seconds on large meshes");
 
   CLI::App* fit = material->add_subcommand(
       "fit",

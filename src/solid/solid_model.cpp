@@ -112,6 +112,8 @@ std::string solid_model_bytes(const SolidModel& model) {
   if (s.geometry.size() != n || (!s.material.empty() && s.material.size() != n))
     throw InputError("the spline has " + std::to_string(s.geometry.size()) +
                      " control points for " + std::to_string(n) + " basis functions");
+  if (s.basis.kind == SplineKind::tspline)
+    throw InputError("a model on T-splines has no file form (material fit fits THB)");
   if (model.provenance.size() >= kMaxProvenance)
     throw InputError("the provenance line is over 64 KiB");
   Writer w;

@@ -256,6 +256,7 @@ SplineBasis tensor_basis(int per_axis) {
                      std::to_string(per_axis));
   const std::uint32_t n = static_cast<std::uint32_t>(per_axis), spans = n - 3;
   SplineBasis basis;
+  basis.kind = SplineKind::uniform;
   basis.spans = {spans};
   for (std::uint32_t k = 0; k < n; ++k)
     for (std::uint32_t j = 0; j < n; ++j)
@@ -279,6 +280,12 @@ std::vector<std::array<double, 3>> greville_points(const SplineBasis& basis) {
   std::vector<std::vector<double>> knots;
   for (std::uint32_t s : basis.spans) knots.push_back(level_knots(s));
   std::vector<std::array<double, 3>> points(basis.functions.size());
+  if (basis.kind == SplineKind::tspline) {
+    for (std::size_t f = 0; f < points.size(); ++f)
+      for (int a = 0; a < 3; ++a)
+        points[f][a] = (basis.knots[f][a][1] + basis.knots[f][a][2] + basis.knots[f][a][3]) / 3;
+    return points;
+  }
   for (std::size_t f = 0; f < points.size(); ++f) {
     const SplineFunction& fn = basis.functions[f];
     const std::vector<double>& u = knots[fn.level];
@@ -360,6 +367,8 @@ void evaluate_spline(const SplineBasis& basis, const std::vector<double>& coeffi
 
 std::vector<double> refine_coefficients(const SplineBasis& coarse, const SplineBasis& fine,
                                         const std::vector<double>& coefficients, int dimension) {
+  if (coarse.kind == SplineKind::tspline || fine.kind == SplineKind::tspline)
+    throw InputError("a T-spline basis need not hold a coarser spline: it cannot be refined");
   const bool dyadic =
       !coarse.spans.empty() && !fine.spans.empty() && coarse.spans[0] == 1 && fine.spans[0] == 1;
   if (!dyadic) {

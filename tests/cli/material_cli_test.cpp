@@ -60,6 +60,21 @@ TEST(MaterialCli, SurfaceIsFilledGivenAMaterialAndMapped) {
   // Read back as a tet mesh, its material comes from the file.
   ASSERT_EQ(material_info("'" + tets.string() + "' --json", &out), 0) << out;
   EXPECT_EQ(json_of(out)["material"], "from the file");
+
+  // The seed's T-splines on its octree, checked beside THB: more functions, not summing to
+  // one on an adaptive octree, and a warning that says so with the numbers.
+  ASSERT_EQ(material_info("'" + tets.string() + "' --tspline --json", &out), 0) << out;
+  const nlohmann::json t = json_of(out);
+  ASSERT_TRUE(t.contains("tspline")) << out;
+  const nlohmann::json& ts = t["tspline"];
+  EXPECT_GT(ts["functions"].get<std::size_t>(), t["thb"]["functions"].get<std::size_t>());
+  EXPECT_GE(ts["elements"].get<std::size_t>(), t["octree"]["leaves"].get<std::size_t>());
+  ASSERT_GT(t["octree"]["deepest_level"].get<int>(), 2);  // adaptive: its regions have edges
+  EXPECT_FALSE(ts["suitable"].get<bool>());
+  EXPECT_GT(ts["sum_range"][1].get<double>(), 1 + 1e-6);
+  EXPECT_GT(ts["incompatible_pairs"].get<std::size_t>(), 0u);
+  EXPECT_NE(out.find("do not sum to one"), std::string::npos) << out;
+  EXPECT_LE(ts["sum_range"][1].get<double>() - 1, ts["unity_error"].get<double>() + 1e-12);
 }
 
 TEST(MaterialCli, RefusalsAndTheirExitCodes) {

@@ -32,14 +32,19 @@
 
 namespace tpmsfill {
 
-/// One B-spline of one level: index (i, j, k) along u, v, w.
+/// One B-spline of one level: index (i, j, k) along u, v, w. A T-spline's function: its
+/// anchor, the T-mesh vertex (i, j, k) / 2^level (tspline_basis.hpp).
 struct SplineFunction {
   int level = 0;
   std::array<std::uint32_t, 3> index{};
 };
 
+/// Which construction a basis came from: what a model file stores to build it again.
+enum class SplineKind : std::uint8_t { thb, uniform, tspline };
+
 /// A cubic spline basis over [0, 1]³ (see the file comment). Plain data.
 struct SplineBasis {
+  SplineKind kind = SplineKind::thb;
   std::vector<std::uint32_t> spans;       ///< per level, knot spans per axis
   std::vector<SplineFunction> functions;  ///< the basis: one control value each
   /// The cells on which the basis is polynomial (the octree's leaves), ordered by level, then
@@ -54,6 +59,10 @@ struct SplineBasis {
   std::vector<std::uint32_t> row_start;
   std::vector<std::uint32_t> row_function;
   std::vector<double> row_weight;
+  /// T-splines only (tspline_basis.hpp): the T-mesh's cells, and per function its local knot
+  /// vectors along u, v and w.
+  std::vector<OctreeCell> tmesh;
+  std::vector<std::array<std::array<double, 5>, 3>> knots;
 };
 
 /// The THB basis on the octree's leaves (balanced or not).
@@ -66,7 +75,7 @@ SplineBasis thb_basis(const CubeOctree& octree);
 SplineBasis tensor_basis(int per_axis);
 
 /// Per function, its Greville point: the mean of the three inner knots of its local knot
-/// vector, per axis. Coefficients equal to a linear function's values there reproduce it.
+/// vector, per axis (a T-spline's own knots, a B-spline's its level's). Coefficients equal to a linear function's values there reproduce it.
 std::vector<std::array<double, 3>> greville_points(const SplineBasis& basis);
 
 /// The element holding (u, v, w) (clamped onto the cube; a point on a shared face goes to the
@@ -96,7 +105,7 @@ void evaluate_spline(const SplineBasis& basis, const std::vector<double>& coeffi
 
 /// The coefficients on `fine` of the spline with `coefficients` on `coarse`: the same
 /// function exactly (the fine hierarchy must hold the coarse one: every leaf of `fine` lies in
-/// a leaf of `coarse`).
+/// a leaf of `coarse`). THB and uniform bases only.
 /// @throws InputError  a fine basis that does not refine the coarse one
 std::vector<double> refine_coefficients(const SplineBasis& coarse, const SplineBasis& fine,
                                         const std::vector<double>& coefficients, int dimension);
