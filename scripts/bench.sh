@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -40,6 +40,9 @@
 #     steps, with the seed's nc / ni / RS in the same rows
 # 21d (material-tspline). seed 001's T-splines on the octrees of those six models: functions
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
+# 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
+#     duck): folds, the fold bound, the stack's volume against the surface's, turned-over
+#     triangles, iso-surfaces' pieces and fragments
 # 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
 #     areas against the surface's and the tets' own, and their cracks (bench_solid_slice), and
 #     `material slice` of whole stacks
@@ -86,7 +89,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -1008,6 +1011,55 @@ print(f"| {sys.argv[2]} | {d['tets']} | {o['leaves']} ({o['deepest_level']}) | {
       f"{t['functions']} | {t['elements']} | {t['sum_range'][0]:.3f} / {t['sum_range'][1]:.3f} | "
       f"{t['unity_error']:.3g} | {t['incompatible_pairs']} | {t['cells_affected']} | "
       f"{float(sys.argv[3]):.1f} | {int(sys.argv[4]) / 1024:.0f} |")
+PY
+  done
+fi
+
+if [[ "$section" == all || "$section" == material || "$section" == material-audit ]]; then
+  echo
+  echo "## 22b. issue 40's acceptance, model by model (material fit, slice, iso; the defaults)"
+  echo
+  extract_material_meshes
+  extract_seed_models
+  echo "Each model fitted by default (THB, fold-free, 3 rounds; tets of the diagonal / 30), sliced"
+  echo "into about 100 layers (height / 100) at the default tau, and cut at the material's 25, 50"
+  echo "and 75 % (iso). Stack volume: the layers' areas times their height, against the surface's."
+  echo "Pieces: iso-surface pieces at the three values; fragments: pieces under 1 % of the largest's area."
+  echo
+  echo "| model | nc | RS G / M % | folded Gauss / finer points | bound: proven / folded / undecided | surface mm³ | stack mm³ | difference | turned over | iso pieces | fragments | non-manifold edges | fit s | slice s |"
+  echo "|---|---:|---|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+  for name in bunny00 bear fandisk sphere upper-femur duck; do
+    f="$tmp/mat/$name.off"
+    material_sizes "$f" || continue
+    if [[ $name == duck ]]; then
+      material=(--material point $(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(*[(b["min"][i]+b["max"][i])/2 for i in range(3)])' "$tmp/c.json"))
+    else
+      material=(--material geodesic "$depth")
+    fi
+    volume=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["volume"])' "$tmp/c.json")
+    timed ./build/tpmsfill material fit "$f" "$tmp/a.tsm" --cell "$cell" "${material[@]}" --json \
+      >"$tmp/fit.json" 2>/dev/null
+    fit_wall=$wall
+    values=$(python3 -c 'import json,sys; t=open(sys.argv[1]).read(); d=json.loads(t[t.index("{"):t.rindex("}")+1]); lo,hi=d["material_range"]; print(*[lo+q*(hi-lo) for q in (0.25,0.5,0.75)])' "$tmp/fit.json")
+    layer=$(python3 -c "print('%.3g' % ($zspan / 100))")
+    timed ./build/tpmsfill material slice "$tmp/a.tsm" "$tmp/a.cli" --layer "$layer" --json >"$tmp/s.json" 2>/dev/null
+    slice_wall=$wall
+    # shellcheck disable=SC2086  # the values are words
+    ./build/tpmsfill material iso "$tmp/a.tsm" "$tmp/iso.ply" --values $values --json >"$tmp/iso.json" 2>/dev/null
+    python3 - "$tmp/fit.json" "$tmp/s.json" "$tmp/iso.json" "$name" "$volume" "$fit_wall" "$slice_wall" <<'PY'
+import json, sys
+def load(p):
+    t = open(p).read(); return json.loads(t[t.index("{"):t.rindex("}") + 1])
+fit, sl, iso = load(sys.argv[1]), load(sys.argv[2]), load(sys.argv[3])
+name, volume, fw, sw = sys.argv[4], float(sys.argv[5]), float(sys.argv[6]), float(sys.argv[7])
+r = fit["rounds"][-1]; c = fit.get("fold_certificate", {})
+surfaces = iso["surfaces"]
+print(f"| {name} | {r['control_points']} | {r['geometry_rs_percent']:.1f} / {r.get('material_rs_percent', 0):.1f} | "
+      f"{r['folded_samples']} / {r.get('fine_folded_samples', 0)} | "
+      f"{c.get('proven', '')} / {c.get('folded', '')} / {c.get('undecided', '')} | "
+      f"{volume:.5g} | {sl['volume_mm3']:.5g} | {100 * (sl['volume_mm3'] / volume - 1):+.2f} % | {sl['flipped']} | "
+      f"{' / '.join(str(s['pieces']) for s in surfaces)} | {sum(s['fragments'] for s in surfaces)} | "
+      f"{sum(s['non_manifold_edges'] for s in surfaces)} | {fw:.1f} | {sw:.1f} |")
 PY
   done
 fi

@@ -409,7 +409,7 @@ image_check() {
 image_material() {
   local fit="material fit bunny00.off bunny.tsm --units cm --material point -3 -4.5 0"
   steps_shot material-slice bunny00.off \
-    "a layer through the middle of the bunny (z = 0 to 0.5 mm), sliced from the splines without a mesh: each point coloured by its material, the distance to a point by the front paws (blue near, yellow far); the ear's tip is lost where the fit squeezes thin parts (docs/benchmarks.md §22)" \
+    "a layer through the middle of the bunny (z = 0 to 0.5 mm), sliced from the splines without a mesh: each point coloured by its material, the distance to a point by the front paws (blue near, yellow far); the ear whole to its tip, since the fit keeps G fold-free (issue 40; it was lost before, where G folded)" \
     "$fit" \
     "material slice bunny.tsm layers --layer 0.5 --start 0 --format png --colour --pixel 0.03" \
     "cp layers/layer_00000.png material-slice.png"
@@ -548,7 +548,7 @@ EOF
   section "Skin" skin
   section "The femur" femur-gyroid
   cat <<'TEXT'
-## Porous structures from a scanned field (seed 003)
+## Porous structures from a scanned field (Lin & Gao)
 
 A discrete field fitted by an implicit B-spline and stored as ITDF (`tpmsfill field fit`), then
 put into the model by `fill --field`: solid type t1 ≤ C ≤ t2 on the left two, surface type on
@@ -567,7 +567,7 @@ TEXT
     fi
   done
   cat <<'TEXT'
-## Layers that follow a surface (seed 004)
+## Layers that follow a surface (Yang et al. 2023)
 
 `tpmsfill conformal`: a surface laid flat by mean-value coordinates, a slab design carried onto
 it through the field, filled and validated like any part (docs/method.md). The four surfaces
@@ -585,7 +585,7 @@ TEXT
     printf '\n%s.\n\n' "$(tr '[:lower:]' '[:upper:]' <<<"${notes[$i]:0:1}")${notes[$i]:1}"
   done
   cat <<'TEXT'
-## Materials through a solid (seed 001)
+## Materials through a solid (Li & Fu 2021)
 
 A solid and a material through it as two trivariate splines (`tpmsfill material fit`), then
 used without a mesh of the solid: printer layers with their material (`material slice`, here

@@ -18,12 +18,12 @@
 #include <tpmsfill/sampling/spatial.hpp>
 #include <tpmsfill/solid/cube_map.hpp>
 #include <tpmsfill/solid/cube_octree.hpp>
-#include <tpmsfill/solid/tspline_basis.hpp>
 #include <tpmsfill/solid/fold_certificate.hpp>
 #include <tpmsfill/solid/solid_model.hpp>
 #include <tpmsfill/solid/solid_spline.hpp>
 #include <tpmsfill/solid/tet_mesh.hpp>
 #include <tpmsfill/solid/tetrahedralize.hpp>
+#include <tpmsfill/solid/tspline_basis.hpp>
 #include <tpmsfill/units.hpp>
 #include <vector>
 
@@ -336,12 +336,11 @@ int run_material_info(const MaterialArgs& a) {
       std::snprintf(off, sizeof off, "%.3g to %.3g", check.sum_range[0], check.sum_range[1]);
       if (!check.suitable())
         warnings.push_back(
-            "the seed's T-splines on this octree do not sum to one (sums from " +
-            std::string(off) + ") and " +
-            std::to_string(check.incompatible_pairs) +
+            "the seed's T-splines on this octree do not sum to one (sums from " + std::string(off) +
+            ") and " + std::to_string(check.incompatible_pairs) +
             " pairs of functions are not dual-compatible (linear independence is not assured), "
-            "in " + std::to_string(check.cells.size()) + " of " +
-            std::to_string(octree.leaves.size()) +
+            "in " +
+            std::to_string(check.cells.size()) + " of " + std::to_string(octree.leaves.size()) +
             " cells: `material fit` uses THB, which has both on every octree");
     }
   }

@@ -141,6 +141,7 @@ int run_material_slice(const ModelArgs& a) {
   LayerFileWriter writer(target, files);
   nlohmann::ordered_json layers = nlohmann::ordered_json::array();
   std::size_t triangles = 0, flipped = 0;
+  double volume = 0;
   // Layers are independent: a batch at a time in parallel, written in order.
   const std::uint64_t batch = 16;
   for (std::uint64_t first = 0; first < count; first += batch) {
@@ -161,6 +162,7 @@ int run_material_slice(const ModelArgs& a) {
       writer.add(material_layer(s, first + k, bottom, bottom + a.layer, lo, hi));
       triangles += s.mesh.triangles.size();
       flipped += s.flipped;
+      volume += s.area * a.layer;  // the layer's prism: its middle section times its height
       layers.push_back({{"index", first + k},
                         {"z", s.z},
                         {"area_mm2", s.area},
@@ -187,6 +189,7 @@ int run_material_slice(const ModelArgs& a) {
   j["material_bins"] = a.bins;
   j["triangles"] = triangles;
   j["flipped"] = flipped;
+  j["volume_mm3"] = volume;
   j["wall_seconds"] = seconds_since(t0);
   j["per_layer"] = layers;
   if (folder) write_file_atomically(target / "index.json", j.dump(2));
@@ -222,6 +225,26 @@ std::pair<std::size_t, std::size_t> edge_counts(const SolidLevelSet& s) {
   return {open, over};
 }
 
+// The areas of the surface's pieces (triangles joined through their corners), largest first.
+std::vector<double> piece_areas(const SolidLevelSet& s) {
+  std::vector<std::uint32_t> parent(s.points.size());
+  for (std::uint32_t p = 0; p < parent.size(); ++p) parent[p] = p;
+  const auto root = [&](std::uint32_t p) {
+    while (parent[p] != p) p = parent[p] = parent[parent[p]];
+    return p;
+  };
+  for (const auto& t : s.triangles)
+    for (int e = 1; e < 3; ++e) parent[root(t[e])] = root(t[0]);
+  std::map<std::uint32_t, double> area;
+  for (const auto& t : s.triangles)
+    area[root(t[0])] +=
+        norm(cross(s.points[t[1]] - s.points[t[0]], s.points[t[2]] - s.points[t[0]])) / 2;
+  std::vector<double> out;
+  for (const auto& [r, a] : area) out.push_back(a);
+  std::sort(out.rbegin(), out.rend());
+  return out;
+}
+
 int run_material_iso(const ModelArgs& a) {
   if (a.values.empty()) throw InputError("--values needs at least one material value");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
@@ -251,18 +274,35 @@ int run_material_iso(const ModelArgs& a) {
           norm(cross(s.points[tri[1]] - s.points[tri[0]], s.points[tri[2]] - s.points[tri[0]])) / 2;
     for (double m : s.material) worst = std::max(worst, std::abs(m - a.values[v]));
     const auto [open, over] = edge_counts(s);
+    // Whole, or torn: pieces under 1 % of the largest's area are fragments (where G or M
+    // fold or the octree is too coarse for the surface), said with the numbers.
+    const std::vector<double> pieces = piece_areas(s);
+    std::size_t fragments = 0;
+    for (double p : pieces) fragments += p < 0.01 * pieces.front();
+    if (fragments > 0) {
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "the surface at material %g holds %zu fragments under 1 %% of its largest "
+                    "piece's area (%zu pieces, the smallest %.3g mm2 against %.3g)",
+                    a.values[v], fragments, pieces.size(), pieces.back(), pieces.front());
+      warnings.push_back(line);
+    }
     if (s.triangles.empty())
       warnings.push_back("no surface at material " + std::to_string(a.values[v]) +
                          " (the solid's material spans " + std::to_string(lo) + " to " +
                          std::to_string(hi) + ")");
-    surfaces.push_back({{"material", a.values[v]},
-                        {"triangles", s.triangles.size()},
-                        {"area_mm2", area},
-                        {"open_edges", open},
-                        {"non_manifold_edges", over},
-                        {"max_material_error", worst},
-                        {"level", s.level},
-                        {"seconds", seconds_since(t)}});
+    surfaces.push_back(
+        {{"material", a.values[v]},
+         {"triangles", s.triangles.size()},
+         {"area_mm2", area},
+         {"open_edges", open},
+         {"non_manifold_edges", over},
+         {"pieces", pieces.size()},
+         {"fragments", fragments},
+         {"smallest_piece_share", pieces.empty() ? 0.0 : pieces.back() / pieces.front()},
+         {"max_material_error", worst},
+         {"level", s.level},
+         {"seconds", seconds_since(t)}});
     progress.report(double(v + 1) / double(a.values.size()));
   }
   // The surfaces as OUT holds them (STL's floats, 3MF's micrometres): far from the origin a

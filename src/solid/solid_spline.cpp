@@ -574,6 +574,35 @@ struct FieldFit {
     return count;
   }
 
+  // The fold certificate's verdicts on G now: per element 1 where it finds a fold, whose
+  // point joins `found`.
+  std::vector<std::uint32_t> bound_folds() requires(Dim == 3) {
+    const std::vector<detail::ElementVerdict> verdicts =
+        detail::element_verdicts(basis, row_coefficients(basis, c, Dim), detail::kCertificateDepth);
+    found.resize(basis.elements.size());
+    std::vector<std::uint32_t> count(verdicts.size(), 0);
+    for (std::size_t e = 0; e < verdicts.size(); ++e)
+      if (verdicts[e].kind == detail::ElementVerdict::Kind::folded)
+        found[e].push_back(verdicts[e].uvw), count[e] = 1;
+    return count;
+  }
+
+  // Per element, its points `found` by the fold certificate where det J_G ≤ 0 now.
+  std::vector<std::uint32_t> found_folded() const requires(Dim == 3) {
+    std::vector<std::uint32_t> count(basis.elements.size(), 0);
+    if (found.empty()) return count;
+    const std::vector<double> rows = row_coefficients(basis, c, Dim);
+    detail::parallel_for(count.size(), 64, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e) {
+        if (found[e].empty()) continue;
+        const auto local = local_coefficients(rows, e);
+        for (const std::array<double, 3>& uvw : found[e])
+          count[e] += detail::determinant(jacobian_at(local, e, uvw)) <= 0;
+      }
+    });
+    return count;
+  }
+
   // Points of the finer check (5³ evenly inside every element, 4³ reaching its faces) where
   // det J_G ≤ 0: folds between the Gauss points and on the elements' faces.
   std::size_t fine_folds() const requires(Dim == 3) {
@@ -1411,10 +1440,21 @@ std::size_t total(const std::vector<std::uint32_t>& counts) {
 // if the untangling would end with more folds.
 std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded, bool fine,
                             const ReferenceJacobians& reference,
-                            const std::function<void(double)>& report) {
+                            const std::function<void(double)>& report, int rings = 2) {
   const SplineBasis& basis = fit.basis;
   const Quadrature& quadrature = fit.quadrature;
   const Gather& gather_map = fit.gather_map;
+  // With `fine`, the points the fold certificate found are watched too (fit.found): a fold
+  // between the grids that pushes at its points did not open (bear's at a cube corner).
+  const bool with_found = fine && !fit.found.empty();
+  const auto folds_now = [&] {
+    std::vector<std::uint32_t> count = fit.folds_per_element(nullptr, fine);
+    if (with_found) {
+      const std::vector<std::uint32_t> more = fit.found_folded();
+      for (std::size_t e = 0; e < count.size(); ++e) count[e] += more[e];
+    }
+    return count;
+  };
   const std::size_t before = total(folded);
   std::vector<char> movable(basis.functions.size(), 0), element_moves(basis.elements.size(), 0);
   for (std::size_t e = 0; e < folded.size(); ++e) element_moves[e] = folded[e] > 0;
@@ -1436,11 +1476,13 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
   };
   // Per watched point, its ideal: the fitted G's own Jacobian, so that the energy starts at
   // its least but where G folds (or nearly: det J_G under a tenth of the tets'), where the
-  // tets' map's stands in. Filled element by element as the region grows.
-  std::vector<detail::Matrix3> ideal(basis.elements.size() * per);
-  std::vector<double> ideal_det(ideal.size(), 0);
+  // tets' map's stands in. Filled a block per element as the region grows (only the region's:
+  // all elements' would be 72 bytes · 216 points each, bear's 220 MB).
+  std::vector<std::int32_t> block(basis.elements.size(), -1);
+  std::vector<detail::Matrix3> ideal;
+  std::vector<double> ideal_det;
   std::size_t moved = 0;
-  for (int ring = 0; ring < 2; ++ring) {
+  for (int ring = 0; ring < rings; ++ring) {
     // The functions non-zero on a marked element, then every element they reach.
     for (std::size_t e = 0; e < element_moves.size(); ++e)
       if (element_moves[e])
@@ -1457,12 +1499,19 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
           active[gather_map.row_slot[s] / 64] = 1;
       }
     }
-    detail::parallel_for(active.size(), 16, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e) {
-        if (!active[e] || ideal_det[e * per] > 0) continue;
+    std::vector<std::uint32_t> fresh;
+    for (std::size_t e = 0; e < active.size(); ++e)
+      if (active[e] && block[e] < 0)
+        block[e] = static_cast<std::int32_t>(ideal_det.size() / per + fresh.size()),
+        fresh.push_back(static_cast<std::uint32_t>(e));
+    ideal.resize(ideal.size() + fresh.size() * per);
+    ideal_det.resize(ideal_det.size() + fresh.size() * per, 0);
+    detail::parallel_for(fresh.size(), 16, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::size_t e = fresh[i];
         const auto local = fit.local_coefficients(rows, e);
         for (int s = 0; s < per; ++s) {
-          const std::size_t at = e * per + s;
+          const std::size_t at = std::size_t(block[e]) * per + s;
           auto [inverse, det] = reference.at(point(e, s));
           const detail::Matrix3 jg = fit.jacobian_at(local, e, point(e, s));
           const double fitted_det = detail::determinant(jg);
@@ -1482,14 +1531,22 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
     std::vector<detail::JacobianSample> jacobians;
     for (std::uint32_t e = 0; e < active.size(); ++e)
       for (int s = 0; active[e] && s < per; ++s) {
-        const std::size_t at = std::size_t(e) * per + s;
+        const std::size_t at = std::size_t(block[e]) * per + s;
         jacobians.push_back({e, point(e, s), weight(e, s) * ideal_det[at], ideal[at]});
       }
+    for (std::uint32_t e = 0; with_found && e < active.size(); ++e) {
+      if (!active[e]) continue;
+      const double h = 1.0 / basis.spans[basis.elements[e].level];
+      for (const std::array<double, 3>& uvw : fit.found[e]) {  // as a finer check's point
+        const auto [inverse, det] = reference.at(uvw);
+        jacobians.push_back({e, uvw, h * h * h / kFineSamples * det, inverse});
+      }
+    }
     moved = 0;
     for (char m : movable) moved += m;
     fit.c = fitted;
     detail::untangle_spline(basis, movable, jacobians, positions, kUntangleFidelity, fit.c, report);
-    folded = fit.folds_per_element(nullptr, fine);
+    folded = folds_now();
     if (total(folded) == 0) return moved;
     if (ring == 0) element_moves = active;
   }
@@ -1639,6 +1696,23 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
           [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
           kOpenSweeps, kFoundPasses,  // between passes: the round's steps are all done
           [&] { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); });
+      // Folds the pushes left (the bound's last verdicts, added to the found points): the
+      // foldover-free energy, watching them beside the grids' points, then the bound again.
+      std::vector<std::uint32_t> left = fit_g.bound_folds();
+      if (total(left) > 0) {
+        const std::vector<std::uint32_t> grids = fit_g.folds_per_element(nullptr, true);
+        for (std::size_t e = 0; e < left.size(); ++e) left[e] += grids[e];
+        // One ring: the functions over the folded elements (fandisk's 5: 213 functions, about
+        // 900 elements watched at 216 points each, 35 s); a second ring took 65 s and failed.
+        report.untangled_functions += unfold_geometry(
+            fit_g, left, true, reference,
+            [&](double) { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); },
+            1);
+        report.found_folds += fit_g.open_found_folds(
+            [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
+            kOpenSweeps, kFoundPasses,
+            [&] { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); });
+      }
       if (report.found_folds > 0) report.geometry_rs = similarity(fit_g.measure(), start_g);
     }
     const ProbeError eg = probe_error<3>(basis, probe, g, points.g);

@@ -329,7 +329,25 @@ TEST(MaterialCli, IsoSurfacesReportWhatTheirFileHolds) {
       if (written.degenerate_triangles > 0) {
         EXPECT_NE(out.find("hold doubles"), std::string::npos) << out;
       }
+      // A ramp along x cuts the box in squares: each surface one whole 10 × 10 mm piece.
+      for (const auto& s : reported["surfaces"]) {
+        EXPECT_EQ(s["pieces"].get<int>(), 1) << s.dump();
+        EXPECT_EQ(s["fragments"].get<int>(), 0) << s.dump();
+        EXPECT_EQ(s["non_manifold_edges"].get<int>(), 0) << s.dump();
+        EXPECT_NEAR(s["smallest_piece_share"].get<double>(), 1, 1e-12);
+        EXPECT_NEAR(s["area_mm2"].get<double>(), 100, 3) << s.dump();
+      }
     }
+    // Its stack holds the box's volume: 20 × 10 × 10 mm within 1 % (corners jittered 0.1 mm).
+    std::string command = TPMSFILL_CLI;
+    command.append(" material slice ").append(quoted(model)).append(" ");
+    ASSERT_EQ(test::run_command(command + quoted(dir / "blob.cli") + " --layer 0.5 --json", &out),
+              0)
+        << out;
+    const std::size_t at = out.find('{');
+    ASSERT_NE(at, std::string::npos) << out;
+    const auto stack = nlohmann::json::parse(out.substr(at, out.rfind('}') - at + 1));
+    EXPECT_NEAR(stack["volume_mm3"].get<double>(), 2000, 20) << offset;
   }
 }
 
