@@ -42,7 +42,7 @@
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
 #     duck): folds, the fold bound, the stack's volume against the surface's, turned-over
-#     triangles, iso-surfaces' pieces and fragments
+#     triangles, iso-surfaces' pieces against the tets' own
 # 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
 #     areas against the surface's and the tets' own, and their cracks (bench_solid_slice), and
 #     `material slice` of whole stacks
@@ -1024,10 +1024,12 @@ if [[ "$section" == all || "$section" == material || "$section" == material-audi
   echo "Each model fitted by default (THB, fold-free, 3 rounds; tets of the diagonal / 30), sliced"
   echo "into about 100 layers (height / 100) at the default tau, and cut at the material's 25, 50"
   echo "and 75 % (iso). Stack volume: the layers' areas times their height, against the surface's."
-  echo "Pieces: iso-surface pieces at the three values; fragments: pieces under 1 % of the largest's area."
+  echo "Iso pieces: the spline surfaces' pieces at the three values, then (in brackets) those of"
+  echo "the tets' own surfaces (linear in each tet), each \"pieces / under 1 % of the largest's area\":"
+  echo "a small piece the tets have too is a cap of the data, one they lack a tear."
   echo
-  echo "| model | nc | RS G / M % | folded Gauss / finer points | bound: proven / folded / undecided | surface mm³ | stack mm³ | difference | turned over | iso pieces | fragments | non-manifold edges | fit s | slice s |"
-  echo "|---|---:|---|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+  echo "| model | nc | RS G / M % | folded Gauss / finer points | bound: proven / folded / undecided | surface mm³ | stack mm³ | difference | turned over | iso pieces / small (tets') | non-manifold edges | fit s | slice s |"
+  echo "|---|---:|---|---|---|---:|---:|---:|---:|---|---:|---:|---:|"
   for name in bunny00 bear fandisk sphere upper-femur duck; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
@@ -1037,6 +1039,8 @@ if [[ "$section" == all || "$section" == material || "$section" == material-audi
       material=(--material geodesic "$depth")
     fi
     volume=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["volume"])' "$tmp/c.json")
+    ./build/tpmsfill material info "$f" --cell "$cell" "${material[@]}" --tets "$tmp/a.vtk" \
+      >/dev/null 2>&1
     timed ./build/tpmsfill material fit "$f" "$tmp/a.tsm" --cell "$cell" "${material[@]}" --json \
       >"$tmp/fit.json" 2>/dev/null
     fit_wall=$wall
@@ -1046,19 +1050,60 @@ if [[ "$section" == all || "$section" == material || "$section" == material-audi
     slice_wall=$wall
     # shellcheck disable=SC2086  # the values are words
     ./build/tpmsfill material iso "$tmp/a.tsm" "$tmp/iso.ply" --values $values --json >"$tmp/iso.json" 2>/dev/null
-    python3 - "$tmp/fit.json" "$tmp/s.json" "$tmp/iso.json" "$name" "$volume" "$fit_wall" "$slice_wall" <<'PY'
-import json, sys
+    python3 - "$tmp/fit.json" "$tmp/s.json" "$tmp/iso.json" "$name" "$volume" "$fit_wall" "$slice_wall" \
+      "$tmp/a.vtk" <<'PY'
+import json, math, sys
 def load(p):
     t = open(p).read(); return json.loads(t[t.index("{"):t.rindex("}") + 1])
 fit, sl, iso = load(sys.argv[1]), load(sys.argv[2]), load(sys.argv[3])
 name, volume, fw, sw = sys.argv[4], float(sys.argv[5]), float(sys.argv[6]), float(sys.argv[7])
 r = fit["rounds"][-1]; c = fit.get("fold_certificate", {})
 surfaces = iso["surfaces"]
+# The tets' own iso-surfaces (linear in each tet): pieces joined through the edges they cross.
+tok = open(sys.argv[8]).read().split(); i = 0; pts, tets, mat = [], [], []
+while i < len(tok):
+    if tok[i] == "POINTS":
+        n = int(tok[i + 1]); i += 3; pts = [tuple(map(float, tok[i + 3 * k:i + 3 * k + 3])) for k in range(n)]; i += 3 * n
+    elif tok[i] == "CELLS":
+        n = int(tok[i + 1]); i += 3
+        for _ in range(n):
+            m = int(tok[i]); tets.append(tuple(map(int, tok[i + 1:i + 1 + m]))); i += 1 + m
+    elif tok[i] == "SCALARS":
+        i += 6; mat = [float(x) for x in tok[i:i + len(pts)]]; i += len(pts)
+    else:
+        i += 1
+def tet_pieces(v):
+    parent = {}
+    def find(x):
+        while parent.setdefault(x, x) != x:
+            parent[x] = parent[parent[x]]; x = parent[x]
+        return x
+    def at(e):
+        a, b = e; t = (v - mat[a]) / (mat[b] - mat[a])
+        return [pts[a][k] + t * (pts[b][k] - pts[a][k]) for k in range(3)]
+    def tri(p, q, s):
+        u = [q[k] - p[k] for k in range(3)]; w = [s[k] - p[k] for k in range(3)]
+        return math.sqrt((u[1] * w[2] - u[2] * w[1]) ** 2 + (u[2] * w[0] - u[0] * w[2]) ** 2 + (u[0] * w[1] - u[1] * w[0]) ** 2) / 2
+    polys = []
+    for t in tets:
+        below = [p for p in t if mat[p] < v]; above = [p for p in t if mat[p] >= v]
+        edges = [(min(a, b), max(a, b)) for a in below for b in above]
+        if not edges: continue
+        for e in edges[1:]: parent[find(e)] = find(edges[0])
+        polys.append(edges)
+    area = {}
+    for edges in polys:
+        p = [at(e) for e in edges]  # a quad's corners go (b0a0, b0a1, b1a0, b1a1): 0-1-3-2
+        a = tri(*p) if len(p) == 3 else tri(p[0], p[1], p[3]) + tri(p[0], p[3], p[2])
+        area[find(edges[0])] = area.get(find(edges[0]), 0) + a
+    if not area: return "0 / 0"
+    big = max(area.values())
+    return f"{len(area)} / {sum(a < 0.01 * big for a in area.values())}"
 print(f"| {name} | {r['control_points']} | {r['geometry_rs_percent']:.1f} / {r.get('material_rs_percent', 0):.1f} | "
       f"{r['folded_samples']} / {r.get('fine_folded_samples', 0)} | "
       f"{c.get('proven', '')} / {c.get('folded', '')} / {c.get('undecided', '')} | "
       f"{volume:.5g} | {sl['volume_mm3']:.5g} | {100 * (sl['volume_mm3'] / volume - 1):+.2f} % | {sl['flipped']} | "
-      f"{' / '.join(str(s['pieces']) for s in surfaces)} | {sum(s['fragments'] for s in surfaces)} | "
+      f"{', '.join(str(s['pieces']) + ' / ' + str(s['small_pieces']) + ' (' + tet_pieces(s['material']) + ')' for s in surfaces)} | "
       f"{sum(s['non_manifold_edges'] for s in surfaces)} | {fw:.1f} | {sw:.1f} |")
 PY
   done

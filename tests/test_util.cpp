@@ -407,11 +407,8 @@ TetMesh make_tet_grid(Vec3 min, Vec3 max, std::array<int, 3> cells, double jitte
   const int nx = cells[0] + 1, ny = cells[1] + 1, nz = cells[2] + 1;
   auto id = [&](int i, int j, int k) { return static_cast<std::uint32_t>(i + nx * (j + ny * k)); };
   TetMesh mesh;
-  std::uint64_t state = 0x9e3779b97f4a7c15ULL;
-  auto random = [&] {  // in [-1, 1)
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 52) - 1.0;
-  };
+  Random numbers{0x9e3779b97f4a7c15ULL};
+  auto random = [&] { return 2 * numbers.next() - 1.0; };  // in [-1, 1)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {

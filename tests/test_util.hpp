@@ -1,7 +1,9 @@
 // Meshes made in code and small helpers shared by the test files.
 #pragma once
 
+#include <array>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -13,6 +15,18 @@
 #include <vector>
 
 namespace tpmsfill::test {
+
+/// The tests' pseudo-random numbers (a 64-bit LCG): the same sequence on every machine.
+struct Random {
+  std::uint64_t state;
+  double next() {  // in [0, 1)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 53);
+  }
+  std::array<double, 3> point(double scale = 1) {
+    return {scale * next(), scale * next(), scale * next()};
+  }
+};
 
 /// Every TPMS type, in the order of the table in docs/method.md (for loops).
 inline constexpr TpmsType kAllTpmsTypes[] = {

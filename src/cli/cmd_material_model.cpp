@@ -274,19 +274,11 @@ int run_material_iso(const ModelArgs& a) {
           norm(cross(s.points[tri[1]] - s.points[tri[0]], s.points[tri[2]] - s.points[tri[0]])) / 2;
     for (double m : s.material) worst = std::max(worst, std::abs(m - a.values[v]));
     const auto [open, over] = edge_counts(s);
-    // Whole, or torn: pieces under 1 % of the largest's area are fragments (where G or M
-    // fold or the octree is too coarse for the surface), said with the numbers.
+    // Whole or in pieces: a small piece is a cap where the material just reaches the value
+    // (the tets' own surface has it too) or a tear where G or M fold; the count tells.
     const std::vector<double> pieces = piece_areas(s);
-    std::size_t fragments = 0;
-    for (double p : pieces) fragments += p < 0.01 * pieces.front();
-    if (fragments > 0) {
-      char line[200];
-      std::snprintf(line, sizeof line,
-                    "the surface at material %g holds %zu fragments under 1 %% of its largest "
-                    "piece's area (%zu pieces, the smallest %.3g mm2 against %.3g)",
-                    a.values[v], fragments, pieces.size(), pieces.back(), pieces.front());
-      warnings.push_back(line);
-    }
+    std::size_t small = 0;
+    for (double p : pieces) small += p < 0.01 * pieces.front();
     if (s.triangles.empty())
       warnings.push_back("no surface at material " + std::to_string(a.values[v]) +
                          " (the solid's material spans " + std::to_string(lo) + " to " +
@@ -298,7 +290,7 @@ int run_material_iso(const ModelArgs& a) {
          {"open_edges", open},
          {"non_manifold_edges", over},
          {"pieces", pieces.size()},
-         {"fragments", fragments},
+         {"small_pieces", small},
          {"smallest_piece_share", pieces.empty() ? 0.0 : pieces.back() / pieces.front()},
          {"max_material_error", worst},
          {"level", s.level},
@@ -325,9 +317,12 @@ int run_material_iso(const ModelArgs& a) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
       for (const auto& s : surfaces)
-        std::printf("material %-10g %8zu triangles  %10.4g mm2  %zu open edges\n",
-                    s["material"].get<double>(), s["triangles"].get<std::size_t>(),
-                    s["area_mm2"].get<double>(), s["open_edges"].get<std::size_t>());
+        std::printf(
+            "material %-10g %8zu triangles  %10.4g mm2  %zu open edges  %zu pieces (%zu "
+            "under 1 %% of the largest)\n",
+            s["material"].get<double>(), s["triangles"].get<std::size_t>(),
+            s["area_mm2"].get<double>(), s["open_edges"].get<std::size_t>(),
+            s["pieces"].get<std::size_t>(), s["small_pieces"].get<std::size_t>());
     }
   }
   print_warnings(warnings);

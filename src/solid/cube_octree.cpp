@@ -7,6 +7,7 @@
 #include <string>
 #include <tuple>
 
+#include "solid/internal/octree_cells.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -17,10 +18,7 @@ using Cell = OctreeCell;
 
 // Leaves in the order the result lists them: level, then k, j, i.
 struct CellOrder {
-  bool operator()(const Cell& a, const Cell& b) const {
-    return std::tie(a.level, a.index[2], a.index[1], a.index[0]) <
-           std::tie(b.level, b.index[2], b.index[1], b.index[0]);
-  }
+  bool operator()(const Cell& a, const Cell& b) const { return detail::cell_less(a, b); }
 };
 
 using Leaves = std::map<Cell, std::vector<std::uint32_t>, CellOrder>;
@@ -29,12 +27,6 @@ std::uint32_t cell_index(double x, int level) {
   const double n = std::ldexp(1.0, level);
   return static_cast<std::uint32_t>(
       std::clamp(std::floor(std::clamp(x, 0.0, 1.0) * n), 0.0, n - 1));
-}
-
-Cell child_of(const Cell& c, int octant) {
-  return {c.level + 1,
-          {2 * c.index[0] + (octant & 1), 2 * c.index[1] + ((octant >> 1) & 1),
-           2 * c.index[2] + ((octant >> 2) & 1)}};
 }
 
 // Replaces a leaf by its eight children, its points shared among them.
@@ -50,7 +42,7 @@ void split(Leaves& leaves, Leaves::iterator leaf,
       octant |= static_cast<int>(cell_index(points[p][a], cell.level + 1) & 1) << a;
     parts[octant].push_back(p);
   }
-  for (int o = 0; o < 8; ++o) leaves.emplace(child_of(cell, o), std::move(parts[o]));
+  for (int o = 0; o < 8; ++o) leaves.emplace(detail::child_cell(cell, o), std::move(parts[o]));
 }
 
 // Splits a leaf at the deepest level until its neighbours differ by at most one level; one

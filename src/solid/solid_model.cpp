@@ -10,6 +10,7 @@
 
 #include "io/binary_io.hpp"
 #include "io/file_bytes.hpp"
+#include "solid/internal/octree_cells.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
@@ -26,16 +27,8 @@ constexpr int kMaxLevel = 16;
 constexpr std::uint32_t kMaxUniform = 1024;
 constexpr std::uint32_t kMaxRounds = 1000;
 
-bool cell_less(const OctreeCell& a, const OctreeCell& b) {
-  return std::tie(a.level, a.index[2], a.index[1], a.index[0]) <
-         std::tie(b.level, b.index[2], b.index[1], b.index[0]);
-}
-
-OctreeCell child(const OctreeCell& c, int octant) {
-  return {c.level + 1,
-          {2 * c.index[0] + (octant & 1), 2 * c.index[1] + (octant >> 1 & 1),
-           2 * c.index[2] + (octant >> 2 & 1)}};
-}
+using detail::cell_less;
+using detail::child_cell;
 
 // One bit per octree node, pre-order from the cube: 1 split (children by octant, u fastest),
 // 0 leaf.
@@ -47,7 +40,7 @@ void encode_octree(const std::vector<OctreeCell>& sorted, const OctreeCell& cell
   }
   if (cell.level >= kMaxLevel) throw InputError("the spline's elements do not form an octree");
   bits.push_back(true);
-  for (int o = 0; o < 8; ++o) encode_octree(sorted, child(cell, o), bits);
+  for (int o = 0; o < 8; ++o) encode_octree(sorted, child_cell(cell, o), bits);
 }
 
 struct BitReader {
@@ -67,7 +60,7 @@ void decode_octree(Reader& r, BitReader& bits, const OctreeCell& cell,
   }
   if (cell.level >= kMaxLevel)
     r.fail("the octree is deeper than 16 levels", stream_start + (bits.at - 1) / 8);
-  for (int o = 0; o < 8; ++o) decode_octree(r, bits, child(cell, o), leaves, stream_start);
+  for (int o = 0; o < 8; ++o) decode_octree(r, bits, child_cell(cell, o), leaves, stream_start);
 }
 
 bool is_uniform(const SplineBasis& basis) {

@@ -14,6 +14,7 @@
 
 #include "layers/covered_region.hpp"
 #include "sampling/mc_tables.hpp"
+#include "solid/internal/octree_cells.hpp"
 #include "solid/internal/spline_terms.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -33,10 +34,7 @@ double plane_area(const SolidLevelSet& mesh, const std::array<std::uint32_t, 3>&
 using Cell = OctreeCell;
 using Index = std::array<std::uint32_t, 3>;  // a grid point of the deepest level
 
-// (level, i, j, k) in one integer (18 bits per index).
-std::uint64_t cell_key(int level, std::array<std::uint32_t, 3> i) {
-  return std::uint64_t(level) << 54 | std::uint64_t(i[2]) << 36 | std::uint64_t(i[1]) << 18 | i[0];
-}
+using detail::cell_key;
 
 struct Range {
   double lo = std::numeric_limits<double>::infinity();
@@ -421,11 +419,7 @@ class LevelSetFinder {
     return range(c, r) && r.may_cross();
   }
 
-  static Cell child(const Cell& c, int o) {
-    return {
-        c.level + 1,
-        {2 * c.index[0] + (o & 1), 2 * c.index[1] + (o >> 1 & 1), 2 * c.index[2] + (o >> 2 & 1)}};
-  }
+  static Cell child(const Cell& c, int o) { return detail::child_cell(c, o); }
 
   // Corner k of a cell in integer coordinates of the deepest level.
   static Index corner_index(const Cell& c, int k) {

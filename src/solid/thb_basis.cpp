@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/bspline_basis.hpp"
+#include "solid/internal/octree_cells.hpp"
 #include "solid/internal/spline_terms.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -41,16 +42,8 @@ std::uint32_t span_of(double t, std::uint32_t spans) {
   return static_cast<std::uint32_t>(std::clamp(x, 0.0, double(spans) - 1));
 }
 
-// (level, i, j, k) in one integer: 18 bits per index (spans ≤ 2^16, functions ≤ 2^16 + 3).
-std::uint64_t pack(int level, std::array<std::uint32_t, 3> index) {
-  return std::uint64_t(level) << 54 | std::uint64_t(index[2]) << 36 |
-         std::uint64_t(index[1]) << 18 | index[0];
-}
-
-bool element_less(const OctreeCell& a, const OctreeCell& b) {
-  return std::tie(a.level, a.index[2], a.index[1], a.index[0]) <
-         std::tie(b.level, b.index[2], b.index[1], b.index[0]);
-}
+using detail::cell_key;
+using detail::cell_less;
 
 using Row = std::vector<std::pair<std::uint32_t, double>>;  // (function, weight), by function
 
@@ -98,7 +91,7 @@ class Hierarchy {
       for (int l = leaf.level; l >= 0; --l) {
         const int shift = leaf.level - l;
         if (!nodes_
-                 .insert(pack(
+                 .insert(cell_key(
                      l, {leaf.index[0] >> shift, leaf.index[1] >> shift, leaf.index[2] >> shift}))
                  .second)
           break;  // its ancestors are in already
@@ -122,7 +115,7 @@ class Hierarchy {
       for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
         for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
           const std::uint64_t key =
-              next ? pack(level + 1, {2 * i, 2 * j, 2 * k}) : pack(level, {i, j, k});
+              next ? cell_key(level + 1, {2 * i, 2 * j, 2 * k}) : cell_key(level, {i, j, k});
           if (!nodes_.count(key)) return false;
         }
     return true;
@@ -134,7 +127,7 @@ class Hierarchy {
 
   void set_functions(const std::vector<SplineFunction>& functions) {
     for (std::uint32_t f = 0; f < functions.size(); ++f)
-      function_id_.emplace(pack(functions[f].level, functions[f].index), f);
+      function_id_.emplace(cell_key(functions[f].level, functions[f].index), f);
   }
 
   // A spline's coefficient on B-spline (level, index), as a combination of its coefficients on
@@ -142,7 +135,7 @@ class Hierarchy {
   // its support leaves Ω_level. That is the truncation: inside Ω_level the coarser levels'
   // share is dropped. Memoised.
   const Row& expand(int level, std::array<std::uint32_t, 3> index) {
-    const std::uint64_t key = pack(level, index);
+    const std::uint64_t key = cell_key(level, index);
     if (const auto found = memo_.find(key); found != memo_.end()) return found->second;
     Row row;
     if (support_inside(level, index, false)) {
@@ -208,7 +201,7 @@ SplineBasis thb_basis(const CubeOctree& octree) {
   check_tiling(octree.leaves);
   SplineBasis basis;
   basis.elements = octree.leaves;
-  std::sort(basis.elements.begin(), basis.elements.end(), element_less);
+  std::sort(basis.elements.begin(), basis.elements.end(), cell_less);
   Hierarchy hierarchy(basis.elements);
   for (int l = 0; l <= hierarchy.top(); ++l) basis.spans.push_back(Hierarchy::spans(l));
   // An active function of level l is non-zero on a leaf of level l (its support meets
@@ -218,7 +211,7 @@ SplineBasis thb_basis(const CubeOctree& octree) {
   for (const OctreeCell& e : basis.elements)
     for (std::uint32_t c = 0; c < 64; ++c)
       candidates.push_back(
-          pack(e.level, {e.index[0] + c % 4, e.index[1] + c / 4 % 4, e.index[2] + c / 16}));
+          cell_key(e.level, {e.index[0] + c % 4, e.index[1] + c / 4 % 4, e.index[2] + c / 16}));
   std::sort(candidates.begin(), candidates.end());  // level, then k, j, i
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   for (std::uint64_t key : candidates) {
@@ -237,7 +230,7 @@ SplineBasis thb_basis(const CubeOctree& octree) {
       const std::array<std::uint32_t, 3> index = {e.index[0] + c % 4, e.index[1] + c / 4 % 4,
                                                   e.index[2] + c / 16};
       const auto [at, fresh] = row_of.emplace(
-          pack(e.level, index), static_cast<std::uint32_t>(basis.row_start.size() - 1));
+          cell_key(e.level, index), static_cast<std::uint32_t>(basis.row_start.size() - 1));
       if (fresh) {
         for (const auto& [f, w] : hierarchy.expand(e.level, index)) {
           basis.row_function.push_back(f);
@@ -300,7 +293,7 @@ std::size_t basis_element_at(const SplineBasis& basis, std::array<double, 3> uvw
     const std::uint32_t s = basis.spans[level];
     const OctreeCell cell{level, {span_of(uvw[0], s), span_of(uvw[1], s), span_of(uvw[2], s)}};
     const auto found =
-        std::lower_bound(basis.elements.begin(), basis.elements.end(), cell, element_less);
+        std::lower_bound(basis.elements.begin(), basis.elements.end(), cell, cell_less);
     if (found != basis.elements.end() && *found == cell)
       return static_cast<std::size_t>(found - basis.elements.begin());
   }

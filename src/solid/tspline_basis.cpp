@@ -1,8 +1,6 @@
 // Cubic T-splines on the cube octree's T-mesh (tspline_basis.hpp).
 #include "tpmsfill/solid/tspline_basis.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -14,6 +12,8 @@
 #include <utility>
 
 #include "core/bspline_basis.hpp"
+#include "core/parallel.hpp"
+#include "solid/internal/octree_cells.hpp"
 #include "tpmsfill/error.hpp"
 
 namespace tpmsfill {
@@ -23,21 +23,9 @@ constexpr int kMaxLevel = 16;
 using Point = std::array<std::int64_t, 3>;  // a T-mesh vertex, in cells of the deepest level
 using Knots = std::array<std::int64_t, 5>;  // one axis's local knots, in the same units
 
-std::uint64_t pack(int level, std::array<std::uint32_t, 3> index) {
-  return std::uint64_t(level) << 54 | std::uint64_t(index[2]) << 36 |
-         std::uint64_t(index[1]) << 18 | index[0];
-}
-
-bool cell_less(const OctreeCell& a, const OctreeCell& b) {
-  return std::tie(a.level, a.index[2], a.index[1], a.index[0]) <
-         std::tie(b.level, b.index[2], b.index[1], b.index[0]);
-}
-
-OctreeCell child(const OctreeCell& c, int octant) {
-  return {c.level + 1,
-          {2 * c.index[0] + (octant & 1), 2 * c.index[1] + (octant >> 1 & 1),
-           2 * c.index[2] + (octant >> 2 & 1)}};
-}
+using detail::cell_key;
+using detail::cell_less;
+using detail::child_cell;
 
 // The T-mesh: its leaves, looked up by the deepest level's cell they hold, and the inner
 // nodes above them, for descents.
@@ -57,13 +45,13 @@ class TMesh {
       throw InputError("the T-mesh's cells do not tile the cube");
     size_ = std::int64_t{1} << deepest_;
     for (std::uint32_t i = 0; i < leaves_.size(); ++i) {
-      leaf_.emplace(pack(leaves_[i].level, leaves_[i].index), i);
+      leaf_.emplace(cell_key(leaves_[i].level, leaves_[i].index), i);
       levels_.insert(leaves_[i].level);
       for (int l = leaves_[i].level - 1; l >= 0; --l) {
         const int shift = leaves_[i].level - l;
         if (!inner_
-                 .insert(pack(l, {leaves_[i].index[0] >> shift, leaves_[i].index[1] >> shift,
-                                  leaves_[i].index[2] >> shift}))
+                 .insert(cell_key(l, {leaves_[i].index[0] >> shift, leaves_[i].index[1] >> shift,
+                                      leaves_[i].index[2] >> shift}))
                  .second)
           break;
       }
@@ -85,8 +73,8 @@ class TMesh {
     for (int l : levels_) {
       const int shift = deepest_ - l;
       const auto found =
-          leaf_.find(pack(l, {std::uint32_t(v[0] >> shift), std::uint32_t(v[1] >> shift),
-                              std::uint32_t(v[2] >> shift)}));
+          leaf_.find(cell_key(l, {std::uint32_t(v[0] >> shift), std::uint32_t(v[1] >> shift),
+                                  std::uint32_t(v[2] >> shift)}));
       if (found != leaf_.end()) return found->second;
     }
     throw InputError("the T-mesh's cells do not tile the cube");
@@ -124,12 +112,12 @@ class TMesh {
       const auto [from, to] = range(c, a);
       if (to <= lo[a] || from >= hi[a]) return;
     }
-    if (const auto found = leaf_.find(pack(c.level, c.index)); found != leaf_.end()) {
+    if (const auto found = leaf_.find(cell_key(c.level, c.index)); found != leaf_.end()) {
       visit(found->second);
       return;
     }
-    if (!inner_.count(pack(c.level, c.index))) return;
-    for (int o = 0; o < 8; ++o) descend(child(c, o), lo, hi, visit);
+    if (!inner_.count(cell_key(c.level, c.index))) return;
+    for (int o = 0; o < 8; ++o) descend(child_cell(c, o), lo, hi, visit);
   }
 
   std::vector<OctreeCell> leaves_;
@@ -275,7 +263,7 @@ SplineBasis tspline_basis(const CubeOctree& octree) {
       elements.push_back({cell, leaf, std::move(here)});
       return;
     }
-    for (int o = 0; o < 8; ++o) self(self, child(cell, o), leaf, here);
+    for (int o = 0; o < 8; ++o) self(self, child_cell(cell, o), leaf, here);
   };
   for (std::uint32_t leaf = 0; leaf < tmesh.leaves().size(); ++leaf)
     split(split, tmesh.leaves()[leaf], leaf, on_cell[leaf]);
@@ -294,15 +282,17 @@ SplineBasis tspline_basis(const CubeOctree& octree) {
   for (std::size_t first = 0; first < elements.size(); first += kBlock) {
     const std::size_t last = std::min(elements.size(), first + kBlock);
     rows.assign(last - first, {});
-    tbb::parallel_for(first, last, [&](std::size_t e) {
-      const OctreeCell& c = elements[e].cell;
-      for (std::uint32_t f : elements[e].functions) {
-        std::array<std::array<double, 4>, 3> w{};
-        for (int a = 0; a < 3; ++a)
-          w[a] = span_weights(basis.knots[f][a], basis.spans[c.level], c.index[a]);
-        for (int k = 0; k < 64; ++k) {
-          const double x = w[0][k % 4] * w[1][k / 4 % 4] * w[2][k / 16];
-          if (x != 0) rows[e - first][k].emplace_back(f, x);
+    detail::parallel_for(last - first, 16, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = first + begin; e < first + end; ++e) {
+        const OctreeCell& c = elements[e].cell;
+        for (std::uint32_t f : elements[e].functions) {
+          std::array<std::array<double, 4>, 3> w{};
+          for (int a = 0; a < 3; ++a)
+            w[a] = span_weights(basis.knots[f][a], basis.spans[c.level], c.index[a]);
+          for (int k = 0; k < 64; ++k) {
+            const double x = w[0][k % 4] * w[1][k / 4 % 4] * w[2][k / 16];
+            if (x != 0) rows[e - first][k].emplace_back(f, x);
+          }
         }
       }
     });
@@ -336,43 +326,46 @@ TSplineCheck check_tspline(const SplineBasis& basis) {
   std::vector<double> unity(elements, 0);
   std::vector<std::array<double, 2>> sums(elements);
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> bad(elements), same(elements);
-  tbb::parallel_for(std::size_t{0}, elements, [&](std::size_t e) {
-    std::vector<std::uint32_t> functions;
-    std::array<double, 64> row_sum{};
-    for (int k = 0; k < 64; ++k) {
-      const std::uint32_t row = basis.element_rows[64 * e + k];
-      for (std::uint32_t t = basis.row_start[row]; t < basis.row_start[row + 1]; ++t) {
-        row_sum[k] += basis.row_weight[t];
-        functions.push_back(basis.row_function[t]);
-      }
-      unity[e] = std::max(unity[e], std::abs(row_sum[k] - 1));
-    }
-    // Σ φ itself at the element's corners, edges' and faces' middles and centre.
-    const OctreeCell& cell = basis.elements[e];
-    const double h = 1.0 / basis.spans[cell.level];
-    sums[e] = {1e300, -1e300};
-    for (int q = 0; q < 27; ++q) {
-      const std::array<double, 3> uvw = {(cell.index[0] + 0.5 * (q % 3)) * h,
-                                         (cell.index[1] + 0.5 * (q / 3 % 3)) * h,
-                                         (cell.index[2] + 0.5 * (q / 9)) * h};
-      const LocalBasis local = local_basis(basis, e, uvw, 0);
-      double sum = 0;
-      for (int k = 0; k < 64; ++k) sum += row_sum[k] * local.value[k];
-      sums[e] = {std::min(sums[e][0], sum), std::max(sums[e][1], sum)};
-    }
-    std::sort(functions.begin(), functions.end());
-    functions.erase(std::unique(functions.begin(), functions.end()), functions.end());
-    for (std::size_t i = 0; i < functions.size(); ++i)
-      for (std::size_t j = i + 1; j < functions.size(); ++j) {
-        const auto& a = basis.knots[functions[i]];
-        const auto& b = basis.knots[functions[j]];
-        if (a == b) {
-          same[e].emplace_back(functions[i], functions[j]);
-          continue;
+  detail::parallel_for(elements, 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      std::vector<std::uint32_t> functions;
+      std::array<double, 64> row_sum{};
+      for (int k = 0; k < 64; ++k) {
+        const std::uint32_t row = basis.element_rows[64 * e + k];
+        for (std::uint32_t t = basis.row_start[row]; t < basis.row_start[row + 1]; ++t) {
+          row_sum[k] += basis.row_weight[t];
+          functions.push_back(basis.row_function[t]);
         }
-        if (!knots_overlap(a[0], b[0]) && !knots_overlap(a[1], b[1]) && !knots_overlap(a[2], b[2]))
-          bad[e].emplace_back(functions[i], functions[j]);
+        unity[e] = std::max(unity[e], std::abs(row_sum[k] - 1));
       }
+      // Σ φ itself at the element's corners, edges' and faces' middles and centre.
+      const OctreeCell& cell = basis.elements[e];
+      const double h = 1.0 / basis.spans[cell.level];
+      sums[e] = {1e300, -1e300};
+      for (int q = 0; q < 27; ++q) {
+        const std::array<double, 3> uvw = {(cell.index[0] + 0.5 * (q % 3)) * h,
+                                           (cell.index[1] + 0.5 * (q / 3 % 3)) * h,
+                                           (cell.index[2] + 0.5 * (q / 9)) * h};
+        const LocalBasis local = local_basis(basis, e, uvw, 0);
+        double sum = 0;
+        for (int k = 0; k < 64; ++k) sum += row_sum[k] * local.value[k];
+        sums[e] = {std::min(sums[e][0], sum), std::max(sums[e][1], sum)};
+      }
+      std::sort(functions.begin(), functions.end());
+      functions.erase(std::unique(functions.begin(), functions.end()), functions.end());
+      for (std::size_t i = 0; i < functions.size(); ++i)
+        for (std::size_t j = i + 1; j < functions.size(); ++j) {
+          const auto& a = basis.knots[functions[i]];
+          const auto& b = basis.knots[functions[j]];
+          if (a == b) {
+            same[e].emplace_back(functions[i], functions[j]);
+            continue;
+          }
+          if (!knots_overlap(a[0], b[0]) && !knots_overlap(a[1], b[1]) &&
+              !knots_overlap(a[2], b[2]))
+            bad[e].emplace_back(functions[i], functions[j]);
+        }
+    }
   });
   // A pair meets on several elements: counted once; the T-mesh cells under its common support
   // (and under a sum off one) are the ones to split.

@@ -332,7 +332,7 @@ TEST(MaterialCli, IsoSurfacesReportWhatTheirFileHolds) {
       // A ramp along x cuts the box in squares: each surface one whole 10 × 10 mm piece.
       for (const auto& s : reported["surfaces"]) {
         EXPECT_EQ(s["pieces"].get<int>(), 1) << s.dump();
-        EXPECT_EQ(s["fragments"].get<int>(), 0) << s.dump();
+        EXPECT_EQ(s["small_pieces"].get<int>(), 0) << s.dump();
         EXPECT_EQ(s["non_manifold_edges"].get<int>(), 0) << s.dump();
         EXPECT_NEAR(s["smallest_piece_share"].get<double>(), 1, 1e-12);
         EXPECT_NEAR(s["area_mm2"].get<double>(), 100, 3) << s.dump();

@@ -95,11 +95,8 @@ TEST(TraceContours, RandomFieldsGiveSimpleDisjointContours) {
   // Noise makes every configuration and saddle; the contours must still be closed, simple
   // and disjoint, and their areas must add up to what the sign pattern implies (the solid
   // nodes' share, within the cells the contours cut).
-  std::uint64_t seed = 12345;
-  auto next = [&] {
-    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
-    return static_cast<double>(seed >> 11) / 9007199254740992.0 - 0.5;
-  };
+  test::Random random{12345};
+  auto next = [&] { return random.next() - 0.5; };
   for (int trial = 0; trial < 20; ++trial) {
     Field f = plane_field(40, 0.25, [&](double, double) { return next(); });
     for (int i = 0; i < 40; ++i)

@@ -16,11 +16,8 @@ TEST(CubeLookup, BoxIsAffineAndLinearMaterialIsExact) {
   auto linear = [](Vec3 p) { return 2 * p.x - p.y + 3 * p.z; };
   for (const Vec3& p : box.points) box.material.push_back(linear(p));
   const CubeLookup lookup = build_cube_lookup(box, map_to_cube(box));
-  std::uint64_t state = 12345;
-  auto random = [&] {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 53);
-  };
+  test::Random numbers{12345};
+  auto random = [&] { return numbers.next(); };
   for (int i = 0; i < 2000; ++i) {
     const std::array<double, 3> uvw{random(), random(), random()};
     const CubeSample s = cube_lookup(lookup, uvw);

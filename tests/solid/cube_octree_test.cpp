@@ -13,11 +13,9 @@ namespace {
 
 std::vector<std::array<double, 3>> random_points(std::size_t n, double scale, std::uint64_t seed) {
   std::vector<std::array<double, 3>> points(n);
+  test::Random random{seed};
   for (auto& p : points)
-    for (double& x : p) {
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      x = scale * static_cast<double>(seed >> 11) / static_cast<double>(1ULL << 53);
-    }
+    for (double& x : p) x = scale * random.next();
   return points;
 }
 

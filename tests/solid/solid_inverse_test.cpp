@@ -20,11 +20,8 @@ TEST(SolidInverse, ImagesComeBackAtTheirParameters) {
   const SolidFit fit = fit_solid_spline(blob, map_to_cube(blob), {.refinements = 1});
   ASSERT_EQ(fit.rounds.back().folded_samples, 0u);  // a bijection: one preimage per point
   const SolidLocator locator = build_solid_locator(fit.spline);
-  std::uint64_t seed = 17;
-  auto next = [&] {
-    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(seed >> 11) / static_cast<double>(1ULL << 53);
-  };
+  test::Random random{17};
+  auto next = [&] { return random.next(); };
   int worst_iterations = 0;
   for (int n = 0; n < 300; ++n) {
     const std::array<double, 3> x = {0.02 + 0.96 * next(), 0.02 + 0.96 * next(),

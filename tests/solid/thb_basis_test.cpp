@@ -8,19 +8,12 @@
 #include <tpmsfill/scan/bspline.hpp>
 #include <tpmsfill/solid/thb_basis.hpp>
 
+#include "test_util.hpp"
+
 namespace tpmsfill {
 namespace {
 
-struct Random {
-  std::uint64_t state;
-  double next() {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 53);
-  }
-  std::array<double, 3> point(double scale = 1) {
-    return {scale * next(), scale * next(), scale * next()};
-  }
-};
+using test::Random;
 
 // An octree crowded towards the corner (0, 0, 0): levels 2 to 6, unbalanced or balanced.
 CubeOctree corner_octree(bool balance) {

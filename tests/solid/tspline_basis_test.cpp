@@ -9,17 +9,12 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/solid/tspline_basis.hpp>
 
+#include "test_util.hpp"
+
 namespace tpmsfill {
 namespace {
 
-struct Random {
-  std::uint64_t state;
-  double next() {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 53);
-  }
-  std::array<double, 3> point() { return {next(), next(), next()}; }
-};
+using test::Random;
 
 // The cubic B-spline on knots ξ_0..ξ_4 at t, by Cox–de Boor (0/0 = 0), right-open spans but
 // the last non-empty one closed, so that t = 1 belongs to the functions ending there.

@@ -68,7 +68,7 @@ struct SolidFitOptions {
   /// start, or of a refined G at the finer elements' points, pushed open along ∇det J_G, and
   /// where that fails untangled by Garanzha et al. 2021's foldover-free energy), and each step
   /// slides along a fold rather than into it (it also watches the children's Gauss points, so
-  /// that the next round starts fold-free). Costs 1.1–2.3 times the plain fit's time and under
+  /// that the next round starts fold-free). Costs 1.1–2.5 times the plain fit's time and under
   /// a point of RS (docs/benchmarks.md §21c). False: the plain fit, which folds near the
   /// cube's faces and edges (bear: 5,568 of 387,855 Gauss points).
   bool fold_free = true;
