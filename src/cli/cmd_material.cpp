@@ -299,7 +299,11 @@ int run_model_info(const MaterialArgs& a) {
 }
 
 int run_material_info(const MaterialArgs& a) {
-  if (tpmsfill::detail::lower_extension(a.input) == ".tsm") return run_model_info(a);
+  if (tpmsfill::detail::lower_extension(a.input) == ".tsm") {
+    if (a.tspline)
+      throw InputError("--tspline checks the octree a fit would make: give the mesh, not a model");
+    return run_model_info(a);
+  }
   if (!a.tets_output.empty()) {
     // What write_tet_mesh() takes, checked before the work rather than after it.
     const std::string ext = tpmsfill::detail::lower_extension(a.tets_output);

@@ -126,6 +126,8 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   EXPECT_GT(last["geometry_rs_percent"].get<double>(), 0);
   EXPECT_GT(last["material_rs_percent"].get<double>(), 0);
   ASSERT_TRUE(fs::exists(model));
+  ASSERT_EQ(material_info(quoted(model).append(" --tspline"), &out), 2) << out;
+  EXPECT_NE(out.find("give the mesh, not a model"), std::string::npos) << out;
   ASSERT_EQ(material_info(quoted(model).append(" --json"), &out), 0) << out;
   const nlohmann::json info = json_of(out);
   EXPECT_EQ(info["control_points"], last["control_points"]);
