@@ -156,6 +156,15 @@ PY
   assimp export /usr/share/assimp/models/Collada/duck.dae "$tmp/mat/duck.obj" >/dev/null
   ./build/tpmsfill repair "$tmp/mat/duck.obj" "$tmp/mat/duck.off" --quiet
 }
+# The seed's material rule for a model, as the array `material`: the duck's distance to its
+# box's centre (after material_sizes), the others' geodesic distance from the bottom.
+seed_material() {
+  if [[ $1 == duck ]]; then
+    material=(--material point $(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(*[(b["min"][i]+b["max"][i])/2 for i in range(3)])' "$tmp/c.json"))
+  else
+    material=(--material geodesic "$depth")
+  fi
+}
 # A mesh's box diagonal and height, its tet size (diagonal / 30) and geodesic source depth
 # (diagonal / 100), as diag, zspan, cell, depth; fails for a mesh `tpmsfill check` refuses.
 material_sizes() {
@@ -947,11 +956,10 @@ if [[ "$section" == all || "$section" == material || "$section" == material-tabl
   for name in upper-femur duck; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
+    seed_material "$name"
     if [[ $name == duck ]]; then
-      material=(--material point $(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(*[(b["min"][i]+b["max"][i])/2 for i in range(3)])' "$tmp/c.json"))
       seed_thb="27455 | 23 / 16 | 80.47 / 88.66"; seed_uniform="54872 | 31 / 19 | 83.84 / 90.27"
     else
-      material=(--material geodesic "$depth")
       seed_thb="21659 | 23 / 27 | 85.33 / 88.03"; seed_uniform="64000 | 28 / 27 | 84.62 / 85.92"
     fi
     thb_nc=0
@@ -1033,11 +1041,7 @@ if [[ "$section" == all || "$section" == material || "$section" == material-audi
   for name in bunny00 bear fandisk sphere upper-femur duck; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
-    if [[ $name == duck ]]; then
-      material=(--material point $(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(*[(b["min"][i]+b["max"][i])/2 for i in range(3)])' "$tmp/c.json"))
-    else
-      material=(--material geodesic "$depth")
-    fi
+    seed_material "$name"
     volume=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["volume"])' "$tmp/c.json")
     ./build/tpmsfill material info "$f" --cell "$cell" "${material[@]}" --tets "$tmp/a.vtk" \
       >/dev/null 2>&1

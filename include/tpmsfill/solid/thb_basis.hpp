@@ -75,7 +75,8 @@ SplineBasis thb_basis(const CubeOctree& octree);
 SplineBasis tensor_basis(int per_axis);
 
 /// Per function, its Greville point: the mean of the three inner knots of its local knot
-/// vector, per axis (a T-spline's own knots, a B-spline's its level's). Coefficients equal to a linear function's values there reproduce it.
+/// vector, per axis (a T-spline's own knots, a B-spline's its level's). Coefficients equal to a
+/// linear function's values there reproduce it.
 std::vector<std::array<double, 3>> greville_points(const SplineBasis& basis);
 
 /// The element holding (u, v, w) (clamped onto the cube; a point on a shared face goes to the
