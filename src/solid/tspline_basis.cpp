@@ -180,8 +180,7 @@ bool knots_overlap(const std::array<double, 5>& a, const std::array<double, 5>& 
 
 struct Element {
   OctreeCell cell;
-  std::uint32_t tmesh_cell = 0;
-  std::vector<std::uint32_t> functions;
+  std::vector<std::uint32_t> functions;  // those non-zero on it
 };
 
 }  // namespace
@@ -244,7 +243,7 @@ SplineBasis tspline_basis(const CubeOctree& octree) {
   }
   // The elements: each cell split while a knot of one of its functions lies inside.
   std::vector<Element> elements;
-  const auto split = [&](auto&& self, const OctreeCell& cell, std::uint32_t leaf,
+  const auto split = [&](auto&& self, const OctreeCell& cell,
                          const std::vector<std::uint32_t>& functions) -> void {
     std::array<std::array<std::int64_t, 2>, 3> r{};
     for (int a = 0; a < 3; ++a) r[a] = tmesh.range(cell, a);
@@ -260,13 +259,13 @@ SplineBasis tspline_basis(const CubeOctree& octree) {
         for (std::int64_t x : knots[f][a]) cut = cut || (x > r[a][0] && x < r[a][1]);
     }
     if (!cut) {
-      elements.push_back({cell, leaf, std::move(here)});
+      elements.push_back({cell, std::move(here)});
       return;
     }
-    for (int o = 0; o < 8; ++o) self(self, child_cell(cell, o), leaf, here);
+    for (int o = 0; o < 8; ++o) self(self, child_cell(cell, o), here);
   };
   for (std::uint32_t leaf = 0; leaf < tmesh.leaves().size(); ++leaf)
-    split(split, tmesh.leaves()[leaf], leaf, on_cell[leaf]);
+    split(split, tmesh.leaves()[leaf], on_cell[leaf]);
   std::sort(elements.begin(), elements.end(),
             [](const Element& a, const Element& b) { return cell_less(a.cell, b.cell); });
   int deepest = 0;
