@@ -13,8 +13,10 @@
 #include <unordered_set>
 
 #include "layers/covered_region.hpp"
+#include "mesh/exact_orientation.hpp"
 #include "sampling/mc_tables.hpp"
 #include "solid/internal/octree_cells.hpp"
+#include "solid/internal/plane_flips.hpp"
 #include "solid/internal/spline_terms.hpp"
 #include "tpmsfill/error.hpp"
 
@@ -22,7 +24,7 @@ namespace tpmsfill {
 namespace {
 
 constexpr int kMaxLevel = 16;
-constexpr int kTurnedPasses = 8;  // LevelSetFinder::extract_section()
+constexpr int kTurnedPasses = 16;  // LevelSetFinder::extract_section()
 constexpr double kFlat = 1;  // above any ear's shape (area over the sum of squared sides: < 0.15)
 
 // A triangle's signed area in the xy plane: > 0 counter-clockwise from +z.
@@ -93,8 +95,9 @@ class LevelSetFinder {
   // fold-free in all but one of its 14,330 elements by fold_certificate.hpp, turned 284
   // triangles over in its stack). Each such leaf is split, the level set closed again
   // (close_surface) and extracted again, a level deeper a pass, for kTurnedPasses passes, no
-  // deeper than so many levels below max_level. Where det J_G ≤ 0 at a triangle's corner G
-  // folds, and splitting mends nothing there.
+  // deeper than so many levels below max_level. Passes beget passes: a split leaf's neighbours
+  // gain fine face points that can cross their own long chords (bear's 40 % layer needed 11).
+  // Where det J_G ≤ 0 at a triangle's corner G folds, and splitting mends nothing there.
   SolidLevelSet extract_section(std::vector<Cell> cells) {
     SolidLevelSet out = extract(cells);
     for (int pass = 0; pass < kTurnedPasses; ++pass) {
@@ -676,14 +679,23 @@ class LevelSetFinder {
     const Vec3 e2 = cross(normal, e1);  // e1 × e2 = normal
     flat_.resize(n);
     ring_.resize(n);
+    // A slice's loop is flat in its plane: its own x and y (y mirrored where the loop runs
+    // clockwise), so that its ears' signs are decided exactly, the nearly straight runs of a
+    // leaf's chords included (a fan's centre off such a run's kernel turned 2 of bear's
+    // triangles over). Another level set's loop is bent: projected, its signs to rounding.
+    const bool exact = component_ == 2;
     for (std::size_t k = 0; k < n; ++k) {
-      const Vec3 d = out.points[loop[k]] - o;
-      flat_[k] = {dot(d, e1), dot(d, e2)};
+      const Vec3 p = out.points[loop[k]], d = p - o;
+      flat_[k] = exact ? Vec2{p.x, normal.z > 0 ? p.y : -p.y} : Vec2{dot(d, e1), dot(d, e2)};
       ring_[k] = static_cast<std::uint32_t>(k);
     }
     auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
       const Vec2 p = flat_[a], q = flat_[b], r = flat_[c];
       return (q.x - p.x) * (r.y - p.y) - (r.x - p.x) * (q.y - p.y);
+    };
+    auto sign = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      const Vec2 p = flat_[a], q = flat_[b], r = flat_[c];
+      return detail::orientation_2({p.x, p.y}, {q.x, q.y}, {r.x, r.y});
     };
     auto length2 = [&](std::uint32_t a, std::uint32_t b) {
       const Vec2 d{flat_[b].x - flat_[a].x, flat_[b].y - flat_[a].y};
@@ -697,7 +709,7 @@ class LevelSetFinder {
     while (ring_.size() > 2) {
       const std::size_t m = ring_.size();
       std::size_t best = m;
-      double best_shape = 0;
+      double best_shape = -1;
       for (std::size_t i = 0; i < m && best_shape < kFlat; ++i) {
         const std::uint32_t a = ring_[(i + m - 1) % m], b = ring_[i], c = ring_[(i + 1) % m];
         // Where a layer runs along a grid plane, crossings land on its corners and two points
@@ -707,14 +719,15 @@ class LevelSetFinder {
           continue;
         }
         const double area = turn(a, b, c);
-        if (!(area > least)) continue;
+        if (exact ? sign(a, b, c) <= 0 : !(area > least)) continue;
         bool clear = true;
         for (std::size_t j = 0; j < m && clear && m > 3; ++j) {
           const std::uint32_t r = ring_[j];
           if (r == a || r == b || r == c || same(r, a) || same(r, b) || same(r, c)) continue;
-          clear = !(turn(a, b, r) >= 0 && turn(b, c, r) >= 0 && turn(c, a, r) >= 0);
+          clear = exact ? !(sign(a, b, r) >= 0 && sign(b, c, r) >= 0 && sign(c, a, r) >= 0)
+                        : !(turn(a, b, r) >= 0 && turn(b, c, r) >= 0 && turn(c, a, r) >= 0);
         }
-        const double shape = area / (length2(a, b) + length2(b, c) + length2(c, a));
+        const double shape = std::max(0.0, area / (length2(a, b) + length2(b, c) + length2(c, a)));
         if (clear && shape > best_shape) best = i, best_shape = shape;
       }
       if (best == m) {
@@ -889,7 +902,10 @@ SolidSection slice_solid(const SolidSpline& spline, double z, const SolidSliceOp
   section.z = z;
   section.mesh = finder.extract_section(finder.cells(tau));
   for (Vec3& p : section.mesh.points) p.z = z;  // on the plane (edge points are, to 1e-9)
-  std::vector<std::vector<Vec2>> turned;        // the turned-over triangles, reversed
+  // What splitting left turned over (none on bear's or fandisk's stacks) is mended in the
+  // plane by edge flips, which keep the section's winding everywhere.
+  detail::flip_turned_triangles(section.mesh.points, section.mesh.triangles);
+  std::vector<std::vector<Vec2>> turned;  // the turned-over triangles, reversed
   for (const auto& t : section.mesh.triangles) {
     const double area = plane_area(section.mesh, t);
     section.area += area;
