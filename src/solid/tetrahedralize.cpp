@@ -173,8 +173,27 @@ TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions&
     const std::filesystem::path dumps[] = {"dump-bug.mesh", "dump-bug.binary.cgal"};
     bool dumped_before = false;
     for (const auto& d : dumps) dumped_before = dumped_before || std::filesystem::exists(d);
+    // Mesh_3's refinement can run without end where the surface holds a sliver far finer than
+    // the cell (the lower femur's front half, capped by repair, passed 11 GB in 15 min): it
+    // stops at a vertex budget of 200 times the estimate's tets, about 1,000 times the vertices
+    // it should make (a part thin everywhere, with tets down to cell / 8, makes at most 512
+    // times), at least 100,000, and never more than max_tets' vertices (5 tets a vertex or so).
+    const auto budget = static_cast<std::size_t>(
+        std::min(static_cast<double>(options.max_tets) / 5, std::max(100'000.0, 200 * estimate)));
+    CGAL::Mesh_error_code stopped = CGAL::CGAL_MESH_3_NO_ERROR;
     try {
-      return CGAL::make_mesh_3<Complex>(domain, criteria, no_perturb(), no_exude(), manifold());
+      Complex made = CGAL::make_mesh_3<Complex>(
+          domain, criteria, no_perturb(), no_exude(), manifold(),
+          mesh_3_options(maximal_number_of_vertices = budget, pointer_to_error_code = &stopped));
+      if (stopped != CGAL::CGAL_MESH_3_NO_ERROR)
+        throw InputError("the tet mesher (CGAL Mesh_3) stopped at " + std::to_string(budget) +
+                         " vertices, where a cell of " + std::to_string(cell) +
+                         " mm asks for about " +
+                         std::to_string(static_cast<std::uint64_t>(estimate / 5)) +
+                         ": the surface holds features far finer than the cell (slivers or "
+                         "near-touching sheets), which it refines without end; remesh the "
+                         "surface near its shortest edges");
+      return made;
     } catch (const CGAL::Failure_exception& e) {
       std::error_code ignored;
       if (!dumped_before)

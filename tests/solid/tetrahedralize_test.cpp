@@ -57,6 +57,21 @@ TEST(Tetrahedralize, PartsThinnerThanTheCellsGetSmallerTets) {
   EXPECT_LT(u.volume / volume, 0.97);  // what the sizing is for
 }
 
+TEST(Tetrahedralize, MesherStopsAtItsVertexBudgetWithARefusal) {
+  // The lentil above sized by its thickness makes about 280 times the 46 tets its volume asks
+  // for; with max_tets 100 its budget is 20 vertices, which it passes: refused, not run on.
+  TriangleSoup lentil = test::make_sphere({0, 0, 0}, 10, 5);
+  for (Vec3& p : lentil.points) p.z *= 0.06;
+  try {
+    tetrahedralize(lentil, {.cell_size = 3, .max_tets = 100});
+    FAIL() << "the mesher ran past its vertex budget";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("stopped at 20 vertices"), std::string::npos) << e.what();
+  }
+  // By default the budget leaves the thin part its 280 times (more than 100 times the estimate).
+  EXPECT_GT(check_tet_mesh(tetrahedralize(lentil, {.cell_size = 3})).tets, 4600u);
+}
+
 TEST(Tetrahedralize, TorusKeepsItsHandleAndTheCubeRefusesIt) {
   const TetMesh ring = tetrahedralize(test::make_torus(4, 1.5, 48, 24), {.cell_size = 0.8});
   const TetMeshReport r = check_tet_mesh(ring);

@@ -42,6 +42,8 @@ struct TetrahedralizeOptions {
 /// @throws InputError  no triangles; the surface is not a closed 2-manifold (the sentence says
 ///                     why) or intersects itself; sizes that are not positive and finite, an angle
 ///                     outside (0, 180], a negative cells_across_thin_parts; Mesh_3 made no tets
+///                     or passed its vertex budget (200 times the estimated tets, at least
+///                     100,000, at most max_tets / 5: slivers far finer than the cell)
 /// @throws Cancelled   options.progress asked to stop (checked before and after)
 TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions& options = {});
 
