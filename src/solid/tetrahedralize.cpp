@@ -178,8 +178,10 @@ TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions&
     // stops at a vertex budget of 200 times the estimate's tets, about 1,000 times the vertices
     // it should make (a part thin everywhere, with tets down to cell / 8, makes at most 512
     // times), at least 100,000, and never more than max_tets' vertices (5 tets a vertex or so).
-    const auto budget = static_cast<std::size_t>(
-        std::min(static_cast<double>(options.max_tets) / 5, std::max(100'000.0, 200 * estimate)));
+    // (CGAL reads a budget of 0 as none.)
+    const auto budget = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::min(static_cast<double>(options.max_tets) / 5,
+                                             std::max(100'000.0, 200 * estimate))));
     CGAL::Mesh_error_code stopped = CGAL::CGAL_MESH_3_NO_ERROR;
     try {
       Complex made = CGAL::make_mesh_3<Complex>(

@@ -5,9 +5,7 @@
 // flip takes at least one triangle back and turns none over, so the passes end.
 #include "solid/internal/plane_flips.hpp"
 
-#include <algorithm>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "mesh/exact_orientation.hpp"
 
@@ -26,20 +24,15 @@ std::size_t flip_turned_triangles(const std::vector<Vec3>& points,
     if (turned(triangles[t])) todo.push_back(t);
   if (todo.empty()) return 0;
   const auto directed = [](std::uint32_t a, std::uint32_t b) { return std::uint64_t{a} << 32 | b; };
-  const auto undirected = [&](std::uint32_t a, std::uint32_t b) {
-    return directed(std::min(a, b), std::max(a, b));
-  };
   std::unordered_map<std::uint64_t, std::uint32_t> owner;  // directed edge → its triangle
-  std::unordered_set<std::uint64_t> edges;
+  const auto is_edge = [&](std::uint32_t a, std::uint32_t b) {
+    return owner.count(directed(a, b)) || owner.count(directed(b, a));
+  };
   const auto place = [&](std::uint32_t t, const Tri& tri) {
     triangles[t] = tri;
     for (int k = 0; k < 3; ++k) owner[directed(tri[k], tri[(k + 1) % 3])] = t;
   };
-  for (std::uint32_t t = 0; t < triangles.size(); ++t) {
-    place(t, triangles[t]);
-    for (int k = 0; k < 3; ++k)
-      edges.insert(undirected(triangles[t][k], triangles[t][(k + 1) % 3]));
-  }
+  for (std::uint32_t t = 0; t < triangles.size(); ++t) place(t, triangles[t]);
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t i = 0; i < todo.size(); ++i) {  // grows as flips turn neighbours
@@ -54,14 +47,13 @@ std::size_t flip_turned_triangles(const std::vector<Vec3>& points,
         std::uint32_t d = other[0];
         for (std::uint32_t v : other)
           if (v != a && v != b) d = v;
-        if (d == c || edges.count(undirected(c, d))) continue;
+        if (d == c || is_edge(c, d)) continue;
         // The quad a → d → b → c split on c–d instead of a–b.
         const Tri first{a, d, c}, second{d, b, c};
         const int before = 1 + turned(other);
         const int after = (orientation(a, d, c) <= 0) + (orientation(d, b, c) <= 0);
         if (after >= before) continue;
         owner.erase(directed(a, b)), owner.erase(directed(b, a));
-        edges.erase(undirected(a, b)), edges.insert(undirected(c, d));
         place(t, first), place(u, second);
         if (turned(second)) todo.push_back(u);
         changed = true;
