@@ -37,7 +37,8 @@
 # 21b (material-tables). seed 001's Tables 1-2 side by side: its models' stand-ins (the genus-0
 #     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
 #     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
-#     steps, with the seed's nc / ni / RS in the same rows
+#     steps, with the seed's nc / ni / RS in the same rows; the lower piece (its handles cut,
+#     capped by repair) mapped onto the cube, its inverted tets counted
 # 21d (material-tspline). seed 001's T-splines on the octrees of those six models: functions
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
@@ -126,33 +127,40 @@ extract_material_meshes() {
     data/meshes/bunny00.off data/meshes/bear.off data/meshes/fandisk.off data/meshes/sphere.off \
     2>/dev/null || true
 }
-# The seed's models' stand-ins (§21b): the upper femur and the duck, as $tmp/mat/upper-femur.off
-# and $tmp/mat/duck.off.
+# The seed's models' stand-ins (§21b): the femur's upper and lower ends and the duck, as
+# $tmp/mat/upper-femur.off, $tmp/mat/lower-femur.off and $tmp/mat/duck.off.
 extract_seed_models() {
   mkdir -p "$tmp/mat"
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp/mat" --strip-components=2 \
     data/meshes/femur.off 2>/dev/null || true
   command -v assimp >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq assimp-utils >/dev/null
-  # The femur's upper piece: the triangles above 30 % of its height, the cut capped by repair.
-  # (Its lower end holds both of the mesh's handles, genus 1-2 however it is cut: the cube
-  # map needs genus 0.)
-  python3 - "$tmp/mat/femur.off" "$tmp/mat/femur-cut.off" <<'PY'
-import sys
+  # The femur's pieces above and below 30 % of its height, each cut capped by repair. The
+  # lower holds both of the mesh's handles (genus 2): narrow tunnels, between the condyles and
+  # behind the medial one, each cut by taking out the triangles within 0.01 of a point on it
+  # (found by a search over balls, each position's genus counted), so that repair caps those
+  # holes too; both pieces genus 0, as the cube map needs.
+  for piece in upper lower; do
+    python3 - "$tmp/mat/femur.off" "$tmp/mat/femur-$piece.off" "$piece" <<'PY'
+import math, sys
 tok = open(sys.argv[1]).read().split()
 nv, nf = int(tok[1]), int(tok[2]); at = 4
 pts = [tuple(map(float, tok[at + 3 * i: at + 3 * i + 3])) for i in range(nv)]; at += 3 * nv
-lo = min(p[2] for p in pts) + 0.3 * (max(p[2] for p in pts) - min(p[2] for p in pts))
+cut = min(p[2] for p in pts) + 0.3 * (max(p[2] for p in pts) - min(p[2] for p in pts))
+upper = sys.argv[3] == "upper"
+tunnels = [] if upper else [(-0.0995077, -0.0139117, -0.335913), (-0.00626382, -0.0674182, -0.439003)]
+kept = lambda p: (p[2] >= cut if upper else p[2] <= cut) and all(math.dist(p, c) > 0.01 for c in tunnels)
 faces = []
 for _ in range(nf):
     n = int(tok[at]); f = list(map(int, tok[at + 1: at + 1 + n])); at += 1 + n
-    if all(pts[v][2] >= lo for v in f): faces.append(f)
+    if all(kept(pts[v]) for v in f): faces.append(f)
 used = sorted({v for f in faces for v in f}); new = {v: i for i, v in enumerate(used)}
 with open(sys.argv[2], "w") as o:
     o.write(f"OFF\n{len(used)} {len(faces)} 0\n")
     for v in used: o.write("%r %r %r\n" % pts[v])
     for f in faces: o.write(f"{len(f)} " + " ".join(str(new[v]) for v in f) + "\n")
 PY
-  ./build/tpmsfill repair "$tmp/mat/femur-cut.off" "$tmp/mat/upper-femur.off" --quiet
+    ./build/tpmsfill repair "$tmp/mat/femur-$piece.off" "$tmp/mat/$piece-femur.off" --quiet
+  done
   assimp export /usr/share/assimp/models/Collada/duck.dae "$tmp/mat/duck.obj" >/dev/null
   ./build/tpmsfill repair "$tmp/mat/duck.obj" "$tmp/mat/duck.off" --quiet
 }
@@ -993,6 +1001,22 @@ PY
       done
     done
   done
+  # The lower femur's stand-in is mapped, not fitted: its cube map keeps hundreds of inverted
+  # tets, and the fit's untangling of its start ran past 20 min.
+  if material_sizes "$tmp/mat/lower-femur.off"; then
+    timed ./build/tpmsfill material info "$tmp/mat/lower-femur.off" --cell "$cell" \
+      --material geodesic "$depth" --up 0 0 -1 --json >"$tmp/i.json" 2>/dev/null
+    echo
+    python3 - "$tmp/i.json" "$wall" "$kb" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); m = d["cube_map"]
+print(f"lower-femur (`material info`, geodesic from the cut, --up 0 0 -1): {d['surface_triangles']} "
+      f"triangles, genus {d['genus']}, {d['tets']} tets; cube map: {m['flipped_boundary_faces']} "
+      f"flipped boundary faces, {m['harmonic_inverted_tets']} harmonic inverted tets, "
+      f"{m['inverted_tets']} left after untangling; {float(sys.argv[2]):.1f} s, "
+      f"{int(sys.argv[3]) / 1024:.0f} MB")
+PY
+  fi
 fi
 
 if [[ "$section" == all || "$section" == material || "$section" == material-tspline ]]; then

@@ -259,6 +259,29 @@ TEST(SolidSpline, UniformBaselineHasNCubedControlPoints) {
   EXPECT_THROW(fit_solid_spline(ball, map, {.step = 0}), InputError);
 }
 
+// A refinement round splits the fewest leaves that hold refine_share of a field's squared
+// residual (Dörfler's marking): a larger share splits more of them and fits closer, and a share
+// of 1 splits every leaf the data leaves a residual on (all but a few empty ones).
+TEST(SolidSpline, RefinementSplitsTheLeavesThatHoldItsShareOfTheResidual) {
+  const TetMesh ball = make_ball(6);
+  const CubeMap map = map_to_cube(ball);
+  std::vector<SolidFit> fits;
+  for (const double share : {0.3, 0.65, 1.0})
+    fits.push_back(
+        fit_solid_spline(ball, map, {.refinements = 1, .fold_free = false, .refine_share = share}));
+  for (const SolidFit& fit : fits) ASSERT_EQ(fit.rounds.size(), 2u);
+  EXPECT_GT(fits[0].rounds[0].split, 0u);
+  EXPECT_LT(fits[0].rounds[0].split, fits[1].rounds[0].split);
+  EXPECT_LT(fits[1].rounds[0].split, fits[2].rounds[0].split);
+  EXPECT_LE(fits[2].rounds[0].split, fits[2].rounds[0].elements);
+  EXPECT_GT(fits[2].rounds[0].split, 0.95 * fits[2].rounds[0].elements);
+  EXPECT_LT(fits[0].rounds[1].control_points, fits[2].rounds[1].control_points);
+  EXPECT_GT(fits[2].rounds[1].geometry_rs, fits[0].rounds[1].geometry_rs);
+  EXPECT_GT(fits[2].rounds[1].material_rs, fits[0].rounds[1].material_rs);
+  for (const double share : {0.0, -0.5, 1.5, std::nan("")})
+    EXPECT_THROW(fit_solid_spline(ball, map, {.refine_share = share}), InputError);
+}
+
 TEST(SolidSpline, SameSplineOnOneThreadAndMany) {
   const TetMesh ball = make_ball(6);
   const CubeMap map = map_to_cube(ball);

@@ -72,7 +72,10 @@ struct SolidFitOptions {
   /// a point of RS (docs/benchmarks.md §21c). False: the plain fit, which folds near the
   /// cube's faces and edges (bear: 5,568 of 387,855 Gauss points).
   bool fold_free = true;
-  double refine_sigmas = 2;  ///< split leaves whose residual exceeds mean + this · σ
+  /// Each round splits the fewest leaves that together hold this share of G's squared
+  /// residual, and those that hold it of M's (Dörfler's marking): where the error is, not
+  /// where it is only dense (docs/method.md, progressive refinement).
+  double refine_share = 0.5;
   /// The surface the tets were made from (tetrahedralize()), or null: the boundary samples
   /// then aim at it rather than at the point-normal triangles over the tets' boundary.
   /// Must outlive the call.
