@@ -43,7 +43,8 @@
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
 #     duck): folds, the fold bound, the stack's volume against the surface's, turned-over
-#     triangles, iso-surfaces' pieces against the tets' own
+#     triangles, iso-surfaces' pieces against the tets' own (FIT_ARGS="..." adds options to
+#     the fits)
 # 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
 #     areas against the surface's and the tets' own, and their cracks (bench_solid_slice), and
 #     `material slice` of whole stacks
@@ -1069,8 +1070,9 @@ if [[ "$section" == all || "$section" == material || "$section" == material-audi
     volume=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["volume"])' "$tmp/c.json")
     ./build/tpmsfill material info "$f" --cell "$cell" "${material[@]}" --tets "$tmp/a.vtk" \
       >/dev/null 2>&1
+    # shellcheck disable=SC2086  # FIT_ARGS: more options for the fits, as words
     timed ./build/tpmsfill material fit "$f" "$tmp/a.tsm" --cell "$cell" "${material[@]}" --json \
-      >"$tmp/fit.json" 2>/dev/null
+      ${FIT_ARGS:-} >"$tmp/fit.json" 2>/dev/null
     fit_wall=$wall
     values=$(python3 -c 'import json,sys; t=open(sys.argv[1]).read(); d=json.loads(t[t.index("{"):t.rindex("}")+1]); lo,hi=d["material_range"]; print(*[lo+q*(hi-lo) for q in (0.25,0.5,0.75)])' "$tmp/fit.json")
     layer=$(python3 -c "print('%.3g' % ($zspan / 100))")

@@ -489,7 +489,7 @@ Command add_material_command(CLI::App& app) {
               "Greville point, then steps on the seed's energy (data term, first- and "
               "second-order regularisers, boundary normals) run until the similarity ratio RS "
               "moves by less than 0.05 points: the seed's explicit Euler steps by default, or "
-              "damped Newton steps (--method newton); the leaves that hold most of the residual "
+              "damped Newton steps (--method newton); the leaves of largest residual "
               "(--refine-share) are split and the fit goes on, --refinements times. --uniform N "
               "fits the seed's baseline instead, a uniform "
               "tensor-product spline with N^3 control points.\n\n"
@@ -521,10 +521,11 @@ Command add_material_command(CLI::App& app) {
                   "Progressive refinement rounds after the first (default 2)")
       ->check(CLI::Range(0, 20));
   fit->add_option("--refine-share", args->fit.refine_share,
-                  "A refinement round splits the fewest leaves that hold this share of G's "
-                  "squared residual, and of M's (default 0.5; more: more control points a round, "
-                  "closer fits)")
-      ->check(between(0.01, 1, "0.01 to 1"));
+                  "0 (default): a refinement round splits the leaves whose residual exceeds the "
+                  "mean by 2 standard deviations; S in (0, 1]: the fewest leaves that hold S of "
+                  "G's squared residual, and of M's (closer fits at equal control points, but G "
+                  "may keep folds between its watched points: docs/cli.md)")
+      ->check(between(0, 1, "0 to 1"));
   fit->add_option("--rs-change", args->fit.rs_change,
                   "Stop a field when RS moves by less than this many points a step (default 0.05; "
                   "0: run --max-iterations steps)")

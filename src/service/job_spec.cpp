@@ -64,7 +64,7 @@ const std::vector<Key>& keys_of(JobKind kind) {
       {"uniform", "--uniform", Value::Count},
       {"step", "--step", Value::Positive},
       {"refinements", "--refinements", Value::Count},
-      {"refine_share", "--refine-share", Value::Positive},
+      {"refine_share", "--refine-share", Value::Number},
       {"rs_change", "--rs-change", Value::Number},
       {"max_iterations", "--max-iterations", Value::Count}};
   static const std::vector<Key> material_slice = {

@@ -440,7 +440,8 @@ struct FieldFit {
   int target_offset;  // 0: x, y, z; 3: m
   std::vector<double>& c;
   NewtonStorage& shared;
-  std::vector<double> element_error;  // per element, Σ w |r|² over its data (measure())
+  std::vector<double> element_error;   // per element, Σ w |r|² over its data (measure())
+  std::vector<double> element_weight;  // per element, Σ w over its data (measure())
   // Per function, a Gershgorin bound of the regularisers' Hessian row (bound_stiffness()).
   std::vector<double> stiffness;
   std::size_t solve_iterations = 0;  // Newton steps' conjugate-gradient iterations
@@ -501,11 +502,12 @@ struct FieldFit {
   }
 
   // The data term's L2 norm, ‖I − F‖ = (Σ_k w_k |r_k|²)^½, and each element's share of its
-  // square.
+  // square and of the weights.
   double measure() {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     const std::size_t elements = basis.elements.size();
     element_error.assign(elements, 0.0);
+    element_weight.assign(elements, 0.0);
     detail::parallel_for(elements, 64, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
@@ -518,6 +520,7 @@ struct FieldFit {
             r2 += r * r;
           }
           element_error[e] += samples.weight[k] * r2;
+          element_weight[e] += samples.weight[k];
         }
       }
     });
@@ -1273,8 +1276,10 @@ void check_options(const TetMesh& mesh, const CubeMap& map, const SolidFitOption
   if (o.max_iterations < 1) throw InputError("the fit needs at least 1 iteration");
   if (!(o.rs_change >= 0)) throw InputError("the fit's RS tolerance must not be negative");
   if (o.refinements < 0) throw InputError("the fit's refinement rounds must not be negative");
-  if (!(o.refine_share > 0 && o.refine_share <= 1))
-    throw InputError("the share of the residual a refinement round splits must be in (0, 1]");
+  if (!(o.refine_share >= 0 && o.refine_share <= 1))
+    throw InputError(
+        "the share of the residual a refinement round splits must be in [0, 1] (0: the "
+        "leaves whose residual exceeds the mean by 2 standard deviations)");
   if (o.uniform != 0 && o.uniform < 4)
     throw InputError("a uniform cubic spline needs at least 4 control points per axis");
   // Newton steps hold the Hessian on the rows too: about 11 KB a control point (38³ peaked at
@@ -1293,30 +1298,54 @@ void check_options(const TetMesh& mesh, const CubeMap& map, const SolidFitOption
                      " GB to fit; at most 100 per axis (1,000,000 control points)");
 }
 
-// Dörfler's marking, per field: the fewest leaves whose squared residuals (Σ w |r|² over their
-// data) sum to `share` of the field's. The rule it replaced, a leaf's mean residual above the
-// mean + 2σ, split small leaves of large error and left large ones holding most of it: at
-// equal control points the upper femur's RS was 2.2 points lower for G and 1.2 for M
-// (benchmarks §21b).
-std::vector<std::size_t> leaves_to_split(const std::vector<double>& g_share,
-                                         const std::vector<double>& m_share, double share) {
-  std::vector<char> chosen(g_share.size(), 0);
-  for (const std::vector<double>* squared : {&g_share, &m_share}) {
-    std::vector<std::size_t> order(squared->size());
-    for (std::size_t e = 0; e < order.size(); ++e) order[e] = e;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return (*squared)[a] != (*squared)[b] ? (*squared)[a] > (*squared)[b] : a < b;
-    });
+// A field's residual per leaf: Σ w |r|² and Σ w over the leaf's data.
+struct LeafResiduals {
+  const std::vector<double>& squared;
+  const std::vector<double>& weight;
+};
+
+// The leaves a refinement round splits, chosen per field. `share` 0: those whose RMS residual
+// exceeds the mean by 2σ. In (0, 1]: Dörfler's marking, the fewest leaves whose squared
+// residuals sum to `share` of the field's. The first splits small leaves of large error and
+// leaves large ones holding most of it; the second fits closer at equal control points (the
+// upper femur's RS +2.2 points for G, +1.2 for M) but makes finer elements where G's folds
+// between the watched points outlive their opening (bear: 10 elements, 27 turned-over slice
+// triangles; benchmarks §21b), so it is not the default.
+std::vector<std::size_t> leaves_to_split(const LeafResiduals& g, const LeafResiduals& m,
+                                         double share) {
+  std::vector<char> chosen(g.squared.size(), 0);
+  for (const LeafResiduals* field : {&g, &m}) {
+    const std::vector<double>& squared = field->squared;
+    if (squared.empty()) continue;
     double total = 0;
-    for (double x : *squared) total += x;
+    for (double x : squared) total += x;
     // Never below 1e-7 of the part's size: round-off is not an error worth refining.
-    if (!(std::sqrt(total) > 1e-7)) continue;
-    double sum = 0;
-    for (std::size_t e : order) {
-      if (sum >= share * total) break;
-      chosen[e] = 1;
-      sum += (*squared)[e];
+    const double floor = 1e-7;
+    if (share > 0) {
+      if (!(std::sqrt(total) > floor)) continue;
+      std::vector<std::size_t> order(squared.size());
+      for (std::size_t e = 0; e < order.size(); ++e) order[e] = e;
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return squared[a] != squared[b] ? squared[a] > squared[b] : a < b;
+      });
+      double sum = 0;
+      for (std::size_t e : order) {
+        if (sum >= share * total) break;
+        chosen[e] = 1;
+        sum += squared[e];
+      }
+      continue;
     }
+    std::vector<double> rms(squared.size(), 0.0);
+    for (std::size_t e = 0; e < squared.size(); ++e)
+      if (field->weight[e] > 0) rms[e] = std::sqrt(squared[e] / field->weight[e]);
+    double mean = 0, var = 0;
+    for (double x : rms) mean += x;
+    mean /= rms.size();
+    for (double x : rms) var += (x - mean) * (x - mean);
+    const double limit = std::max(mean + 2 * std::sqrt(var / rms.size()), floor);
+    for (std::size_t e = 0; e < rms.size(); ++e)
+      if (rms[e] > limit) chosen[e] = 1;
   }
   std::vector<std::size_t> out;
   for (std::size_t e = 0; e < chosen.size(); ++e)
@@ -1624,8 +1653,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     const Gather gather_map = detail::make_gather(basis);
     const Probe probe = make_probe(basis, map);
     NewtonStorage shared;
-    FieldFit<3> fit_g{basis, quadrature, samples, gather_map, options, 0, g, shared, {}, {}, 0};
-    FieldFit<1> fit_m{basis, quadrature, samples, gather_map, options, 3, m, shared, {}, {}, 0};
+    FieldFit<3> fit_g{basis, quadrature, samples, gather_map, options, 0, g, shared, {}, {}, {}, 0};
+    FieldFit<1> fit_m{basis, quadrature, samples, gather_map, options, 3, m, shared, {}, {}, {}, 0};
     if (round == 0) {
       start_g = fit_g.measure();
       start_m = has_material ? fit_m.measure() : 0;
@@ -1680,7 +1709,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     std::vector<std::size_t> chosen;
     CubeOctree finer;
     if (round + 1 < rounds) {
-      chosen = leaves_to_split(fit_g.element_error, fit_m.element_error, options.refine_share);
+      chosen = leaves_to_split({fit_g.element_error, fit_g.element_weight},
+                               {fit_m.element_error, fit_m.element_weight}, options.refine_share);
       finer = split_octree_leaves(octree, chosen, centroids, options.octree);
       report.split = finer.leaves.size() > octree.leaves.size() ? chosen.size() : 0;
     }

@@ -259,9 +259,10 @@ TEST(SolidSpline, UniformBaselineHasNCubedControlPoints) {
   EXPECT_THROW(fit_solid_spline(ball, map, {.step = 0}), InputError);
 }
 
-// A refinement round splits the fewest leaves that hold refine_share of a field's squared
-// residual (Dörfler's marking): a larger share splits more of them and fits closer, and a share
-// of 1 splits every leaf the data leaves a residual on (all but a few empty ones).
+// With refine_share, a refinement round splits the fewest leaves that hold that share of a
+// field's squared residual (Dörfler's marking): a larger share splits more of them and fits
+// closer, and a share of 1 splits every leaf the data leaves a residual on (all but a few
+// empty ones).
 TEST(SolidSpline, RefinementSplitsTheLeavesThatHoldItsShareOfTheResidual) {
   const TetMesh ball = make_ball(6);
   const CubeMap map = map_to_cube(ball);
@@ -278,7 +279,7 @@ TEST(SolidSpline, RefinementSplitsTheLeavesThatHoldItsShareOfTheResidual) {
   EXPECT_LT(fits[0].rounds[1].control_points, fits[2].rounds[1].control_points);
   EXPECT_GT(fits[2].rounds[1].geometry_rs, fits[0].rounds[1].geometry_rs);
   EXPECT_GT(fits[2].rounds[1].material_rs, fits[0].rounds[1].material_rs);
-  for (const double share : {0.0, -0.5, 1.5, std::nan("")})
+  for (const double share : {-0.5, 1.5, std::nan("")})
     EXPECT_THROW(fit_solid_spline(ball, map, {.refine_share = share}), InputError);
 }
 

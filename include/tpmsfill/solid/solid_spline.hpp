@@ -72,10 +72,13 @@ struct SolidFitOptions {
   /// a point of RS (docs/benchmarks.md §21c). False: the plain fit, which folds near the
   /// cube's faces and edges (bear: 5,568 of 387,855 Gauss points).
   bool fold_free = true;
-  /// Each round splits the fewest leaves that together hold this share of G's squared
-  /// residual, and those that hold it of M's (Dörfler's marking): where the error is, not
-  /// where it is only dense (docs/method.md, progressive refinement).
-  double refine_share = 0.5;
+  /// The leaves a refinement round splits. 0: those whose RMS residual (of G or of M) exceeds
+  /// the mean by 2σ. In (0, 1]: the fewest that hold this share of G's squared residual, and
+  /// those that hold it of M's (Dörfler's marking): closer fits at equal control points (the
+  /// seed's duck RS at 0.5), but G's folds between the watched points can outlive their
+  /// opening on the finer elements it makes (bear at 0.5: 27 turned-over slice triangles;
+  /// docs/benchmarks.md §21b), so it is not the default.
+  double refine_share = 0;
   /// The surface the tets were made from (tetrahedralize()), or null: the boundary samples
   /// then aim at it rather than at the point-normal triangles over the tets' boundary.
   /// Must outlive the call.
