@@ -1304,24 +1304,20 @@ struct LeafResiduals {
   const std::vector<double>& weight;
 };
 
-// The leaves a refinement round splits, chosen per field. `share` 0: those whose RMS residual
-// exceeds the mean by 2σ. In (0, 1]: Dörfler's marking, the fewest leaves whose squared
-// residuals sum to `share` of the field's. The first splits small leaves of large error and
-// leaves large ones holding most of it; the second fits closer at equal control points (the
-// upper femur's RS +2.2 points for G, +1.2 for M) but makes finer elements where G's folds
-// between the watched points outlive their opening (bear: 10 elements, 27 turned-over slice
-// triangles; benchmarks §21b), so it is not the default.
+// The leaves a refinement round splits, chosen per field (SolidFitOptions::refine_share says
+// which and why): `share` 0, those whose RMS residual exceeds the mean by 2σ; in (0, 1],
+// Dörfler's marking, the fewest leaves whose squared residuals sum to `share` of the field's.
 std::vector<std::size_t> leaves_to_split(const LeafResiduals& g, const LeafResiduals& m,
                                          double share) {
   std::vector<char> chosen(g.squared.size(), 0);
   for (const LeafResiduals* field : {&g, &m}) {
     const std::vector<double>& squared = field->squared;
     if (squared.empty()) continue;
-    double total = 0;
-    for (double x : squared) total += x;
     // Never below 1e-7 of the part's size: round-off is not an error worth refining.
     const double floor = 1e-7;
     if (share > 0) {
+      double total = 0;
+      for (double x : squared) total += x;
       if (!(std::sqrt(total) > floor)) continue;
       std::vector<std::size_t> order(squared.size());
       for (std::size_t e = 0; e < order.size(); ++e) order[e] = e;
