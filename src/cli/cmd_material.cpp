@@ -50,6 +50,7 @@ struct MaterialArgs {
   bool json = false, quiet = false, allow_folds = false;
   bool fold_free = false;  // --fold-free, the default: changes nothing
   bool tspline = false;    // info --tspline
+  bool refinements_given = false, refine_share_given = false;
 };
 
 double number_argument(const std::string& text, const std::string& what) {
@@ -359,6 +360,11 @@ int run_material_info(const MaterialArgs& a) {
 int run_material_fit(const MaterialArgs& a) {
   if (tpmsfill::detail::lower_extension(a.output) != ".tsm")
     throw InputError(a.output + ": a solid spline model is written as .tsm");
+  // A uniform basis is fitted in one round: a refinement asked for beside it would be dropped.
+  if (a.fit.uniform > 0 && ((a.refinements_given && a.fit.refinements > 0) || a.refine_share_given))
+    throw InputError(
+        "--uniform fits one round on its N^3 basis: it takes no --refine-share, and "
+        "--refinements 0 at most");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::ordered_json j;
@@ -406,7 +412,8 @@ int run_material_fit(const MaterialArgs& a) {
     warnings.push_back("G folds between its Gauss points too: det J <= 0 at " +
                        std::to_string(last.fine_folded_samples) + " of " +
                        std::to_string(last.fine_samples) +
-                       " points of a finer sample (5^3 inside an element, 4^3 reaching its faces)");
+                       " points of a finer sample (5^3 inside an element, 4^3 reaching its faces, "
+                       "9^3 along the cube's edges)");
   if (!material) warnings.push_back("the tets have no material: only G was fitted");
   j["fold_certificate"] = certify(model.fit.spline, warnings);
   write_solid_model(a.output, model);
@@ -521,10 +528,9 @@ Command add_material_command(CLI::App& app) {
                   "Progressive refinement rounds after the first (default 2)")
       ->check(CLI::Range(0, 20));
   fit->add_option("--refine-share", args->fit.refine_share,
-                  "0 (default): a refinement round splits the leaves whose residual exceeds the "
-                  "mean by 2 standard deviations; S in (0, 1]: the fewest leaves that hold S of "
-                  "G's squared residual, and of M's (closer fits at equal control points, but G "
-                  "may keep folds between its watched points: docs/cli.md)")
+                  "Which leaves a refinement round splits: the fewest that hold S of G's squared "
+                  "residual, and of M's (default 0.5; more: closer fits, more control points); "
+                  "0: those whose residual exceeds the mean by 2 standard deviations")
       ->check(between(0, 1, "0 to 1"));
   fit->add_option("--rs-change", args->fit.rs_change,
                   "Stop a field when RS moves by less than this many points a step (default 0.05; "
@@ -537,8 +543,8 @@ Command add_material_command(CLI::App& app) {
       fit->add_flag("--allow-folds", args->allow_folds,
                     "Let G fold (det J <= 0) near the cube's faces and edges, and warn "
                     "of it: the plain fit, up to 2.3 times faster. By default G is "
-                    "kept fold-free at every Gauss point and 5^3 + 4^3 points an element, "
-                    "or the model is refused with where");
+                    "kept fold-free at every Gauss point and 5^3 + 4^3 points an element "
+                    "(9^3 more along the cube's edges), or the model is refused with where");
   fit->add_flag("--fold-free", args->fold_free,
                 "The default: keep G fold-free (for scripts written when it was not)")
       ->excludes(allow);
@@ -546,6 +552,8 @@ Command add_material_command(CLI::App& app) {
   auto model_commands = add_material_model_commands(material);
   return [args, fit, model_commands] {
     if (const std::optional<int> code = model_commands()) return *code;
+    args->refinements_given = fit->count("--refinements") > 0;
+    args->refine_share_given = fit->count("--refine-share") > 0;
     return fit->parsed() ? run_material_fit(*args) : run_material_info(*args);
   };
 }

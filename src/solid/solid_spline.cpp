@@ -8,6 +8,8 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -35,8 +37,10 @@ using detail::row_coefficients;
 constexpr double kNode[3] = {0.11270166537925831, 0.5, 0.88729833462074169};
 constexpr double kWeight[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
 constexpr int kCellSamples = 27;
-// The finer check of det J_G: 5³ points inside an element and 4³ reaching its faces.
+// The finer check of det J_G: 5³ points inside an element and 4³ reaching its faces, and on
+// an element along one of the cube's edges 9³ more (finer_check()).
 constexpr int kFineSamples = 125 + 64;
+constexpr int kEdgeSamples = 729;
 // A Newton step's solve: its residual relative to the right-hand side, and its iteration cap.
 constexpr double kSolveTolerance = 1e-2;
 constexpr int kSolveIterations = 2000;
@@ -395,9 +399,10 @@ struct LocalValue {
 // 5³ inside it, the Gauss points of its eight children (where a refined round's start must
 // not fold), and the finer check's 4³ reaching its faces (where the cube's boundary is: with
 // the first three alone, bear's G still folded at 1,151 points of the cube's faces, and its
-// slices turned 2,388 triangles over; with them, 0 and 469). A grid is n of them, the same
-// along each axis (point i + n j + n² k).
-constexpr double kWatchedFractions[18] = {
+// slices turned 2,388 triangles over; with them, 0 and 469), and the eighths on elements along
+// the cube's edges (finer_check()). A grid is n of them, the same along each axis (point
+// i + n j + n² k).
+constexpr double kWatchedFractions[27] = {
     // the Gauss points
     kNode[0], kNode[1], kNode[2],
     // the finer check's
@@ -406,12 +411,31 @@ constexpr double kWatchedFractions[18] = {
     kNode[0] / 2, kNode[1] / 2, kNode[2] / 2, (1 + kNode[0]) / 2, (1 + kNode[1]) / 2,
     (1 + kNode[2]) / 2,
     // on the faces
-    0.0, 1.0 / 3, 2.0 / 3, 1.0};
+    0.0, 1.0 / 3, 2.0 / 3, 1.0,
+    // the eighths
+    0.0, 1.0 / 8, 2.0 / 8, 3.0 / 8, 4.0 / 8, 5.0 / 8, 6.0 / 8, 7.0 / 8, 1.0};
 using Grid = detail::ElementGrid;
 constexpr Grid kGaussGrid{kWatchedFractions, 0, 3}, kFineGrid{kWatchedFractions, 3, 5},
-    kChildGrid{kWatchedFractions, 8, 6}, kFaceGrid{kWatchedFractions, 14, 4};
-constexpr Grid kWatched[4] = {kGaussGrid, kFineGrid, kChildGrid, kFaceGrid};
-constexpr Grid kFinerCheck[2] = {kFineGrid, kFaceGrid};
+    kChildGrid{kWatchedFractions, 8, 6}, kFaceGrid{kWatchedFractions, 14, 4},
+    kEdgeGrid{kWatchedFractions, 18, 9};
+constexpr Grid kFinerCheck[3] = {kFineGrid, kFaceGrid, kEdgeGrid};
+static_assert(kEdgeSamples == 9 * 9 * 9);
+
+// The finer check's grids on element e. Along the cube's edges the eighths are watched too: a
+// smooth surface's map must flatten there (the cube's two faces meet at 90°, their images at
+// about 180°), so det J_G runs near 0 and dips below it between coarser grids' points (bear
+// at Dörfler's share 0.5: 7 of the 10 elements the bound found folded touched an edge, each
+// folded at one of its eighths; with them watched, 0).
+std::span<const Grid> finer_check(const SplineBasis& basis, std::size_t e) {
+  const OctreeCell& cell = basis.elements[e];
+  const std::uint32_t last = basis.spans[cell.level] - 1;
+  int ends = 0;
+  for (int a = 0; a < 3; ++a) ends += cell.index[a] == 0 || cell.index[a] == last;
+  return {kFinerCheck, ends >= 2 ? 3u : 2u};
+}
+int finer_samples(const SplineBasis& basis, std::size_t e) {
+  return finer_check(basis, e).size() == 3 ? kFineSamples + kEdgeSamples : kFineSamples;
+}
 
 // The 1D B-splines and their slopes at the watched fractions (one table serves every check
 // of every step).
@@ -556,14 +580,16 @@ struct FieldFit {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
         lowest[e].first = std::numeric_limits<double>::infinity();
-        for (const Grid& grid : {kGaussGrid, kFineGrid, kFaceGrid}) {
-          if (grid.first != kGaussGrid.first && !fine) break;
+        const auto visit = [&](const Grid& grid) {
           grid_determinants(basis, axes, e, local.data(), grid, [&](int p, double det) {
             count[e] += det <= 0;
             if (det < lowest[e].first)
               lowest[e] = {det, grid.point(basis.elements[e], basis.spans, p)};
           });
-        }
+        };
+        visit(kGaussGrid);
+        if (fine)
+          for (const Grid& grid : finer_check(basis, e)) visit(grid);
       }
     });
     if (least)
@@ -602,15 +628,16 @@ struct FieldFit {
     return count;
   }
 
-  // Points of the finer check (5³ evenly inside every element, 4³ reaching its faces) where
-  // det J_G ≤ 0: folds between the Gauss points and on the elements' faces.
+  // Points of the finer check (5³ evenly inside every element, 4³ reaching its faces, the
+  // eighths along the cube's edges) where det J_G ≤ 0: folds between the Gauss points and on
+  // the elements' faces.
   std::size_t fine_folds() const requires(Dim == 3) {
     const std::vector<double> rows = row_coefficients(basis, c, Dim);
     std::vector<std::uint32_t> count(basis.elements.size(), 0);
     detail::parallel_for(count.size(), 64, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e) {
         const auto local = local_coefficients(rows, e);
-        for (const Grid& grid : kFinerCheck)
+        for (const Grid& grid : finer_check(basis, e))
           grid_determinants(basis, axes, e, local.data(), grid,
                             [&](int, double det) { count[e] += det <= 0; });
       }
@@ -641,12 +668,11 @@ struct FieldFit {
       for (std::size_t e = begin; e < end; ++e) {
         if (!dirty[e]) continue;
         const auto now = local_coefficients(rows, e);
-        for (const Grid& grid : kWatched) {
-          if (grid.first == kChildGrid.first && !watch_children) continue;
+        const auto watch = [&](const Grid& grid) {
           bool any = false;
           grid_determinants(basis, axes, e, now.data(), grid,
                             [&](int, double det) { any = any || det <= 0; });
-          if (!any) continue;
+          if (!any) return;
           std::vector<double> det_was(grid.n * grid.n * grid.n, 1.0);
           if (was) {
             const auto then = local_coefficients(*was, e);
@@ -657,7 +683,10 @@ struct FieldFit {
             if (det <= 0 && det_was[p] > 0)
               folded[e].push_back({grid.point(basis.elements[e], basis.spans, p), det_was[p]});
           });
-        }
+        };
+        watch(kGaussGrid);
+        if (watch_children) watch(kChildGrid);
+        for (const Grid& grid : finer_check(basis, e)) watch(grid);
         if (found.empty()) continue;
         for (const std::array<double, 3>& uvw : found[e]) {
           if (detail::determinant(jacobian_at(now, e, uvw)) > 0) continue;
@@ -1492,25 +1521,32 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
   for (std::size_t e = 0; e < folded.size(); ++e) element_moves[e] = folded[e] > 0;
   const std::vector<double> fitted = fit.c;
   const std::vector<double> rows = row_coefficients(basis, fitted, 3);
-  // The watched points of an element: its Gauss points, then (`fine`) the finer check's.
-  const int per = kCellSamples + (fine ? kFineSamples : 0);
+  // The watched points of an element: its Gauss points, then (`fine`) the finer check's, whose
+  // weights sum to the element's volume.
+  const auto per = [&](std::size_t e) {
+    return kCellSamples + (fine ? finer_samples(basis, e) : 0);
+  };
   const auto point = [&](std::size_t e, int s) {
     if (s < kCellSamples) return quadrature.uvw[e * kCellSamples + s];
     s -= kCellSamples;
-    const int inside = kFineGrid.n * kFineGrid.n * kFineGrid.n;
-    return s < inside ? kFineGrid.point(basis.elements[e], basis.spans, s)
-                      : kFaceGrid.point(basis.elements[e], basis.spans, s - inside);
+    for (const Grid& grid : finer_check(basis, e)) {
+      const int n = grid.n * grid.n * grid.n;
+      if (s < n) return grid.point(basis.elements[e], basis.spans, s);
+      s -= n;
+    }
+    throw std::logic_error("unfold_geometry: a watched point past its element's");
   };
   const auto weight = [&](std::size_t e, int s) {
     if (s < kCellSamples) return quadrature.weight[e * kCellSamples + s];
     const double h = 1.0 / basis.spans[basis.elements[e].level];
-    return h * h * h / kFineSamples;
+    return h * h * h / finer_samples(basis, e);
   };
   // Per watched point, its ideal: the fitted G's own Jacobian, so that the energy starts at
   // its least but where G folds (or nearly: det J_G under a tenth of the tets'), where the
   // tets' map's stands in. Filled a block per element as the region grows (only the region's:
   // all elements' would be 72 bytes · 216 points each, bear's 220 MB).
-  std::vector<std::int32_t> block(basis.elements.size(), -1);
+  constexpr std::size_t kNone = ~std::size_t(0);
+  std::vector<std::size_t> block(basis.elements.size(), kNone);  // its first point in `ideal`
   std::vector<detail::Matrix3> ideal;
   std::vector<double> ideal_det;
   std::size_t moved = 0;
@@ -1532,18 +1568,18 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
       }
     }
     std::vector<std::uint32_t> fresh;
+    std::size_t points = ideal_det.size();
     for (std::size_t e = 0; e < active.size(); ++e)
-      if (active[e] && block[e] < 0)
-        block[e] = static_cast<std::int32_t>(ideal_det.size() / per + fresh.size()),
-        fresh.push_back(static_cast<std::uint32_t>(e));
-    ideal.resize(ideal.size() + fresh.size() * per);
-    ideal_det.resize(ideal_det.size() + fresh.size() * per, 0);
+      if (active[e] && block[e] == kNone)
+        block[e] = points, points += per(e), fresh.push_back(static_cast<std::uint32_t>(e));
+    ideal.resize(points);
+    ideal_det.resize(points, 0);
     detail::parallel_for(fresh.size(), 16, [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
         const std::size_t e = fresh[i];
         const auto local = fit.local_coefficients(rows, e);
-        for (int s = 0; s < per; ++s) {
-          const std::size_t at = std::size_t(block[e]) * per + s;
+        for (int s = 0; s < per(e); ++s) {
+          const std::size_t at = block[e] + s;
           auto [inverse, det] = reference.at(point(e, s));
           const detail::Matrix3 jg = fit.jacobian_at(local, e, point(e, s));
           const double fitted_det = detail::determinant(jg);
@@ -1562,8 +1598,8 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
         }
     std::vector<detail::JacobianSample> jacobians;
     for (std::uint32_t e = 0; e < active.size(); ++e)
-      for (int s = 0; active[e] && s < per; ++s) {
-        const std::size_t at = std::size_t(block[e]) * per + s;
+      for (int s = 0; active[e] && s < per(e); ++s) {
+        const std::size_t at = block[e] + s;
         jacobians.push_back({e, point(e, s), weight(e, s) * ideal_det[at], ideal[at]});
       }
     for (std::uint32_t e = 0; with_found && e < active.size(); ++e) {
@@ -1577,7 +1613,8 @@ std::size_t unfold_geometry(FieldFit<3>& fit, std::vector<std::uint32_t> folded,
     moved = 0;
     for (char m : movable) moved += m;
     fit.c = fitted;
-    detail::untangle_spline(basis, movable, jacobians, positions, kUntangleFidelity, fit.c, report);
+    detail::untangle_spline(basis, movable, jacobians, positions, kUntangleFidelity, fit.c,
+                            [&](double f) { report((ring + f) / rings); });
     folded = folds_now();
     if (total(folded) == 0) return moved;
     if (ring == 0) element_moves = active;
@@ -1661,11 +1698,18 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     report.control_points = basis.functions.size();
     report.elements = basis.elements.size();
     report.samples = quadrature.uvw.size();  // where folds are counted
+    // A round's progress: its start's untangling (when the pushes leave folds) the first tenth,
+    // the fields' steps to 0.9, the last G's untangling and bound to the end, so that a long
+    // untangling (the lower femur's start: 20 minutes) moves the count too.
+    const auto at = [&](double from, double to) {
+      return [&, from, to](double fraction) {
+        detail::report_or_cancel(options.progress,
+                                 (round + from + (to - from) * fraction) / rounds);
+      };
+    };
     const auto progress = [&](int field) {
       return [&, field](int it) {
-        detail::report_or_cancel(
-            options.progress,
-            (round + (field + double(it) / options.max_iterations) / fields) / rounds);
+        at(0.1, 0.9)((field + double(it) / options.max_iterations) / fields);
       };
     };
     // Fold-free: G starts each round fold-free at its watched points (the Greville start, or
@@ -1682,9 +1726,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
       // What the pushes could not open, the foldover-free energy does (slower).
       const std::vector<std::uint32_t> folded = fit_g.folds_per_element(nullptr, last);
       if (left > 0 && total(folded) > 0)
-        report.untangled_functions = unfold_geometry(fit_g, folded, last, reference, [&](double) {
-          detail::report_or_cancel(options.progress, double(round) / rounds);
-        });
+        report.untangled_functions = unfold_geometry(fit_g, folded, last, reference, at(0, 0.1));
     }
     std::tie(report.geometry_iterations, report.geometry_rs) =
         iterate(fit_g, start_g, options, progress(0));
@@ -1716,9 +1758,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
       const std::vector<std::uint32_t> folded = fit_g.folds_per_element(nullptr, true);
       if (total(folded) > 0) {
         report.fitted_folded_samples += total(folded);
-        report.untangled_functions += unfold_geometry(fit_g, folded, true, reference, [&](double) {
-          detail::report_or_cancel(options.progress, (round + 1.0 / fields) / rounds);
-        });
+        report.untangled_functions +=
+            unfold_geometry(fit_g, folded, true, reference, at(0.9, 0.95));
         report.geometry_rs = similarity(fit_g.measure(), start_g);
       }
     }
@@ -1727,8 +1768,7 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     if (options.fold_free && report.split == 0) {
       report.found_folds = fit_g.open_found_folds(
           [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
-          kOpenSweeps, kFoundPasses,  // between passes: the round's steps are all done
-          [&] { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); });
+          kOpenSweeps, kFoundPasses, [&] { at(0.95, 1)(0); });  // heard between passes
       // Folds the pushes left (the bound's last verdicts, added to the found points): the
       // foldover-free energy, watching them beside the grids' points, then the bound again.
       std::vector<std::uint32_t> left = fit_g.bound_folds();
@@ -1737,14 +1777,11 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
         for (std::size_t e = 0; e < left.size(); ++e) left[e] += grids[e];
         // One ring: the functions over the folded elements (fandisk's 5: 213 functions, about
         // 900 elements watched at 216 points each, 35 s); a second ring took 65 s and failed.
-        report.untangled_functions += unfold_geometry(
-            fit_g, left, true, reference,
-            [&](double) { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); },
-            1);
+        report.untangled_functions +=
+            unfold_geometry(fit_g, left, true, reference, at(0.95, 0.99), 1);
         report.found_folds += fit_g.open_found_folds(
             [&](std::array<double, 3> uvw) { return kOpenTo * reference.at(uvw).second; },
-            kOpenSweeps, kFoundPasses,
-            [&] { detail::report_or_cancel(options.progress, (round + 0.99) / rounds); });
+            kOpenSweeps, kFoundPasses, [&] { at(0.99, 1)(0); });
       }
       if (report.found_folds > 0) report.geometry_rs = similarity(fit_g.measure(), start_g);
     }
@@ -1753,7 +1790,8 @@ SolidFit fit_solid_spline(const TetMesh& mesh, const CubeMap& map, const SolidFi
     report.geometry_max = eg.max * units.size;
     report.folded_samples = total(fit_g.folds_per_element(&report.worst_fold));
     if (report.split == 0) {  // the last round: its G is what is written
-      report.fine_samples = basis.elements.size() * kFineSamples;
+      for (std::size_t e = 0; e < basis.elements.size(); ++e)
+        report.fine_samples += finer_samples(basis, e);
       report.fine_folded_samples = fit_g.fine_folds();
       if (report.fine_folded_samples > 0) fit_g.folds_per_element(&report.worst_fold, true);
     }

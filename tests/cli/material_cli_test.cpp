@@ -136,6 +136,13 @@ TEST(MaterialCli, FitWritesAModelThatInfoReads) {
   // The uniform baseline: N^3 control points.
   ASSERT_EQ(material_fit(tets, dir / "u.tsm", "--uniform 5 --json", &out), 0) << out;
   EXPECT_EQ(json_of(out)["rounds"][0]["control_points"], 125);
+  // Refinement asked for beside it is refused, not dropped; --refinements 0 agrees with it.
+  for (const char* refine : {" --refinements 2", " --refine-share 0.5"}) {
+    EXPECT_EQ(material_fit(tets, dir / "r.tsm", std::string("--uniform 5") + refine, &out), 2);
+    EXPECT_NE(out.find("takes no --refine-share"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "r.tsm"));
+  }
+  EXPECT_EQ(material_fit(tets, dir / "r.tsm", "--uniform 5 --refinements 0", &out), 0) << out;
   // Refusals: a wrong extension before any work, a torus with exit 1 and nothing written.
   EXPECT_EQ(material_fit(tets, dir / "m.stl", "", &out), 2);
   EXPECT_NE(out.find("written as .tsm"), std::string::npos) << out;

@@ -90,19 +90,27 @@ TEST(SolidSpline, BallFitBeatsItsGrevilleStartAndRefinesWhereItIsWorst) {
 }
 
 // Fractions of an element along each axis: its Gauss points, 5 evenly inside it, 4 reaching
-// its faces.
+// its faces, the eighths.
 const std::vector<double> kGauss{0.11270166537925831, 0.5, 0.88729833462074169};
 const std::vector<double> kEven{0.1, 0.3, 0.5, 0.7, 0.9};
 const std::vector<double> kFaces{0, 1.0 / 3, 2.0 / 3, 1};
+const std::vector<double> kEighths{0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1};
+
+// Whether an element touches one of the cube's edges (its index at an end along 2 axes).
+bool along_cube_edge(const SplineBasis& basis, const OctreeCell& e) {
+  int ends = 0;
+  for (int a = 0; a < 3; ++a) ends += e.index[a] == 0 || e.index[a] + 1 == basis.spans[e.level];
+  return ends >= 2;
+}
 
 // The least det J_G of G (coefficients c, 3 per function) over every element's grid of
-// `fractions` along each axis.
-
+// `fractions` along each axis (`edges`: only the elements along the cube's edges).
 double least_det(const SplineBasis& basis, const std::vector<double>& c,
-                 const std::vector<double>& fractions) {
+                 const std::vector<double>& fractions, bool edges = false) {
   const int n = static_cast<int>(fractions.size());
   double least = 1e300;
   for (const OctreeCell& e : basis.elements) {
+    if (edges && !along_cube_edge(basis, e)) continue;
     const double h = 1.0 / basis.spans[e.level];
     for (int k = 0; k < n * n * n; ++k) {
       const int g[3] = {k % n, k / n % n, k / (n * n)};
@@ -186,13 +194,22 @@ TEST(SolidSpline, FoldFreeFitOpensTheBallsFoldsAndKeepsItsAccuracy) {
     held += r.held_functions;
   }
   EXPECT_GT(held, 0u);  // the steps were held back where they would fold G
-  // Checked here independently of the fit's own counts, at 3³, 5³ and 4³ points an element.
+  // Checked here independently of the fit's own counts, at 3³, 5³ and 4³ points an element,
+  // and 9³ on those along the cube's edges.
   std::vector<double> c;
   for (const Vec3& p : fit.spline.geometry) c.insert(c.end(), {p.x, p.y, p.z});
   EXPECT_GT(least_det(fit.spline.basis, c, kGauss), 0);
   EXPECT_GT(least_det(fit.spline.basis, c, kEven), 0);
   EXPECT_GT(least_det(fit.spline.basis, c, kFaces), 0);
-  EXPECT_EQ(last.fine_samples, fit.spline.basis.elements.size() * (125 + 64));
+  EXPECT_GT(least_det(fit.spline.basis, c, kEighths, true), 0);
+  std::size_t finer = 0, along_edges = 0;
+  for (const OctreeCell& e : fit.spline.basis.elements) {
+    const bool edge = along_cube_edge(fit.spline.basis, e);
+    along_edges += edge;
+    finer += 125 + 64 + (edge ? 729 : 0);
+  }
+  EXPECT_GE(along_edges, 12u * 4);  // at least 4 a cube's edge
+  EXPECT_EQ(last.fine_samples, finer);
   EXPECT_EQ(last.fine_folded_samples, 0u);
   // Between those points too: det J_G's Bernstein bound finds no fold (it finds the plain
   // fit's), and the direct slices turn no triangle over.

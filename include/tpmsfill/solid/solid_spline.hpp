@@ -72,13 +72,12 @@ struct SolidFitOptions {
   /// a point of RS (docs/benchmarks.md §21c). False: the plain fit, which folds near the
   /// cube's faces and edges (bear: 5,568 of 387,855 Gauss points).
   bool fold_free = true;
-  /// The leaves a refinement round splits. 0: those whose RMS residual (of G or of M) exceeds
-  /// the mean by 2σ. In (0, 1]: the fewest that hold this share of G's squared residual, and
-  /// those that hold it of M's (Dörfler's marking): closer fits at equal control points (the
-  /// seed's duck RS at 0.5), but G's folds between the watched points can outlive their
-  /// opening on the finer elements it makes (bear at 0.5: 27 turned-over slice triangles;
-  /// docs/benchmarks.md §21b), so it is not the default.
-  double refine_share = 0;
+  /// The leaves a refinement round splits. In (0, 1]: the fewest that hold this share of G's
+  /// squared residual, and those that hold it of M's (Dörfler's marking): closer fits at equal
+  /// control points than the 2σ rule (the seed's duck RS at 0.5; docs/benchmarks.md §21b).
+  /// 0: those whose RMS residual (of G or of M) exceeds the mean by 2σ, the default before
+  /// issue 40's part 8.
+  double refine_share = 0.5;
   /// The surface the tets were made from (tetrahedralize()), or null: the boundary samples
   /// then aim at it rather than at the point-normal triangles over the tets' boundary.
   /// Must outlive the call.
@@ -111,9 +110,9 @@ struct FitRound {
   /// Where det J_G is least (Gauss points; on the last round with folds between them, the
   /// finer sample's too).
   std::array<double, 3> worst_fold{};
-  /// The last round only: points of a finer sample (5³ evenly inside every element and 4³
-  /// reaching its faces) where det J_G ≤ 0, and that sample's size: folds between the Gauss
-  /// points and on the elements' faces.
+  /// The last round only: points of a finer sample (5³ evenly inside every element, 4³
+  /// reaching its faces, 9³ on an element along the cube's edges) where det J_G ≤ 0, and that
+  /// sample's size: folds between the Gauss points and on the elements' faces.
   std::size_t fine_folded_samples = 0;
   std::size_t fine_samples = 0;
   std::size_t samples = 0;  ///< quadrature points
