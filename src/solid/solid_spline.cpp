@@ -37,10 +37,9 @@ using detail::row_coefficients;
 constexpr double kNode[3] = {0.11270166537925831, 0.5, 0.88729833462074169};
 constexpr double kWeight[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
 constexpr int kCellSamples = 27;
-// The finer check of det J_G: 5³ points inside an element and 4³ reaching its faces, and on
-// an element along one of the cube's edges 9³ more (finer_check()).
+// The finer check of det J_G: 5³ points inside an element and 4³ reaching its faces (on an
+// element along one of the cube's edges 9³ more: finer_samples()).
 constexpr int kFineSamples = 125 + 64;
-constexpr int kEdgeSamples = 729;
 // A Newton step's solve: its residual relative to the right-hand side, and its iteration cap.
 constexpr double kSolveTolerance = 1e-2;
 constexpr int kSolveIterations = 2000;
@@ -419,7 +418,6 @@ constexpr Grid kGaussGrid{kWatchedFractions, 0, 3}, kFineGrid{kWatchedFractions,
     kChildGrid{kWatchedFractions, 8, 6}, kFaceGrid{kWatchedFractions, 14, 4},
     kEdgeGrid{kWatchedFractions, 18, 9};
 constexpr Grid kFinerCheck[3] = {kFineGrid, kFaceGrid, kEdgeGrid};
-static_assert(kEdgeSamples == 9 * 9 * 9);
 
 // The finer check's grids on element e. Along the cube's edges the eighths are watched too: a
 // smooth surface's map must flatten there (the cube's two faces meet at 90°, their images at
@@ -434,7 +432,9 @@ std::span<const Grid> finer_check(const SplineBasis& basis, std::size_t e) {
   return {kFinerCheck, ends >= 2 ? 3u : 2u};
 }
 int finer_samples(const SplineBasis& basis, std::size_t e) {
-  return finer_check(basis, e).size() == 3 ? kFineSamples + kEdgeSamples : kFineSamples;
+  int n = 0;
+  for (const Grid& grid : finer_check(basis, e)) n += grid.n * grid.n * grid.n;
+  return n;
 }
 
 // The 1D B-splines and their slopes at the watched fractions (one table serves every check
