@@ -195,6 +195,7 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
   const CubeMap& map = out.map.emplace(map_to_cube(mesh, options));
   j["cube_map"] = {{"corners", map.corners},
                    {"flipped_boundary_faces", map.flipped_boundary_faces},
+                   {"relaxed_patches", map.relaxed_patches},
                    {"harmonic_inverted_tets", map.harmonic_inverted_tets},
                    {"untangled_points", map.untangled_points},
                    {"inverted_tets", map.inverted_tets},

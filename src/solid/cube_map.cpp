@@ -495,6 +495,55 @@ void map_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
       }
 }
 
+// A patch's image share below which its map counts as crowded (see relax_patch).
+constexpr double kCrowded = 1e-3;
+
+// The patch's mean-value map relaxed where it crowds. A convex-combination map squeezes a
+// protrusion of its patch (a condyle on a femur's end) exponentially in its length: the lower
+// femur's stand-in had 202 points within 10⁻⁶ of each other on one face, 5 triangles flat to
+// rounding, another face's triangles down to 3·10⁻¹⁴ of their share; the harmonic interior
+// over such a face inverts its tets by the hundred. Where a triangle's image holds under
+// kCrowded of its share of the face (its area over the patch's), or is turned or flat, the
+// patch's free points move by Newton steps on the foldover-free energy in the plane
+// (untangle.hpp; the volume term at θ = 0.5, so the areas even out): every image positive,
+// each at 0.04-0.4 of its share there. The models of docs/benchmarks.md §22b keep 0.008 and
+// more, so their maps stay Floater's. Returns whether the patch moved.
+bool relax_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
+                 const std::vector<std::uint32_t>& patch, int face, const std::vector<char>& fixed,
+                 std::vector<Uvw>& uvw) {
+  const int axis = face / 2, b = (axis + 1) % 3, c = (axis + 2) % 3;
+  const double mirror = face % 2 ? 1 : -1;  // so that the outward side turns counter-clockwise
+  std::vector<std::array<double, 2>> uv(mesh.points.size(), {0, 0});
+  std::vector<char> movable(mesh.points.size(), 0);
+  std::vector<Triangle> triangles;
+  triangles.reserve(patch.size());
+  double area = 0;
+  for (std::uint32_t f : patch) {
+    const Triangle& t = faces[f];
+    triangles.push_back(t);
+    area +=
+        norm(cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]]));
+    for (std::uint32_t v : t) {
+      uv[v] = {uvw[v][b], mirror * uvw[v][c]};
+      movable[v] = !fixed[v];
+    }
+  }
+  const bool crowded = std::any_of(triangles.begin(), triangles.end(), [&](const Triangle& t) {
+    if (detail::orientation_2(uv[t[0]], uv[t[1]], uv[t[2]]) <= 0) return true;
+    const double share =
+        norm(cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]])) /
+        area;
+    const double image = 0.5 * ((uv[t[1]][0] - uv[t[0]][0]) * (uv[t[2]][1] - uv[t[0]][1]) -
+                                (uv[t[1]][1] - uv[t[0]][1]) * (uv[t[2]][0] - uv[t[0]][0]));
+    return image < kCrowded * share;  // the face's area is 1
+  });
+  if (!crowded) return false;
+  detail::untangle_triangles(mesh.points, triangles, movable, 0.5, uv);
+  for (std::size_t v = 0; v < movable.size(); ++v)
+    if (movable[v]) uvw[v][b] = uv[v][0], uvw[v][c] = mirror * uv[v][1];
+  return true;
+}
+
 // The interior by the P1 harmonic map, for the three coordinates.
 void map_interior(const TetMesh& mesh, const std::vector<char>& fixed, CubeMap& map) {
   std::vector<double> values(mesh.points.size() * 3);
@@ -616,6 +665,7 @@ CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options) {
   for (int face = 0; face < 6; ++face) {
     map.patch_faces[face] = patches[face].size();
     map_patch(mesh, faces, patches[face], face, fixed, map.uvw);
+    map.relaxed_patches += relax_patch(mesh, faces, patches[face], face, fixed, map.uvw);
   }
   detail::report_or_cancel(options.progress, 0.3);
   for (const Triangle& f : faces)

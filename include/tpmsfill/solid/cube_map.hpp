@@ -18,7 +18,11 @@
 ///  3. Patches: each patch onto its cube face by Floater's mean-value coordinates
 ///     (w_ij = (tan(α/2) + tan(β/2)) / |x_j − x_i|, α and β the angles at x_i beside edge ij;
 ///     Li & Fu 2021 call them dihedral angles). The face is convex, so the patch map is a
-///     bijection (Floater 2003); the stage counts flipped triangles rather than assume it.
+///     bijection (Floater 2003), but it squeezes a protrusion exponentially: where a
+///     triangle's image holds under 10⁻³ of its share of the face (or rounding turned it), the
+///     patch's free points move by projected Newton steps on the foldover-free energy below,
+///     in the plane, which keeps every image positive and evens out the areas. The stage
+///     counts flipped triangles rather than assume none.
 ///  4. Interior: the P1 finite-element harmonic map, K_ij = Σ_T V_T ∇λ_i · ∇λ_j over the tets
 ///     T at edge ij (eq. 4 of Li & Fu 2021 with its two slips mended), solved as
 ///     K_II f_I = −K_IB f_B for the three coordinates (one sparse Cholesky factorization).
@@ -65,7 +69,10 @@ struct CubeMap {
   std::array<std::uint64_t, 6> patch_faces{};
   std::uint64_t boundary_faces = 0;
   std::uint64_t flipped_boundary_faces = 0;  ///< image on their cube face reversed or flat
-  std::uint64_t inverted_tets = 0;           ///< image inverted (exact orientation), untangled
+  /// Patches whose mean-value map crowded (a triangle's image under 10⁻³ of its share of the
+  /// face, or turned or flat), relaxed by Newton steps on a foldover-free energy.
+  std::uint64_t relaxed_patches = 0;
+  std::uint64_t inverted_tets = 0;  ///< image inverted (exact orientation), untangled
   /// Image with no volume: all four corners on one cube face (a tet whose four corners lie on
   /// one patch of the boundary), or otherwise coplanar.
   std::uint64_t flat_tets = 0;

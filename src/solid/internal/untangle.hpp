@@ -26,14 +26,18 @@
 namespace tpmsfill::detail {
 
 using Matrix3 = std::array<double, 9>;  ///< row-major
+using Matrix2 = std::array<double, 4>;  ///< row-major
 
 double determinant(const Matrix3& a);
+double determinant(const Matrix2& a);
 
 /// The cofactor matrix det(a) a⁻ᵀ (∂ det / ∂a; it exists where a is singular).
 Matrix3 cofactor(const Matrix3& a);
+Matrix2 cofactor(const Matrix2& a);
 
 /// a⁻¹ = cofactor(a)ᵀ / det, given det = det a ≠ 0.
 Matrix3 inverse(const Matrix3& a, double det);
+Matrix2 inverse(const Matrix2& a, double det);
 
 /// One element's density (1 − θ) tr(JᵀJ) / χ^(2/3) + θ (det² + 1) / χ, and ∂f/∂J.
 double foldover_density(const Matrix3& j, double eps, Matrix3& derivative);
@@ -42,10 +46,22 @@ double foldover_density(const Matrix3& j, double eps, Matrix3& derivative);
 /// any smooth term), with its gradient, and the smallest det J.
 class FoldoverEnergy {
  public:
+  struct Entry {
+    std::int64_t row, column;
+    double value;
+  };
+
   virtual ~FoldoverEnergy() = default;
   virtual double operator()(const std::vector<double>& x, double eps,
                             std::vector<double>& gradient) const = 0;
   virtual double min_det(const std::vector<double>& x) const = 0;
+  /// The energy's Hessian at x for this ε, each element's made positive semi-definite, as
+  /// the entries of its lower half (row ≥ column; repeats add up). False where the energy
+  /// has none: then only L-BFGS steps serve.
+  virtual bool hessian(const std::vector<double>& /*x*/, double /*eps*/,
+                       std::vector<Entry>& /*entries*/) const {
+    return false;
+  }
 };
 
 struct UntangleResult {
@@ -62,6 +78,10 @@ struct FoldoverSchedule {
   double decrease_cap = 0.9;  ///< (1 − σ) at most this (eq. 6)
   int max_rounds = 100;       ///< values of ε
   int max_steps = 400;        ///< L-BFGS steps per value of ε
+  /// Projected Newton steps rather than L-BFGS where the energy has a Hessian: dearer per
+  /// step, but they scale to a region squeezed to 10⁻¹⁰ of its share, which L-BFGS barely moves.
+  bool newton = false;
+  int max_newton_steps = 50;  ///< Newton steps per value of ε
 };
 
 /// Minimises the energy from x under the schedule of ε, until min det J > 0 and the energy
@@ -82,5 +102,18 @@ UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<doubl
 UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
                         std::vector<std::array<double, 3>>& uvw,
                         const std::function<void(double)>& report = {});
+
+/// The same in the plane, by Newton steps: moves the movable points of a map of triangles into
+/// the plane so that every triangle touching one of them turns counter-clockwise, near each
+/// triangle's own shape. The density's volume term weighs `theta` (its shape term 1 − theta).
+/// From a map with none turned or flat, the barrier (ε = 0) alone: the map stays injective.
+/// @param[in] points     the triangles' corners in space: their shapes, the ideal
+/// @param[in,out] uv     per point, its image
+/// @param[in] report     as untangle()'s
+UntangleResult untangle_triangles(const std::vector<Vec3>& points,
+                                  const std::vector<Triangle>& triangles,
+                                  const std::vector<char>& movable, double theta,
+                                  std::vector<std::array<double, 2>>& uv,
+                                  const std::function<void(double)>& report = {});
 
 }  // namespace tpmsfill::detail
