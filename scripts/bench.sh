@@ -1013,7 +1013,8 @@ import json, sys
 d = json.load(open(sys.argv[1])); m = d["cube_map"]
 print(f"lower-femur (`material info`, geodesic from the cut, --up 0 0 -1): {d['surface_triangles']} "
       f"triangles, genus {d['genus']}, {d['tets']} tets; cube map: {m['flipped_boundary_faces']} "
-      f"flipped boundary faces, {m['harmonic_inverted_tets']} harmonic inverted tets, "
+      f"flipped boundary faces, {m['relaxed_patches']} crowded patches relaxed, "
+      f"{m['harmonic_inverted_tets']} harmonic inverted tets, "
       f"{m['inverted_tets']} left after untangling; {float(sys.argv[2]):.1f} s, "
       f"{int(sys.argv[3]) / 1024:.0f} MB")
 PY

@@ -495,19 +495,22 @@ void map_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
       }
 }
 
-// A patch's image share below which its map counts as crowded (see relax_patch).
-constexpr double kCrowded = 1e-3;
+// A patch's image share below which its map counts as crowded (see relax_patch). Relaxing is
+// not free: it evens out areas at the shapes' cost, and a 12 mm cube's 3 × 3 × 9 mm arm at
+// 2·10⁻⁴ fitted its boundary 0.41 mm off relaxed against 0.26 with Floater's map
+// (SolidSpline.SqueezedArmKeepsItsSectionAndSurface). Below 10⁻⁵ rounding starts to tell.
+constexpr double kCrowded = 1e-5;
 
 // The patch's mean-value map relaxed where it crowds. A convex-combination map squeezes a
-// protrusion of its patch (a condyle on a femur's end) exponentially in its length: the lower
-// femur's stand-in had 202 points within 10⁻⁶ of each other on one face, 5 triangles flat to
-// rounding, another face's triangles down to 3·10⁻¹⁴ of their share; the harmonic interior
-// over such a face inverts its tets by the hundred. Where a triangle's image holds under
-// kCrowded of its share of the face (its area over the patch's), or is turned or flat, the
-// patch's free points move by Newton steps on the foldover-free energy in the plane
-// (untangle.hpp; the volume term at θ = 0.5, so the areas even out): every image positive,
-// each at 0.04-0.4 of its share there. The models of docs/benchmarks.md §22b keep 0.008 and
-// more, so their maps stay Floater's. Returns whether the patch moved.
+// protrusion of its patch (a condyle on a femur's end, a triceratops's horn) exponentially in
+// its length: the lower femur's stand-in had 202 points within 10⁻⁶ of each other on one face,
+// 5 triangles flat to rounding, another face's triangles down to 3·10⁻¹⁴ of their share; the
+// harmonic interior over such a face inverts its tets by the hundred. Where a triangle's image
+// holds under kCrowded of its share of the face (its area over the patch's), or is turned or
+// flat, the patch's free points move by Newton steps on the foldover-free energy in the plane
+// (untangle.hpp; the volume term at θ = 0.5, so the areas even out): every image positive.
+// The models of docs/benchmarks.md §22b keep 0.008 and more, so their maps stay Floater's.
+// Returns whether the patch moved.
 bool relax_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
                  const std::vector<std::uint32_t>& patch, int face, const std::vector<char>& fixed,
                  std::vector<Uvw>& uvw) {

@@ -282,9 +282,8 @@ TEST(CubeMap, UntangleMendsAScrambledGridMovingOnlyItsFreePoints) {
 // tets where limbs squeeze into thin slabs. With the chords split and the folds untangled,
 // bear's every tet image is positive: with the boundary on the cube's faces unflipped, the
 // map is a bijection onto the cube, and most of the interior keeps its harmonic place.
-// Triceratops's legs and horns are tets with all but a few corners on the boundary: the
-// untangling leaves some inverted there (153 of 11,669), under half the harmonic map's (414),
-// and none flat.
+// Triceratops's legs and horns are protrusions of their patches, which Floater's maps crowd:
+// those patches relaxed, its map is fold-free too (before: 153 of 11,669 tets left inverted).
 TEST(CubeMap, ScansMapWithoutFoldsOnceTheirChordsAreSplit) {
   for (const char* name : {"bear.off", "triceratops.off"}) {
     SCOPED_TRACE(name);
@@ -300,10 +299,7 @@ TEST(CubeMap, ScansMapWithoutFoldsOnceTheirChordsAreSplit) {
     EXPECT_GT(map.harmonic_inverted_tets, 0u);  // there was something to untangle
     EXPECT_EQ(map.flipped_boundary_faces, 0u);
     EXPECT_EQ(map.flat_tets, 0u);
-    if (!bear) {
-      EXPECT_LT(2 * map.inverted_tets, map.harmonic_inverted_tets);
-      continue;
-    }
+    EXPECT_EQ(map.relaxed_patches > 0, !bear);
     EXPECT_EQ(map.inverted_tets, 0u);
     double smallest = HUGE_VAL;
     for (const Tet& t : split.tets) smallest = std::min(smallest, image_volume(t, map.uvw));
@@ -313,7 +309,9 @@ TEST(CubeMap, ScansMapWithoutFoldsOnceTheirChordsAreSplit) {
         EXPECT_GE(c, 0);
         EXPECT_LE(c, 1);
       }
-    EXPECT_LT(2 * map.untangled_points, map.interior_points);
+    if (bear) {
+      EXPECT_LT(2 * map.untangled_points, map.interior_points);
+    }
   }
 }
 

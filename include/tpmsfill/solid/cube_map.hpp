@@ -19,7 +19,7 @@
 ///     (w_ij = (tan(α/2) + tan(β/2)) / |x_j − x_i|, α and β the angles at x_i beside edge ij;
 ///     Li & Fu 2021 call them dihedral angles). The face is convex, so the patch map is a
 ///     bijection (Floater 2003), but it squeezes a protrusion exponentially: where a
-///     triangle's image holds under 10⁻³ of its share of the face (or rounding turned it), the
+///     triangle's image holds under 10⁻⁵ of its share of the face (or rounding turned it), the
 ///     patch's free points move by projected Newton steps on the foldover-free energy below,
 ///     in the plane, which keeps every image positive and evens out the areas. The stage
 ///     counts flipped triangles rather than assume none.
@@ -69,7 +69,7 @@ struct CubeMap {
   std::array<std::uint64_t, 6> patch_faces{};
   std::uint64_t boundary_faces = 0;
   std::uint64_t flipped_boundary_faces = 0;  ///< image on their cube face reversed or flat
-  /// Patches whose mean-value map crowded (a triangle's image under 10⁻³ of its share of the
+  /// Patches whose mean-value map crowded (a triangle's image under 10⁻⁵ of its share of the
   /// face, or turned or flat), relaxed by Newton steps on a foldover-free energy.
   std::uint64_t relaxed_patches = 0;
   std::uint64_t inverted_tets = 0;  ///< image inverted (exact orientation), untangled

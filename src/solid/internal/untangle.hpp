@@ -2,7 +2,8 @@
 /// @brief Internal: moves the free points of a map of a tet mesh so that no tet's image is
 /// inverted or flat, by Garanzha, Kaporin, Kudryavtseva, Protais, Ray and Sokolov's
 /// foldover-free maps (SIGGRAPH 2021). Used by the cube map (cube_map.cpp), whose harmonic
-/// interior inverts tets where a limb squeezes into a thin slab of the cube.
+/// interior inverts tets where a limb squeezes into a thin slab of the cube, and whose
+/// mean-value patches crowd a protrusion (in the plane, by projected Newton steps).
 ///
 /// Each tet's Jacobian J = U R⁻¹ maps its own shape R, scaled so the tets' total volume is the
 /// image's, onto its image U. The energy Σ_T w_T ((1 − θ) tr(JᵀJ) / χ^(2/3) + θ (det² + 1) / χ),
