@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <queue>
 #include <string>
@@ -513,35 +514,37 @@ constexpr double kCrowded = 1e-5;
 // Returns whether the patch moved.
 bool relax_patch(const TetMesh& mesh, const std::vector<Triangle>& faces,
                  const std::vector<std::uint32_t>& patch, int face, const std::vector<char>& fixed,
-                 std::vector<Uvw>& uvw) {
+                 std::vector<Uvw>& uvw, const std::function<void(double)>& report) {
   const int axis = face / 2, b = (axis + 1) % 3, c = (axis + 2) % 3;
   const double mirror = face % 2 ? 1 : -1;  // so that the outward side turns counter-clockwise
   std::vector<std::array<double, 2>> uv(mesh.points.size(), {0, 0});
   std::vector<char> movable(mesh.points.size(), 0);
   std::vector<Triangle> triangles;
+  std::vector<double> areas;  // twice each triangle's, in space
   triangles.reserve(patch.size());
+  areas.reserve(patch.size());
   double area = 0;
   for (std::uint32_t f : patch) {
     const Triangle& t = faces[f];
     triangles.push_back(t);
-    area +=
-        norm(cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]]));
+    areas.push_back(
+        norm(cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]])));
+    area += areas.back();
     for (std::uint32_t v : t) {
       uv[v] = {uvw[v][b], mirror * uvw[v][c]};
       movable[v] = !fixed[v];
     }
   }
-  const bool crowded = std::any_of(triangles.begin(), triangles.end(), [&](const Triangle& t) {
-    if (detail::orientation_2(uv[t[0]], uv[t[1]], uv[t[2]]) <= 0) return true;
-    const double share =
-        norm(cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]])) /
-        area;
+  bool crowded = false;
+  for (std::size_t i = 0; i < triangles.size() && !crowded; ++i) {
+    const Triangle& t = triangles[i];
     const double image = 0.5 * ((uv[t[1]][0] - uv[t[0]][0]) * (uv[t[2]][1] - uv[t[0]][1]) -
                                 (uv[t[1]][1] - uv[t[0]][1]) * (uv[t[2]][0] - uv[t[0]][0]));
-    return image < kCrowded * share;  // the face's area is 1
-  });
+    crowded = detail::orientation_2(uv[t[0]], uv[t[1]], uv[t[2]]) <= 0 ||
+              image < kCrowded * areas[i] / area;  // the face's area is 1
+  }
   if (!crowded) return false;
-  detail::untangle_triangles(mesh.points, triangles, movable, 0.5, uv);
+  detail::untangle_triangles(mesh.points, triangles, movable, 0.5, uv, report);
   for (std::size_t v = 0; v < movable.size(); ++v)
     if (movable[v]) uvw[v][b] = uv[v][0], uvw[v][c] = mirror * uv[v][1];
   return true;
@@ -668,7 +671,10 @@ CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options) {
   for (int face = 0; face < 6; ++face) {
     map.patch_faces[face] = patches[face].size();
     map_patch(mesh, faces, patches[face], face, fixed, map.uvw);
-    map.relaxed_patches += relax_patch(mesh, faces, patches[face], face, fixed, map.uvw);
+    map.relaxed_patches +=
+        relax_patch(mesh, faces, patches[face], face, fixed, map.uvw, [&](double done) {
+          detail::report_or_cancel(options.progress, 0.1 + 0.2 * (face + done) / 6);
+        });
   }
   detail::report_or_cancel(options.progress, 0.3);
   for (const Triangle& f : faces)

@@ -316,6 +316,22 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
   return s;
 }
 
+// A backtracking Armijo search along `direction` from x (energy e, slope gᵀ direction): the
+// step halves from 1, at most `tries` times, until the energy is finite (ε = 0 makes
+// det J ≤ 0 a wall) and falls enough. On success `trial` holds the point, with its energy and
+// gradient.
+bool backtrack(const FoldoverEnergy& energy, double eps, const std::vector<double>& x,
+               const std::vector<double>& direction, double e, double slope, int tries,
+               std::vector<double>& trial, std::vector<double>& trial_g, double& trial_e) {
+  double step = 1;
+  for (int i = 0; i < tries; ++i, step *= 0.5) {
+    for (std::size_t k = 0; k < x.size(); ++k) trial[k] = x[k] + step * direction[k];
+    trial_e = energy(trial, eps, trial_g);
+    if (std::isfinite(trial_e) && trial_e <= e + 1e-4 * step * slope) return true;
+  }
+  return false;
+}
+
 // L-BFGS (8 pairs) with a backtracking Armijo search; a step to a non-finite energy (ε = 0
 // makes det J ≤ 0 a wall) is backtracked like any other. Returns the steps taken.
 int minimise(const FoldoverEnergy& energy, double eps, int max_steps,
@@ -357,17 +373,8 @@ int minimise(const FoldoverEnergy& energy, double eps, int max_steps,
       for (std::size_t k = 0; k < x.size(); ++k) direction[k] = -g[k] * 1e-2 / largest;
       slope = dot(g, direction);
     }
-    double step = 1, trial_e = 0;
-    bool accepted = false;
-    for (int tries = 0; tries < 40; ++tries, step *= 0.5) {
-      for (std::size_t k = 0; k < x.size(); ++k) trial[k] = x[k] + step * direction[k];
-      trial_e = energy(trial, eps, trial_g);
-      if (std::isfinite(trial_e) && trial_e <= e + 1e-4 * step * slope) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) break;
+    double trial_e = 0;
+    if (!backtrack(energy, eps, x, direction, e, slope, 40, trial, trial_g, trial_e)) break;
     std::vector<double> s(x.size()), y(x.size());
     for (std::size_t k = 0; k < x.size(); ++k) s[k] = trial[k] - x[k], y[k] = trial_g[k] - g[k];
     const double decrease = e - trial_e;
@@ -419,15 +426,8 @@ int newton_minimise(const FoldoverEnergy& energy, double eps, int max_steps,
     for (Eigen::Index i = 0; i < n; ++i) direction[i] = d[i];
     const double slope = dot(g, direction);
     if (!(slope < 0) || -slope < 1e-9 * std::abs(e)) break;  // Newton's decrement: converged
-    double step = 1, trial_e = 0;
-    bool accepted = false;
-    for (int tries = 0; tries < 60 && !accepted; ++tries) {
-      for (std::size_t k = 0; k < x.size(); ++k) trial[k] = x[k] + step * direction[k];
-      trial_e = energy(trial, eps, trial_g);
-      accepted = std::isfinite(trial_e) && trial_e <= e + 1e-4 * step * slope;
-      if (!accepted) step *= 0.5;
-    }
-    if (!accepted) break;
+    double trial_e = 0;
+    if (!backtrack(energy, eps, x, direction, e, slope, 60, trial, trial_g, trial_e)) break;
     const double decrease = e - trial_e;
     x.swap(trial), g.swap(trial_g);
     e = trial_e;
