@@ -640,6 +640,10 @@ std::array<int, 2> cube_edge_corners(int edge) {
   return {first, first | (1 << axis)};
 }
 
+std::vector<std::uint32_t> folded_tets(const TetMesh& mesh, const CubeMap& map) {
+  return bad_tets(mesh, map);
+}
+
 CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options) {
   detail::begin_stage(options.progress, "cube map");
   const TetMeshReport report = check_tet_mesh(mesh);

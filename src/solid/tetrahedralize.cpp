@@ -85,9 +85,12 @@ SurfaceMesh closed_surface_mesh(const TriangleSoup& surface) {
 constexpr double kThinnestCellRatio = 8;  // the floor: cell_size / 8
 class ThicknessSizing {
  public:
-  ThicknessSizing(const SurfaceMesh& mesh, double cell, double cells_across, double floor)
+  ThicknessSizing(const SurfaceMesh& mesh, double cell, double cells_across, double floor,
+                  const std::vector<FinerRegion>& finer)
       : tree_(std::make_shared<Tree>(faces(mesh).first, faces(mesh).second, mesh)),
-        size_(std::make_shared<std::vector<double>>(num_faces(mesh), cell)) {
+        size_(std::make_shared<std::vector<double>>(num_faces(mesh), cell)),
+        finer_(std::make_shared<std::vector<FinerRegion>>(finer)),
+        floor_(floor) {
     if (cells_across == 0) return;
     std::vector<double>& size = *size_;
     std::vector<Kernel::Vector_3> normal(num_faces(mesh));
@@ -116,7 +119,14 @@ class ThicknessSizing {
   // Mesh_3's sizing field (MeshDomainField_3): one value for cells, facets and feature edges.
   template <typename Index>
   double operator()(const detail::Point3& p, int, const Index&) const {
-    return (*size_)[tree_->closest_point_and_primitive(p).second.idx()];
+    double size = (*size_)[tree_->closest_point_and_primitive(p).second.idx()];
+    // Beyond a region's ball its size grows by half the distance, so that the field has no
+    // jump (Mesh_3 refined the lower femur without end across one).
+    for (const FinerRegion& r : *finer_) {
+      const double beyond = norm(Vec3{p.x(), p.y(), p.z()} - r.centre) - r.radius;
+      size = std::min(size, std::max(r.size, floor_) + 0.5 * std::max(beyond, 0.0));
+    }
+    return size;
   }
 
  private:
@@ -125,6 +135,8 @@ class ThicknessSizing {
   // Shared: Mesh_3's criteria copy the field.
   std::shared_ptr<const Tree> tree_;
   std::shared_ptr<std::vector<double>> size_;
+  std::shared_ptr<const std::vector<FinerRegion>> finer_;
+  double floor_;
 };
 
 double positive_size(double value, double fallback, const char* name) {
@@ -161,8 +173,11 @@ TetMesh tetrahedralize(const TriangleSoup& surface, const TetrahedralizeOptions&
   using namespace CGAL::parameters;
   Domain domain(mesh);
   if (options.feature_angle < 180) domain.detect_features(options.feature_angle);
+  for (const FinerRegion& r : options.finer)
+    if (!(r.radius >= 0 && r.size > 0 && std::isfinite(r.radius) && std::isfinite(r.size)))
+      throw InputError("a finer region needs a radius of 0 or more and a positive size, mm");
   const ThicknessSizing sizing(mesh, cell, options.cells_across_thin_parts,
-                               cell / kThinnestCellRatio);
+                               cell / kThinnestCellRatio, options.finer);
   Criteria criteria(edge_size = sizing, facet_angle = 25, facet_size = sizing,
                     facet_distance = distance, cell_radius_edge_ratio = 3, cell_size = sizing);
   const Complex complex = [&] {

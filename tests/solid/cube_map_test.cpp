@@ -264,12 +264,17 @@ TEST(CubeMap, UntangleMendsAScrambledGridMovingOnlyItsFreePoints) {
   std::size_t inverted = 0;
   for (const Tet& t : grid.tets) inverted += image_volume(t, uvw) <= 0;
   ASSERT_GT(inverted, 100u);
+  CubeMap map;  // folded_tets() names the same tets
+  map.uvw = uvw;
+  EXPECT_EQ(folded_tets(grid, map).size(), inverted);
   const auto start = uvw;
   const detail::UntangleResult r = detail::untangle(grid, movable, uvw);
   EXPECT_GT(r.min_det_after, 0);
   inverted = 0;
   for (const Tet& t : grid.tets) inverted += image_volume(t, uvw) <= 0;
   EXPECT_EQ(inverted, 0u);
+  map.uvw = uvw;
+  EXPECT_TRUE(folded_tets(grid, map).empty());
   for (std::size_t v = 0; v < grid.points.size(); ++v) {
     if (!movable[v]) {
       EXPECT_EQ(uvw[v], start[v]);

@@ -57,6 +57,38 @@ TEST(Tetrahedralize, PartsThinnerThanTheCellsGetSmallerTets) {
   EXPECT_LT(u.volume / volume, 0.97);  // what the sizing is for
 }
 
+// A finer region gets tets of its size inside and leaves the rest as it was: the tets whose
+// centroid lies inside the ball (radius 3 at (3, 0, 0) in a sphere of radius 5, cells of 1.5)
+// have edges under 0.4 mm × 2.5 on average, those well outside keep the cell's.
+TEST(Tetrahedralize, FinerRegionsGetSmallerTetsThere) {
+  const TriangleSoup sphere = test::make_sphere({0, 0, 0}, 5, 4);
+  const FinerRegion region{{3, 0, 0}, 3, 0.4};
+  const TetMesh coarse = tetrahedralize(sphere, {.cell_size = 1.5});
+  const TetMesh fine = tetrahedralize(sphere, {.cell_size = 1.5, .finer = {region}});
+  EXPECT_FALSE(ball_problem(check_tet_mesh(fine)));
+  // Mean edge length of the tets with their centroid within (or beyond) a distance of the
+  // region's centre.
+  auto mean_edge = [&](const TetMesh& m, bool inside, double distance) {
+    double sum = 0;
+    int n = 0;
+    for (const Tet& t : m.tets) {
+      const Vec3 c = 0.25 * (m.points[t[0]] + m.points[t[1]] + m.points[t[2]] + m.points[t[3]]);
+      if ((norm(c - region.centre) < distance) != inside) continue;
+      for (int k = 0; k < 4; ++k)
+        for (int l = k + 1; l < 4; ++l) sum += norm(m.points[t[k]] - m.points[t[l]]), ++n;
+    }
+    return n > 0 ? sum / n : 0.0;
+  };
+  const double inside = mean_edge(fine, true, 2.5), outside = mean_edge(fine, false, 5);
+  EXPECT_LT(inside, 2.5 * region.size);
+  EXPECT_GT(outside, 0.5 * 1.5);
+  EXPECT_LT(inside, 0.5 * mean_edge(coarse, true, 2.5));
+  EXPECT_NEAR(outside, mean_edge(coarse, false, 5), 0.25 * outside);
+  EXPECT_GT(fine.tets.size(), 2 * coarse.tets.size());
+  EXPECT_THROW(tetrahedralize(sphere, {.cell_size = 1.5, .finer = {{{0, 0, 0}, 1, 0}}}),
+               InputError);
+}
+
 TEST(Tetrahedralize, MesherStopsAtItsVertexBudgetWithARefusal) {
   // The lentil above sized by its thickness makes about 280 times the 46 tets its volume asks
   // for; with max_tets 100 its budget is 20 vertices, which it passes: refused, not run on.

@@ -31,7 +31,8 @@
 ///     tet move, by Garanzha et al.'s foldover-free maps (2021), until every image is positive
 ///     (the rings widen when not). The stage counts the tets still inverted, and those flat.
 ///     A flat image cannot be mended where a tet's four corners, or a chord's two ends, lie on
-///     one patch: split the chords first (with_chords_split()).
+///     one patch: split the chords first (with_chords_split()). Where tets stay folded,
+///     smaller tets around them usually give the interior room: folded_tets() names them.
 ///
 /// A box whose corners are the box's corners maps to the box's affine image, to round-off:
 /// mean-value coordinates and P1 harmonic maps both reproduce linear functions.
@@ -94,5 +95,9 @@ struct CubeMap {
 ///                     solver failure
 /// @throws Cancelled   options.progress asked to stop
 CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options = {});
+
+/// The tets whose image under the map is inverted or flat (exact orientation), by index: where
+/// it folds, for a caller that meshes finer there (TetrahedralizeOptions::finer) and maps again.
+std::vector<std::uint32_t> folded_tets(const TetMesh& mesh, const CubeMap& map);
 
 }  // namespace tpmsfill

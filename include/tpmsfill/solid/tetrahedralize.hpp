@@ -10,12 +10,20 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "tpmsfill/progress.hpp"
 #include "tpmsfill/solid/tet_mesh.hpp"
 #include "tpmsfill/types.hpp"
 
 namespace tpmsfill {
+
+/// A ball of the solid to mesh finer than the rest.
+struct FinerRegion {
+  Vec3 centre{};
+  double radius = 0;  ///< mm
+  double size = 0;    ///< largest tet circumradius and boundary-triangle size inside, mm
+};
 
 struct TetrahedralizeOptions {
   /// Largest tet circumradius and boundary-triangle size, mm; 0: the bounding box's diagonal / 30.
@@ -30,6 +38,9 @@ struct TetrahedralizeOptions {
   /// Edges where the surface's normal turns by more than this many degrees are kept as sharp
   /// edges of the tets' boundary (CGAL's detect_features); 180: none kept (everything smooth).
   double feature_angle = 60;
+  /// Balls where tets and boundary triangles are at most their size (not under cell_size / 8):
+  /// where a map made from the tets folds (map_to_cube()), smaller tets give it room.
+  std::vector<FinerRegion> finer = {};
   /// Refuse when cell_size would make more tets than this (estimated as 5 V / cell_size³
   /// before meshing): memory and time grow with the count.
   std::uint64_t max_tets = 20'000'000;
