@@ -106,27 +106,40 @@ std::string apply_material(const MaterialArgs& a, TetMesh& mesh) {
                    "' (known: point, geodesic, x, y, z, radial, ct)");
 }
 
-// The input as a tet mesh: read, or a closed surface filled with tets (then `surface` is set
-// to an index of that surface, for the fit's boundary).
-TetMesh input_tets(const MaterialArgs& a, const std::vector<FinerRegion>& finer,
-                   nlohmann::ordered_json& j, std::optional<MeshIndex>& surface_index) {
+// The input file, read once: a tet mesh, or a closed surface (mm) to fill with tets.
+struct MaterialInput {
+  TetMesh tets;
+  std::optional<TriangleSoup> surface;
+};
+
+MaterialInput read_input(const MaterialArgs& a) {
   const ModelUnits units{.units = units_from_name(a.units)};
+  MaterialInput in;
   if (tet_format_from_extension(a.input) != TetFormat::Auto) {
-    TetMesh mesh = read_tet_mesh(a.input);
+    in.tets = read_tet_mesh(a.input);
     const double factor = units.factor();
     if (factor != 1)
-      for (Vec3& p : mesh.points) p = factor * p;
-    j["source"] = "tet mesh";
-    return mesh;
+      for (Vec3& p : in.tets.points) p = factor * p;
+  } else {
+    in.surface = to_millimetres(read_mesh(a.input), units);
   }
-  const TriangleSoup surface = to_millimetres(read_mesh(a.input), units);
+  return in;
+}
+
+// The input as a tet mesh: as read, or its surface filled with tets (smaller in `finer`).
+TetMesh input_tets(const MaterialArgs& a, const MaterialInput& in,
+                   const std::vector<FinerRegion>& finer, nlohmann::ordered_json& j) {
+  if (!in.surface) {
+    j["source"] = "tet mesh";
+    return in.tets;
+  }
+  const TriangleSoup& surface = *in.surface;
   TetMesh mesh = tetrahedralize(
       surface, {.cell_size = a.cell, .feature_angle = a.feature_angle, .finer = finer});
   double surface_volume = 0;
   for (const Triangle& t : surface.triangles)
     surface_volume +=
         dot(surface.points[t[0]], cross(surface.points[t[1]], surface.points[t[2]])) / 6;
-  surface_index = build_index(surface);
   j["source"] = "surface";
   j["surface_triangles"] = surface.triangles.size();
   j["surface_volume_mm3"] = std::abs(surface_volume);
@@ -153,10 +166,11 @@ struct MappedSolid {
   std::optional<std::string> problem;
 };
 
-MappedSolid map_once(const MaterialArgs& a, const std::vector<FinerRegion>& finer,
-                     nlohmann::ordered_json& j, std::vector<std::string>& warnings) {
+MappedSolid map_once(const MaterialArgs& a, const MaterialInput& in,
+                     const std::vector<FinerRegion>& finer, nlohmann::ordered_json& j,
+                     std::vector<std::string>& warnings) {
   MappedSolid out;
-  out.mesh = input_tets(a, finer, j, out.surface);
+  out.mesh = input_tets(a, in, finer, j);
   TetMesh& mesh = out.mesh;
   TetMeshReport report = check_tet_mesh(mesh);
   if (report.tets > 0 && report.negative_tets == report.tets) {  // the other convention: turned
@@ -231,16 +245,17 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                       std::vector<std::string>& warnings) {
   constexpr int kFinerPasses = 2;
+  const MaterialInput input = read_input(a);
   std::vector<FinerRegion> finer;
   std::vector<std::size_t> folded_by_pass;
   for (int pass = 0;; ++pass) {
     std::vector<std::string> found;
-    MappedSolid out = map_once(a, finer, j, found);
+    MappedSolid out = map_once(a, input, finer, j, found);
     const std::vector<std::uint32_t> folded =
         out.map ? folded_tets(out.mesh, *out.map) : std::vector<std::uint32_t>{};
     folded_by_pass.push_back(folded.size());
     const std::size_t regions = finer.size();
-    if (!folded.empty() && out.surface && a.corners.empty() && pass < kFinerPasses)
+    if (!folded.empty() && input.surface && a.corners.empty() && pass < kFinerPasses)
       for (std::uint32_t t : folded) add_finer_region(out.mesh, out.mesh.tets[t], finer);
     // Done when fold-free, out of passes, or every fold already inside a ball as fine.
     if (finer.size() == regions) {
@@ -260,6 +275,7 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                         " tets fold over or flatten in the cube map, untangled or not" + passes +
                         " (smaller tets or other corners usually help)");
       warnings.insert(warnings.end(), found.begin(), found.end());
+      if (input.surface) out.surface = build_index(*input.surface);  // the fit's boundary
       return out;
     }
   }
