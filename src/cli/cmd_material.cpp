@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -60,10 +62,14 @@ double number_argument(const std::string& text, const std::string& what) {
   return *value;
 }
 
-// The material the arguments name, and a phrase saying what it is.
-std::string apply_material(const MaterialArgs& a, TetMesh& mesh) {
+// The material the arguments name, checked (and a CT volume read) before any tets are made, as
+// a rule that gives tets their material and returns a phrase saying what it is.
+using MaterialRule = std::function<std::string(TetMesh&)>;
+
+MaterialRule material_rule(const MaterialArgs& a) {
   const auto& m = a.material;
-  if (m.empty()) return mesh.material.empty() ? "none" : "from the file";
+  if (m.empty())
+    return [](TetMesh& mesh) { return mesh.material.empty() ? "none" : "from the file"; };
   auto need = [&](std::size_t n, const char* usage) {
     if (m.size() != n) throw InputError(std::string("--material takes ") + usage);
   };
@@ -72,35 +78,48 @@ std::string apply_material(const MaterialArgs& a, TetMesh& mesh) {
     need(4, "point X Y Z");
     const Vec3 c{number_argument(m[1], "X"), number_argument(m[2], "Y"),
                  number_argument(m[3], "Z")};
-    mesh.material = distance_material(mesh, c);
-    return "distance to (" + m[1] + ", " + m[2] + ", " + m[3] + ")";
+    const std::string phrase = "distance to (" + m[1] + ", " + m[2] + ", " + m[3] + ")";
+    return [c, phrase](TetMesh& mesh) {
+      mesh.material = distance_material(mesh, c);
+      return phrase;
+    };
   }
   if (kind == "geodesic") {
     need(2,
          "geodesic DEPTH (the bottom: boundary points within DEPTH mm of the lowest along --up)");
     const double depth = number_argument(m[1], "DEPTH");
-    const auto sources = bottom_boundary_points(mesh, {a.up[0], a.up[1], a.up[2]}, depth);
-    mesh.material = geodesic_material(mesh, sources);
-    return "geodesic distance to the bottom (" + std::to_string(sources.size()) + " points)";
+    const Vec3 up{a.up[0], a.up[1], a.up[2]};
+    return [depth, up](TetMesh& mesh) {
+      const auto sources = bottom_boundary_points(mesh, up, depth);
+      mesh.material = geodesic_material(mesh, sources);
+      return "geodesic distance to the bottom (" + std::to_string(sources.size()) + " points)";
+    };
   }
   if (kind == "x" || kind == "y" || kind == "z" || kind == "radial") {
     need(3, "x|y|z|radial START END");
-    Ramp ramp{.shape = kind == "radial" ? RampShape::Radial : RampShape::Linear,
-              .axis = {kind == "x" ? 1.0 : 0.0, kind == "y" ? 1.0 : 0.0,
-                       kind == "z" || kind == "radial" ? 1.0 : 0.0},
-              .start = number_argument(m[1], "START"),
-              .end = number_argument(m[2], "END")};
-    mesh.material = ramp_material(mesh, ramp);
-    return kind + " ramp " + m[1] + " to " + m[2];
+    const Ramp ramp{.shape = kind == "radial" ? RampShape::Radial : RampShape::Linear,
+                    .axis = {kind == "x" ? 1.0 : 0.0, kind == "y" ? 1.0 : 0.0,
+                             kind == "z" || kind == "radial" ? 1.0 : 0.0},
+                    .start = number_argument(m[1], "START"),
+                    .end = number_argument(m[2], "END")};
+    const std::string phrase = kind + " ramp " + m[1] + " to " + m[2];
+    return [ramp, phrase](TetMesh& mesh) {
+      mesh.material = ramp_material(mesh, ramp);
+      return phrase;
+    };
   }
   if (kind == "ct") {
     need(2, "ct FILE (a volume: NRRD, MetaImage, INR, .tdf)");
-    std::uint64_t outside = 0;
-    mesh.material = volume_material(mesh, read_volume_file(m[1]).volume, &outside);
-    if (outside > 0)
-      print_warnings({std::to_string(outside) + " of " + std::to_string(mesh.points.size()) +
-                      " points lie outside " + m[1] + "'s box: they take its border values"});
-    return "sampled from " + m[1];
+    auto volume = std::make_shared<const ScalarVolume>(read_volume_file(m[1]).volume);
+    const std::string file = m[1];
+    return [volume, file](TetMesh& mesh) {
+      std::uint64_t outside = 0;
+      mesh.material = volume_material(mesh, *volume, &outside);
+      if (outside > 0)
+        print_warnings({std::to_string(outside) + " of " + std::to_string(mesh.points.size()) +
+                        " points lie outside " + file + "'s box: they take its border values"});
+      return "sampled from " + file;
+    };
   }
   throw InputError("unknown --material '" + kind +
                    "' (known: point, geodesic, x, y, z, radial, ct)");
@@ -156,8 +175,8 @@ void print_json_or_text(const nlohmann::ordered_json& j, bool json) {
   std::fflush(stdout);
 }
 
-// The input as a mapped ball with its material: read or tetrahedralized, checked (and turned
-// when all its tets are negative), given its material and mapped onto the cube. Figures go into
+// The input as a mapped ball: read or tetrahedralized, checked (and turned when all its tets
+// are negative) and mapped onto the cube. Figures go into
 // `j`; without a map, the sentence saying why the tets are not a ball.
 struct MappedSolid {
   TetMesh mesh;
@@ -196,11 +215,6 @@ MappedSolid map_once(const MaterialArgs& a, const MaterialInput& in,
   j["split_points"] = mesh.points.size() - points_before;
   j["points"] = mesh.points.size();
   j["tets"] = mesh.tets.size();
-  j["material"] = apply_material(a, mesh);
-  if (!mesh.material.empty()) {
-    const auto [lo, hi] = std::minmax_element(mesh.material.begin(), mesh.material.end());
-    j["material_range"] = {*lo, *hi};
-  }
   CubeMapOptions options;
   if (!a.corners.empty()) {
     std::array<std::uint32_t, 8> c{};
@@ -245,6 +259,7 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                       std::vector<std::string>& warnings) {
   constexpr int kFinerPasses = 2;
+  const MaterialRule give_material = material_rule(a);
   const MaterialInput input = read_input(a);
   std::vector<FinerRegion> finer;
   std::vector<std::size_t> folded_by_pass;
@@ -275,6 +290,14 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                         " tets fold over or flatten in the cube map, untangled or not" + passes +
                         " (smaller tets or other corners usually help)");
       warnings.insert(warnings.end(), found.begin(), found.end());
+      if (!out.problem) {  // the map does not need the material: given once, to the last tets
+        j["material"] = give_material(out.mesh);
+        if (!out.mesh.material.empty()) {
+          const auto [lo, hi] =
+              std::minmax_element(out.mesh.material.begin(), out.mesh.material.end());
+          j["material_range"] = {*lo, *hi};
+        }
+      }
       if (input.surface) out.surface = build_index(*input.surface);  // the fit's boundary
       return out;
     }
