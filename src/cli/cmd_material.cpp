@@ -255,52 +255,75 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
 // with smaller tets around the folded ones, up to kFinerPasses times: the lower femur's
 // stand-in kept 218 folded tets under its condyles at diagonal / 30 (43 at / 45 everywhere),
 // 8 after one pass, 2 after two; a third made the same tets, the regions' sizes at the
-// floor (cell / 8). (Given corners are point ids of these tets, so they keep them as is.)
+// floor (cell / 8). Finer is not always better (with a floor of cell / 16 its passes went
+// 116, 7, 25, 3,897 folded: the untangling of 241 k tets did not finish), so the pass with
+// the fewest folds is kept, and a pass with more ends the loop. (Given corners are point ids
+// of these tets, so they keep them as is.)
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                       std::vector<std::string>& warnings) {
   constexpr int kFinerPasses = 2;
   const MaterialRule give_material = material_rule(a);
   const MaterialInput input = read_input(a);
+  struct Pass {
+    MappedSolid solid;
+    nlohmann::ordered_json j;
+    std::vector<std::string> found;
+    std::size_t folded = 0;
+    int index = 0;
+  };
+  std::optional<Pass> best;
   std::vector<FinerRegion> finer;
   std::vector<std::size_t> folded_by_pass;
   for (int pass = 0;; ++pass) {
-    std::vector<std::string> found;
-    MappedSolid out = map_once(a, input, finer, j, found);
+    Pass now;
+    now.j = j;
+    now.index = pass;
+    now.solid = map_once(a, input, finer, now.j, now.found);
     const std::vector<std::uint32_t> folded =
-        out.map ? folded_tets(out.mesh, *out.map) : std::vector<std::uint32_t>{};
+        now.solid.map ? folded_tets(now.solid.mesh, *now.solid.map) : std::vector<std::uint32_t>{};
+    now.folded = folded.size();
     folded_by_pass.push_back(folded.size());
+    const bool worse = best && now.folded >= best->folded;
     const std::size_t regions = finer.size();
-    if (!folded.empty() && input.surface && a.corners.empty() && pass < kFinerPasses)
-      for (std::uint32_t t : folded) add_finer_region(out.mesh, out.mesh.tets[t], finer);
-    // Done when fold-free, out of passes, or every fold already inside a ball as fine.
-    if (finer.size() == regions) {
-      std::string passes;
-      if (pass > 0) {
-        j["cube_map"]["finer_passes"] = pass;
-        j["cube_map"]["finer_regions"] = finer.size();
-        j["cube_map"]["folded_by_pass"] = folded_by_pass;
-        for (std::size_t n : folded_by_pass)
-          passes += (passes.empty() ? "" : ", ") + std::to_string(n);
-        passes = ", after " + std::to_string(pass) + " passes meshing finer around them (" +
-                 passes + " folded)";
-      }
-      if (!folded.empty())
-        found.push_back(std::to_string(folded.size()) + " of " +
-                        std::to_string(out.mesh.tets.size()) +
-                        " tets fold over or flatten in the cube map, untangled or not" + passes +
-                        " (smaller tets or other corners usually help)");
-      warnings.insert(warnings.end(), found.begin(), found.end());
-      if (!out.problem) {  // the map does not need the material: given once, to the last tets
-        j["material"] = give_material(out.mesh);
-        if (!out.mesh.material.empty()) {
-          const auto [lo, hi] =
-              std::minmax_element(out.mesh.material.begin(), out.mesh.material.end());
-          j["material_range"] = {*lo, *hi};
-        }
-      }
-      if (input.surface) out.surface = build_index(*input.surface);  // the fit's boundary
-      return out;
+    if (!worse && !folded.empty() && input.surface && a.corners.empty() && pass < kFinerPasses)
+      for (std::uint32_t t : folded)
+        add_finer_region(now.solid.mesh, now.solid.mesh.tets[t], finer);
+    if (!worse) best = std::move(now);
+    // Done when fold-free, out of passes, every fold already inside a ball as fine, or no
+    // fewer folds than the pass before.
+    if (!worse && finer.size() != regions) continue;
+    j = std::move(best->j);
+    std::string passes;
+    if (pass > 0) {
+      j["cube_map"]["finer_passes"] = pass;
+      j["cube_map"]["finer_regions"] = finer.size();
+      j["cube_map"]["folded_by_pass"] = folded_by_pass;
+      j["cube_map"]["kept_pass"] = best->index;
+      for (std::size_t n : folded_by_pass)
+        passes += (passes.empty() ? "" : ", ") + std::to_string(n);
+      passes =
+          ", after " + std::to_string(pass) + " passes meshing finer around them (" + passes +
+          " folded" +
+          (best->index < pass ? "; pass " + std::to_string(best->index) + "'s tets kept" : "") +
+          ")";
     }
+    MappedSolid out = std::move(best->solid);
+    if (best->folded > 0)
+      best->found.push_back(std::to_string(best->folded) + " of " +
+                            std::to_string(out.mesh.tets.size()) +
+                            " tets fold over or flatten in the cube map, untangled or not" +
+                            passes + " (smaller tets or other corners usually help)");
+    warnings.insert(warnings.end(), best->found.begin(), best->found.end());
+    if (!out.problem) {  // the map does not need the material: given once, to the kept tets
+      j["material"] = give_material(out.mesh);
+      if (!out.mesh.material.empty()) {
+        const auto [lo, hi] =
+            std::minmax_element(out.mesh.material.begin(), out.mesh.material.end());
+        j["material_range"] = {*lo, *hi};
+      }
+    }
+    if (input.surface) out.surface = build_index(*input.surface);  // the fit's boundary
+    return out;
   }
 }
 
