@@ -176,8 +176,8 @@ void print_json_or_text(const nlohmann::ordered_json& j, bool json) {
 }
 
 // The input as a mapped ball: read or tetrahedralized, checked (and turned when all its tets
-// are negative) and mapped onto the cube. Figures go into
-// `j`; without a map, the sentence saying why the tets are not a ball.
+// are negative) and mapped onto the cube. Figures go into `j`; without a map, the sentence
+// saying why the tets are not a ball.
 struct MappedSolid {
   TetMesh mesh;
   std::optional<MeshIndex> surface;  // the surface the tets were made from, if they were
@@ -257,7 +257,7 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
 // 8 after one pass, 2 after two; a third made the same tets, the regions' sizes at the
 // floor (cell / 8). Finer is not always better (with a floor of cell / 16 its passes went
 // 116, 7, 25, 3,897 folded: the untangling of 241 k tets did not finish), so the pass with
-// the fewest folds is kept, and a pass with more ends the loop. (Given corners are point ids
+// the fewest folds is kept, and a pass with no fewer ends the loop. (Given corners are point ids
 // of these tets, so they keep them as is.)
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                       std::vector<std::string>& warnings) {
@@ -283,7 +283,8 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
         now.solid.map ? folded_tets(now.solid.mesh, *now.solid.map) : std::vector<std::uint32_t>{};
     now.folded = folded.size();
     folded_by_pass.push_back(folded.size());
-    const bool worse = best && now.folded >= best->folded;
+    // A finer mesh that is no ball (no map) never beats one that maps.
+    const bool worse = best && (!now.solid.map || now.folded >= best->folded);
     const std::size_t regions = finer.size();
     if (!worse && !folded.empty() && input.surface && a.corners.empty() && pass < kFinerPasses)
       for (std::uint32_t t : folded)
