@@ -268,8 +268,7 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
     MappedSolid solid;
     nlohmann::ordered_json j;
     std::vector<std::string> found;
-    std::size_t folded = 0;
-    int index = 0;
+    int index = 0;  // its folded tets: folded_by_pass[index]
   };
   std::optional<Pass> best;
   std::vector<FinerRegion> finer;
@@ -281,17 +280,16 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
     now.solid = map_once(a, input, finer, now.j, now.found);
     const std::vector<std::uint32_t> folded =
         now.solid.map ? folded_tets(now.solid.mesh, *now.solid.map) : std::vector<std::uint32_t>{};
-    now.folded = folded.size();
     folded_by_pass.push_back(folded.size());
     // A finer mesh that is no ball (no map) never beats one that maps.
-    const bool worse = best && (!now.solid.map || now.folded >= best->folded);
+    const bool worse = best && (!now.solid.map || folded.size() >= folded_by_pass[best->index]);
     const std::size_t regions = finer.size();
     if (!worse && !folded.empty() && input.surface && a.corners.empty() && pass < kFinerPasses)
       for (std::uint32_t t : folded)
         add_finer_region(now.solid.mesh, now.solid.mesh.tets[t], finer);
     if (!worse) best = std::move(now);
     // Done when fold-free, out of passes, every fold already inside a ball as fine, or no
-    // fewer folds than the pass before.
+    // fewer folds than the best pass.
     if (!worse && finer.size() != regions) continue;
     j = std::move(best->j);
     std::string passes;
@@ -309,8 +307,9 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
           ")";
     }
     MappedSolid out = std::move(best->solid);
-    if (best->folded > 0)
-      best->found.push_back(std::to_string(best->folded) + " of " +
+    const std::size_t kept_folded = folded_by_pass[best->index];
+    if (kept_folded > 0)
+      best->found.push_back(std::to_string(kept_folded) + " of " +
                             std::to_string(out.mesh.tets.size()) +
                             " tets fold over or flatten in the cube map, untangled or not" +
                             passes + " (smaller tets or other corners usually help)");
