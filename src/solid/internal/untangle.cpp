@@ -479,7 +479,8 @@ UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<doubl
 
 UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
                         std::vector<std::array<double, 3>>& uvw,
-                        const std::function<void(double)>& report) {
+                        const std::function<void(double)>& report,
+                        const FoldoverSchedule& schedule) {
   std::vector<Matrix3> shapes(mesh.tets.size());
   for (std::size_t t = 0; t < mesh.tets.size(); ++t)
     for (int k = 0; k < 3; ++k) {
@@ -489,7 +490,7 @@ UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
   const SimplexEnergy<3> energy(mesh.tets, shapes, movable, uvw, kTheta);
   if (energy.empty()) return {};
   std::vector<double> x = energy.initial();
-  const UntangleResult result = minimise_foldover(energy, x, {}, report);
+  const UntangleResult result = minimise_foldover(energy, x, schedule, report);
   energy.write(x, uvw);
   return result;
 }

@@ -100,9 +100,11 @@ UntangleResult minimise_foldover(const FoldoverEnergy& energy, std::vector<doubl
 /// @pre tets positive in mesh.points
 /// @param[in] report  called with the fraction of rounds done before every L-BFGS step (it
 ///                     may throw Cancelled to stop); may be empty
+/// @param[in] schedule  the values of ε (more rounds for a small region that must open)
 UntangleResult untangle(const TetMesh& mesh, const std::vector<char>& movable,
                         std::vector<std::array<double, 3>>& uvw,
-                        const std::function<void(double)>& report = {});
+                        const std::function<void(double)>& report = {},
+                        const FoldoverSchedule& schedule = {});
 
 /// The same in the plane, by Newton steps: moves the movable points of a map of triangles into
 /// the plane so that every triangle touching one of them turns counter-clockwise, near each
