@@ -21,7 +21,9 @@
 /// check_tspline() measures both: the largest |Σ φ_i − 1| (exact from the rows) and the pairs
 /// of functions with overlapping supports whose knot vectors overlap along no axis (none:
 /// the T-mesh is dual-compatible, which makes its functions linearly independent; Beirão da
-/// Veiga, Buffa, Sangalli & Vázquez 2013). suitable_tmesh() splits cells until both hold.
+/// Veiga, Buffa, Sangalli & Vázquez 2013). Splitting the cells the check names does not make
+/// both hold (docs/benchmarks.md §21d: a corner-crowded octree grew to 53,859 cells in three
+/// passes, with more failures each pass), so the fit does not offer this basis.
 #pragma once
 
 #include <array>
