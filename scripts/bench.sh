@@ -1014,8 +1014,10 @@ d = json.load(open(sys.argv[1])); m = d["cube_map"]
 print(f"lower-femur (`material info`, geodesic from the cut, --up 0 0 -1): {d['surface_triangles']} "
       f"triangles, genus {d['genus']}, {d['tets']} tets; cube map: {m['flipped_boundary_faces']} "
       f"flipped boundary faces, {m['relaxed_patches']} crowded patches relaxed, "
-      f"{m['harmonic_inverted_tets']} harmonic inverted tets, "
-      f"{m['inverted_tets']} left after untangling; {float(sys.argv[2]):.1f} s, "
+      f"{m['harmonic_inverted_tets']} harmonic inverted tets, folded by pass "
+      f"{', '.join(map(str, m.get('folded_by_pass', [])))} (pass {m.get('kept_pass', 0)} kept), "
+      f"{m.get('opened_points', 0)} points untangled locally after, "
+      f"{m['inverted_tets']} inverted and {m['flat_tets']} flat left; {float(sys.argv[2]):.1f} s, "
       f"{int(sys.argv[3]) / 1024:.0f} MB")
 PY
   fi

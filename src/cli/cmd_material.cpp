@@ -257,8 +257,10 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
 // 8 after one pass, 2 after two; a third made the same tets, the regions' sizes at the
 // floor (cell / 8). Finer is not always better (with a floor of cell / 16 its passes went
 // 116, 7, 25, 3,897 folded: the untangling of 241 k tets did not finish), so the pass with
-// the fewest folds is kept, and a pass with no fewer ends the loop. (Given corners are point ids
-// of these tets, so they keep them as is.)
+// the fewest folds is kept, and a pass with no fewer ends the loop. The kept map's last folds
+// are then untangled locally (with_folds_opened(); only there, since in every pass it changed
+// which balls the next meshed finer). (Given corners are point ids of these tets, so they keep
+// them as is.)
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
                       std::vector<std::string>& warnings) {
   constexpr int kFinerPasses = 2;
@@ -307,7 +309,18 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
           ")";
     }
     MappedSolid out = std::move(best->solid);
-    const std::size_t kept_folded = folded_by_pass[best->index];
+    std::size_t kept_folded = folded_by_pass[best->index];
+    if (kept_folded > 0 && out.map) {  // the kept map's last folds, each region alone
+      out.map = with_folds_opened(out.mesh, std::move(*out.map));
+      const std::size_t left = out.map->inverted_tets + out.map->flat_tets;
+      j["cube_map"]["inverted_tets"] = out.map->inverted_tets;
+      j["cube_map"]["flat_tets"] = out.map->flat_tets;
+      j["cube_map"]["opened_points"] = out.map->opened_points;
+      j["cube_map"]["folded_after_opening"] = left;
+      if (left > 0)
+        passes += ", " + std::to_string(kept_folded) + " before untangling them locally";
+      kept_folded = left;
+    }
     if (kept_folded > 0)
       best->found.push_back(std::to_string(kept_folded) + " of " +
                             std::to_string(out.mesh.tets.size()) +

@@ -31,6 +31,9 @@ namespace {
 using detail::edge_key;
 using Uvw = std::array<double, 3>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// with_folds_opened(): the rings around what stays folded, and the values of ε each may try.
+constexpr std::array<int, 2> kOpeningRings = {2, 4};
+constexpr int kOpeningRounds = 1000;
 
 int corner_bit(int corner, int axis) {
   return (corner >> axis) & 1;
@@ -574,6 +577,28 @@ std::vector<std::uint32_t> bad_tets(const TetMesh& mesh, const CubeMap& map,
   return bad;
 }
 
+// `region` grown by `rings` rings of tets (all: until it stops growing), never into `fixed`.
+void grow_region(const TetMesh& mesh, const std::vector<char>& fixed, int rings,
+                 std::vector<char>& region) {
+  for (int r = 0; r < rings; ++r) {
+    std::vector<char> next = region;
+    for (const Tet& t : mesh.tets)
+      if (region[t[0]] || region[t[1]] || region[t[2]] || region[t[3]])
+        for (std::uint32_t v : t) next[v] = !fixed[v];
+    if (next == region) return;
+    region.swap(next);
+  }
+}
+
+// The points of `tets` not in `fixed`.
+std::vector<char> free_corners(const TetMesh& mesh, const std::vector<char>& fixed,
+                               const std::vector<std::uint32_t>& tets) {
+  std::vector<char> corners(mesh.points.size(), 0);
+  for (std::uint32_t t : tets)
+    for (std::uint32_t v : mesh.tets[t]) corners[v] = !fixed[v];
+  return corners;
+}
+
 // The harmonic interior's inverted and flat tets untangled (untangle.hpp): the interior points
 // within two rings of them move, the rest of the map stays harmonic. Where that leaves tets
 // inverted, the whole interior moves. Tets whose corners are all on the boundary cannot
@@ -582,22 +607,10 @@ void untangle_interior(const TetMesh& mesh, const std::vector<char>& fixed, Cube
                        Progress* progress) {
   std::vector<std::uint32_t> bad = bad_tets(mesh, map, &map.harmonic_inverted_tets);
   if (bad.empty()) return;
-  std::vector<char> movable(mesh.points.size(), 0);
-  for (std::uint32_t t : bad)
-    for (std::uint32_t v : mesh.tets[t]) movable[v] = !fixed[v];
-  auto grow = [&](int rings) {
-    for (int r = 0; r < rings; ++r) {
-      std::vector<char> next = movable;
-      for (const Tet& t : mesh.tets)
-        if (movable[t[0]] || movable[t[1]] || movable[t[2]] || movable[t[3]])
-          for (std::uint32_t v : t) next[v] = !fixed[v];
-      if (next == movable) return;
-      movable.swap(next);
-    }
-  };
+  std::vector<char> movable = free_corners(mesh, fixed, bad);
   const std::size_t harmonic_bad = bad.size();
   const std::vector<Uvw> harmonic = map.uvw;
-  grow(2);
+  grow_region(mesh, fixed, 2, movable);
   constexpr int kAttempts = 2;
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
     detail::untangle(mesh, movable, map.uvw, [&](double done) {
@@ -605,7 +618,7 @@ void untangle_interior(const TetMesh& mesh, const std::vector<char>& fixed, Cube
     });
     bad = bad_tets(mesh, map);
     if (bad.empty()) break;
-    grow(std::numeric_limits<int>::max());
+    grow_region(mesh, fixed, std::numeric_limits<int>::max(), movable);
   }
   // Where the mesh leaves no fold-free map (a limb's tets all on its boundary), the schedule
   // of ε can stop with more tets inverted than it began with: then the harmonic map stays.
@@ -642,6 +655,39 @@ std::array<int, 2> cube_edge_corners(int edge) {
 
 std::vector<std::uint32_t> folded_tets(const TetMesh& mesh, const CubeMap& map) {
   return bad_tets(mesh, map);
+}
+
+CubeMap with_folds_opened(const TetMesh& mesh, CubeMap map, Progress* progress) {
+  std::vector<std::uint32_t> bad = bad_tets(mesh, map);
+  if (bad.empty()) return map;
+  detail::begin_stage(progress, "opening the last folds");
+  std::vector<char> fixed(mesh.points.size(), 0);
+  for (const Triangle& f : tet_boundary(mesh).triangles)
+    for (std::uint32_t v : f) fixed[v] = 1;
+  detail::FoldoverSchedule longer;
+  longer.max_rounds = kOpeningRounds;
+  for (std::size_t i = 0; i < kOpeningRings.size() && !bad.empty(); ++i) {
+    std::vector<char> region = free_corners(mesh, fixed, bad);
+    grow_region(mesh, fixed, kOpeningRings[i], region);
+    std::vector<Uvw> trial = map.uvw;
+    const double from = double(i) / kOpeningRings.size(), to = double(i + 1) / kOpeningRings.size();
+    detail::untangle(
+        mesh, region, trial,
+        [&](double done) { detail::report_or_cancel(progress, from + (to - from) * done); },
+        longer);
+    std::swap(map.uvw, trial);
+    std::vector<std::uint32_t> left = bad_tets(mesh, map);
+    if (left.size() >= bad.size()) {  // no better: its points stay where they were
+      std::swap(map.uvw, trial);
+      continue;
+    }
+    bad.swap(left);
+    map.opened_points += static_cast<std::uint64_t>(std::count(region.begin(), region.end(), 1));
+  }
+  map.inverted_tets = 0;
+  map.flat_tets = bad_tets(mesh, map, &map.inverted_tets).size() - map.inverted_tets;
+  detail::report_or_cancel(progress, 1.0);
+  return map;
 }
 
 CubeMap map_to_cube(const TetMesh& mesh, const CubeMapOptions& options) {

@@ -290,6 +290,54 @@ TEST(CubeMap, UntangleMendsAScrambledGridMovingOnlyItsFreePoints) {
   }
 }
 
+// A map folded in one spot (an interior point pushed past its neighbours, as untangling can
+// leave a large mesh when its schedule runs out): with_folds_opened() opens it by moving only
+// interior points near the fold. A fold no interior point touches (two boundary points'
+// images swapped) cannot open: the map comes back as it was, never worse.
+TEST(CubeMap, FoldsOpenLocallyAndTheBoundaryStays) {
+  const TetMesh grid = make_tet_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  CubeMap identity;
+  for (const Vec3& p : grid.points) identity.uvw.push_back({p.x, p.y, p.z});
+  EXPECT_EQ(with_folds_opened(grid, identity).uvw, identity.uvw);  // nothing folded
+
+  CubeMap pushed = identity;
+  std::uint32_t centre = 0;
+  for (std::uint32_t v = 0; v < grid.points.size(); ++v)
+    if (grid.points[v] == Vec3{0.5, 0.5, 0.5}) centre = v;
+  pushed.uvw[centre][0] += 0.2;  // past the next point along x, 0.125 away
+  const std::size_t folded = folded_tets(grid, pushed).size();
+  ASSERT_GT(folded, 0u);
+  const CubeMap opened = with_folds_opened(grid, pushed);
+  EXPECT_TRUE(folded_tets(grid, opened).empty());
+  EXPECT_EQ(opened.inverted_tets + opened.flat_tets, 0u);
+  EXPECT_GT(opened.opened_points, 0u);
+  std::size_t moved = 0;
+  for (std::uint32_t v = 0; v < grid.points.size(); ++v) {
+    const Vec3 p = grid.points[v];
+    if (opened.uvw[v] == pushed.uvw[v]) continue;
+    ++moved;
+    // Within 4 rings of the folded tets, whose corners are a cell from the centre at most.
+    const Vec3 d = p - Vec3{0.5, 0.5, 0.5};
+    EXPECT_LE(std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}), 5 * 0.125 + 1e-12);
+    EXPECT_TRUE(p.x > 0 && p.x < 1 && p.y > 0 && p.y < 1 && p.z > 0 && p.z < 1);
+  }
+  EXPECT_EQ(moved, opened.opened_points);
+
+  CubeMap swapped = identity;  // two boundary points on the face z = 0 trade places
+  std::uint32_t a = 0, b = 0;
+  for (std::uint32_t v = 0; v < grid.points.size(); ++v) {
+    if (grid.points[v] == Vec3{0.5, 0.5, 0}) a = v;
+    if (grid.points[v] == Vec3{0.625, 0.5, 0}) b = v;
+  }
+  std::swap(swapped.uvw[a], swapped.uvw[b]);
+  const std::size_t stuck = folded_tets(grid, swapped).size();
+  ASSERT_GT(stuck, 0u);
+  const CubeMap kept = with_folds_opened(grid, swapped);
+  EXPECT_LE(folded_tets(grid, kept).size(), stuck);
+  EXPECT_EQ(kept.uvw[a], swapped.uvw[a]);
+  EXPECT_EQ(kept.uvw[b], swapped.uvw[b]);
+}
+
 // Ordinary scans, tetrahedralized as `material` does: Mesh_3 leaves chords whose two ends land
 // on one cube face (flat tets no interior point can mend), and the harmonic interior inverts
 // tets where limbs squeeze into thin slabs. With the chords split and the folds untangled,
