@@ -359,6 +359,7 @@ nlohmann::ordered_json round_json(const FitRound& r, bool material) {
     j["material_rms"] = r.material_rms;
     j["material_max"] = r.material_max;
   }
+  if (r.undone_steps > 0) j["undone_steps"] = r.undone_steps;              // not in the file
   if (r.solve_iterations > 0) j["solve_iterations"] = r.solve_iterations;  // not in the file
   if (r.fitted_folded_samples > 0) {                                       // not in the file
     j["fitted_folded_samples"] = r.fitted_folded_samples;
@@ -546,6 +547,12 @@ int run_material_fit(const MaterialArgs& a) {
                        std::to_string(last.fine_samples) +
                        " points of a finer sample (5^3 inside an element, 4^3 reaching its faces, "
                        "9^3 along the cube's edges)");
+  for (std::size_t k = 0; k < model.fit.rounds.size(); ++k)
+    if (model.fit.rounds[k].undone_steps > 0)
+      warnings.push_back("round " + std::to_string(k + 1) + ": the fit's last " +
+                         std::to_string(model.fit.rounds[k].undone_steps) +
+                         " steps moved it away from its data (RS fell over a point below its "
+                         "best); the model keeps the best step's (try --method euler)");
   if (!material) warnings.push_back("the tets have no material: only G was fitted");
   j["fold_certificate"] = certify(model.fit.spline, warnings);
   write_solid_model(a.output, model);

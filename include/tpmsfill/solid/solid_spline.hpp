@@ -45,7 +45,10 @@ struct SolidSpline {
 ///   element anchored lightly to the tets' map, so that both bases reach the minimum of one
 ///   energy and compare fairly. Measured on bunny00 and bear (docs/benchmarks.md §21): the
 ///   uniform basis fits M 1.6–1.8 times closer than by Euler steps, THB about as closely, G
-///   neither closer; 2–6 times the time and 1.9–2.8 times the memory.
+///   neither closer; 2–6 times the time and 1.9–2.8 times the memory. Fold-free holds can
+///   undo its descent: on the upper femur's uniform 40³, G's RS fell from 43.7 % after one
+///   step to −572 % after 50, so a field ending over a point below its best step's goes back
+///   to it (FitRound::undone_steps).
 enum class SolidFitMethod { Newton, Euler };
 
 struct SolidFitOptions {
@@ -91,6 +94,9 @@ struct FitRound {
   std::size_t elements = 0;
   int geometry_iterations = 0;  ///< steps (Newton or Euler)
   int material_iterations = 0;
+  /// Steps (of G and M) undone because RS ended over a point below the best step's: the field
+  /// kept is that step's (counted in the iterations above all the same).
+  int undone_steps = 0;
   std::size_t solve_iterations = 0;  ///< conjugate-gradient iterations of both fields' steps
   double geometry_rs = 0;            ///< %, relative to the first Greville start
   double material_rs = 0;            ///< %
