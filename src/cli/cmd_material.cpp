@@ -318,7 +318,8 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
       j["cube_map"]["opened_points"] = out.map->opened_points;
       j["cube_map"]["folded_after_opening"] = left;
       if (left > 0)
-        passes += ", " + std::to_string(kept_folded) + " before untangling them locally";
+        passes += " and a local untangling of the last (" + std::to_string(kept_folded) + " to " +
+                  std::to_string(left) + ")";
       kept_folded = left;
     }
     if (kept_folded > 0)
