@@ -38,7 +38,7 @@
 #     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
 #     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
 #     steps, with the seed's nc / ni / RS in the same rows; the lower piece (its handles cut,
-#     capped by repair) mapped onto the cube, its inverted tets counted
+#     capped by repair) mapped onto the cube, its folded tets counted by pass
 # 21d (material-tspline). seed 001's T-splines on the octrees of those six models: functions
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
@@ -1002,8 +1002,8 @@ PY
       done
     done
   done
-  # The lower femur's stand-in is mapped, not fitted: its cube map keeps hundreds of inverted
-  # tets, and the fit's untangling of its start ran past 20 min.
+  # The lower femur's stand-in is mapped, not fitted: its map is fold-free since issue 40 part 13
+  # (218, 8, 2 folded by pass, then 0), but its fit on 144,743 tets ran past 75 min.
   if material_sizes "$tmp/mat/lower-femur.off"; then
     timed ./build/tpmsfill material info "$tmp/mat/lower-femur.off" --cell "$cell" \
       --material geodesic "$depth" --up 0 0 -1 --json >"$tmp/i.json" 2>/dev/null
