@@ -33,6 +33,7 @@
 #include "cli/commands.hpp"
 
 #include "cli/job_files.hpp"
+#include "cli/progress_flag.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/units_flag.hpp"
 #include "cli/validators.hpp"
@@ -147,14 +148,17 @@ MaterialInput read_input(const MaterialArgs& a) {
 
 // The input as a tet mesh: as read, or its surface filled with tets (smaller in `finer`).
 TetMesh input_tets(const MaterialArgs& a, const MaterialInput& in,
-                   const std::vector<FinerRegion>& finer, nlohmann::ordered_json& j) {
+                   const std::vector<FinerRegion>& finer, nlohmann::ordered_json& j,
+                   Progress* progress) {
   if (!in.surface) {
     j["source"] = "tet mesh";
     return in.tets;
   }
   const TriangleSoup& surface = *in.surface;
-  TetMesh mesh = tetrahedralize(
-      surface, {.cell_size = a.cell, .feature_angle = a.feature_angle, .finer = finer});
+  TetMesh mesh = tetrahedralize(surface, {.cell_size = a.cell,
+                                          .feature_angle = a.feature_angle,
+                                          .finer = finer,
+                                          .progress = progress});
   double surface_volume = 0;
   for (const Triangle& t : surface.triangles)
     surface_volume +=
@@ -187,9 +191,9 @@ struct MappedSolid {
 
 MappedSolid map_once(const MaterialArgs& a, const MaterialInput& in,
                      const std::vector<FinerRegion>& finer, nlohmann::ordered_json& j,
-                     std::vector<std::string>& warnings) {
+                     std::vector<std::string>& warnings, Progress* progress) {
   MappedSolid out;
-  out.mesh = input_tets(a, in, finer, j);
+  out.mesh = input_tets(a, in, finer, j, progress);
   TetMesh& mesh = out.mesh;
   TetMeshReport report = check_tet_mesh(mesh);
   if (report.tets > 0 && report.negative_tets == report.tets) {  // the other convention: turned
@@ -216,6 +220,7 @@ MappedSolid map_once(const MaterialArgs& a, const MaterialInput& in,
   j["points"] = mesh.points.size();
   j["tets"] = mesh.tets.size();
   CubeMapOptions options;
+  options.progress = progress;
   if (!a.corners.empty()) {
     std::array<std::uint32_t, 8> c{};
     std::copy(a.corners.begin(), a.corners.end(), c.begin());
@@ -262,7 +267,7 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
 // which balls the next meshed finer). (Given corners are point ids of these tets, so they keep
 // them as is.)
 MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
-                      std::vector<std::string>& warnings) {
+                      std::vector<std::string>& warnings, Progress* progress) {
   constexpr int kFinerPasses = 2;
   const MaterialRule give_material = material_rule(a);
   const MaterialInput input = read_input(a);
@@ -279,7 +284,7 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
     Pass now;
     now.j = j;
     now.index = pass;
-    now.solid = map_once(a, input, finer, now.j, now.found);
+    now.solid = map_once(a, input, finer, now.j, now.found, progress);
     const std::vector<std::uint32_t> folded =
         now.solid.map ? folded_tets(now.solid.mesh, *now.solid.map) : std::vector<std::uint32_t>{};
     folded_by_pass.push_back(folded.size());
@@ -311,7 +316,7 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
     MappedSolid out = std::move(best->solid);
     std::size_t kept_folded = folded_by_pass[best->index];
     if (kept_folded > 0 && out.map) {  // the kept map's last folds, each region alone
-      out.map = with_folds_opened(out.mesh, std::move(*out.map));
+      out.map = with_folds_opened(out.mesh, std::move(*out.map), progress);
       const std::size_t left = out.map->inverted_tets + out.map->flat_tets;
       j["cube_map"]["inverted_tets"] = out.map->inverted_tets;
       j["cube_map"]["flat_tets"] = out.map->flat_tets;
@@ -450,7 +455,10 @@ int run_material_info(const MaterialArgs& a) {
   nlohmann::ordered_json j;
   j["input"] = a.input;
   std::vector<std::string> warnings;
-  const MappedSolid solid = map_input(a, j, warnings);
+  std::unique_ptr<TerminalProgress> progress;
+  if (progress_wanted(false)) progress = std::make_unique<TerminalProgress>();
+  const MappedSolid solid = map_input(a, j, warnings, progress.get());
+  if (progress) progress->clear();
   if (solid.map) {
     // The splines' octree: cells split while they hold more than 5 tets (the seed's rule).
     const CubeOctree octree = build_cube_octree(tet_centroids(solid.mesh, *solid.map));
@@ -504,19 +512,21 @@ int run_material_fit(const MaterialArgs& a) {
   nlohmann::ordered_json j;
   j["input"] = a.input;
   std::vector<std::string> warnings;
-  const MappedSolid solid = map_input(a, j, warnings);
+  std::unique_ptr<TerminalProgress> progress;
+  if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
+  const MappedSolid solid = map_input(a, j, warnings, progress.get());
   if (solid.problem) {
+    if (progress) progress->clear();
     print_warnings(warnings);
     return refuse_non_ball(a, solid.problem);
   }
-  std::unique_ptr<TerminalProgress> progress;
-  if (progress_wanted(a.quiet)) progress = std::make_unique<TerminalProgress>();
   SolidFitOptions options = a.fit;
   options.fold_free = !a.allow_folds;
   options.method = a.method == "euler" ? SolidFitMethod::Euler : SolidFitMethod::Newton;
   options.progress = progress.get();
   if (solid.surface) options.surface = &*solid.surface;
   SolidModel model{fit_solid_spline(solid.mesh, *solid.map, options), ""};
+  if (progress) progress->clear();
   progress.reset();
   const bool material = !solid.mesh.material.empty();
   model.provenance =
@@ -625,6 +635,7 @@ Command add_material_command(CLI::App& app) {
                  "Also build the seed's trivariate T-splines on the octree (anchors at its "
                  "vertices, knots by rays) and check them: do they sum to one, are they "
                  "dual-compatible (so linearly independent)? Seconds on large meshes");
+  add_progress_flag(info);  // meshing and mapping a large part take minutes
 
   CLI::App* fit = material->add_subcommand(
       "fit",

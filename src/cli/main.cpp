@@ -10,6 +10,7 @@
 #include "cli/job_files.hpp"
 #include "cli/memory_policy.hpp"
 #include "cli/printable.hpp"
+#include "cli/progress_flag.hpp"
 #include "cli/ranks.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/usage_errors.hpp"
@@ -48,16 +49,11 @@ int run(int argc, char** argv) {
   Command material = add_material_command(app);
   Command serve = add_serve_command(app);
 
-  // --progress on every command that shows progress (those that take --quiet), nested ones too.
+  // --progress on every command that takes --quiet, nested ones too (a command that shows
+  // progress without --quiet adds it itself).
   auto add_progress = [](CLI::App* sub) {
-    if (!sub->get_option_no_throw("--quiet")) return;
-    sub->add_option_function<std::string>(
-           "--progress",
-           [](const std::string& name) { progress_mode() = progress_mode_named(name); },
-           "How progress is shown on stderr: auto (a bar on a terminal, else a line every 10 s "
-           "once a job has run 5 s), bar, lines, json (one object a line: stage, percent, "
-           "overall, seconds) or none")
-        ->check(CLI::IsMember({"auto", "bar", "lines", "json", "none"}));
+    if (sub->get_option_no_throw("--quiet") && !sub->get_option_no_throw("--progress"))
+      add_progress_flag(sub);
   };
   for (CLI::App* sub : app.get_subcommands({})) {
     add_progress(sub);

@@ -75,6 +75,13 @@ TEST(MaterialCli, SurfaceIsFilledGivenAMaterialAndMapped) {
   EXPECT_GT(ts["incompatible_pairs"].get<std::size_t>(), 0u);
   EXPECT_NE(out.find("do not sum to one"), std::string::npos) << out;
   EXPECT_LE(ts["sum_range"][1].get<double>() - 1, ts["unity_error"].get<double>() + 1e-12);
+
+  // Meshing and mapping a large part take many minutes: each stage's start is shown.
+  ASSERT_EQ(material_info("'" + in.string() + "' --cell 2 --material z 0 1 --progress json", &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("{\"stage\": \"tetrahedralize\""), std::string::npos) << out;
+  EXPECT_NE(out.find("{\"stage\": \"cube map\""), std::string::npos) << out;
 }
 
 TEST(MaterialCli, RefusalsAndTheirExitCodes) {
