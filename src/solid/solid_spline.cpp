@@ -852,10 +852,17 @@ struct FieldFit {
       if (left == 0 || sweep == sweeps) return {first, left};
       const std::vector<double> before = c;
       visit_linearised(folded, rows, [&](const Fold& fold) {
-        double norm = 0;
+        // The deficit counts what the points pushed before moved here: pushed each by its own
+        // deficit alone, points sharing functions added up their pushes, and the lower
+        // femur's 128,641 folded start points became 2.9 M after one sweep (a fit of over an
+        // hour; with this, 0 after 6 sweeps).
+        double change = 0, norm = 0;  // first-order change of det J_G so far, |∂ det / ∂c|²
         for (const auto& [f, d] : fold.gradient)
-          for (int r = 0; r < 3; ++r) norm += d[r] * d[r];
-        const double deficit = target(fold.uvw) - fold.det;
+          for (int r = 0; r < 3; ++r) {
+            change += d[r] * (c[3 * f + r] - before[3 * f + r]);
+            norm += d[r] * d[r];
+          }
+        const double deficit = target(fold.uvw) - (fold.det + change);
         if (!(deficit > 0) || !(norm > 0)) return;
         for (const auto& [f, d] : fold.gradient)
           for (int r = 0; r < 3; ++r) c[3 * f + r] += deficit / norm * d[r];
