@@ -38,11 +38,12 @@
 #     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
 #     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
 #     steps, with the seed's nc / ni / RS in the same rows; the lower piece (its handles cut,
-#     capped by repair) mapped onto the cube, its folded tets counted by pass
+#     capped by repair) by Euler steps only, THB and the seed's uniform 41³, with its cube
+#     map's folded tets by pass
 # 21d (material-tspline). seed 001's T-splines on the octrees of those six models: functions
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
-#     duck): folds, the fold bound, the stack's volume against the surface's, turned-over
+#     duck, the lower femur): folds, the fold bound, the stack's volume against the surface's, turned-over
 #     triangles, iso-surfaces' pieces against the tets' own (FIT_ARGS="..." adds options to
 #     the fits)
 # 22. seed 001: direct slicing of those THB models at three tau and the default, the sections'
@@ -170,6 +171,8 @@ PY
 seed_material() {
   if [[ $1 == duck ]]; then
     material=(--material point $(python3 -c 'import json,sys; b=json.load(open(sys.argv[1]))["bbox"]; print(*[(b["min"][i]+b["max"][i])/2 for i in range(3)])' "$tmp/c.json"))
+  elif [[ $1 == lower-femur ]]; then  # its cut is at the top
+    material=(--material geodesic "$depth" --up 0 0 -1)
   else
     material=(--material geodesic "$depth")
   fi
@@ -962,22 +965,28 @@ if [[ "$section" == all || "$section" == material || "$section" == material-tabl
   echo
   echo "| model | basis | steps | nc | G ni | RS G % | M ni | RS M % | G rms / max | M rms | folded | seed nc | seed ni G / M | seed RS G / M % | wall s |"
   echo "|---|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
-  for name in upper-femur duck; do
+  # The lower femur (144,743 tets after meshing finer where its map folded; about 30 min a
+  # fit) gets Euler steps only, and the seed's own uniform 41³ rather than 4 × THB's count.
+  for name in upper-femur duck lower-femur; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
     seed_material "$name"
-    if [[ $name == duck ]]; then
-      seed_thb="27455 | 23 / 16 | 80.47 / 88.66"; seed_uniform="54872 | 31 / 19 | 83.84 / 90.27"
-    else
-      seed_thb="21659 | 23 / 27 | 85.33 / 88.03"; seed_uniform="64000 | 28 / 27 | 84.62 / 85.92"
-    fi
+    methods=(euler newton)
+    case $name in
+      duck) seed_thb="27455 | 23 / 16 | 80.47 / 88.66"; seed_uniform="54872 | 31 / 19 | 83.84 / 90.27" ;;
+      upper-femur) seed_thb="21659 | 23 / 27 | 85.33 / 88.03"; seed_uniform="64000 | 28 / 27 | 84.62 / 85.92" ;;
+      lower-femur) seed_thb="17409 | 20 / 25 | 86.76 / 90.13"; seed_uniform="68921 | 25 / 27 | 84.57 / 82.66"
+        methods=(euler) ;;
+    esac
     thb_nc=0
     for basis in thb uniform; do
-      for method in euler newton; do
+      for method in "${methods[@]}"; do
         extra=()
-        [[ $basis == uniform ]] && extra=(--uniform "$(python3 -c "print(max(4, round((4 * $thb_nc) ** (1 / 3))))")")
-        timed timeout 1800 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" "${material[@]}" \
+        n=$(python3 -c "print(max(4, round((4 * $thb_nc) ** (1 / 3))))"); [[ $name == lower-femur ]] && n=41
+        [[ $basis == uniform ]] && extra=(--uniform "$n")
+        timed timeout 3600 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" "${material[@]}" \
           --json --method "$method" "${extra[@]}" >"$tmp/fit.json" 2>"$tmp/err.txt"
+        [[ $name == lower-femur && $basis == thb ]] && cp "$tmp/fit.json" "$tmp/lower.json"
         seed=$seed_thb; [[ $basis == uniform ]] && seed=$seed_uniform
         line=$(python3 - "$tmp/fit.json" "$name" "$basis" "$method" "$wall" "$code" "$seed" <<'PY'
 import json, sys
@@ -1002,23 +1011,20 @@ PY
       done
     done
   done
-  # The lower femur's stand-in is mapped, not fitted: its map is fold-free since issue 40 part 13
-  # (218, 8, 2 folded by pass, then 0), but its fit on 144,743 tets ran past 75 min.
-  if material_sizes "$tmp/mat/lower-femur.off"; then
-    timed ./build/tpmsfill material info "$tmp/mat/lower-femur.off" --cell "$cell" \
-      --material geodesic "$depth" --up 0 0 -1 --json >"$tmp/i.json" 2>/dev/null
+  # The lower femur's cube map, from its THB fit's report.
+  if [[ -s "$tmp/lower.json" ]]; then
     echo
-    python3 - "$tmp/i.json" "$wall" "$kb" <<'PY'
+    python3 - "$tmp/lower.json" <<'PY'
 import json, sys
-d = json.load(open(sys.argv[1])); m = d["cube_map"]
-print(f"lower-femur (`material info`, geodesic from the cut, --up 0 0 -1): {d['surface_triangles']} "
-      f"triangles, genus {d['genus']}, {d['tets']} tets; cube map: {m['flipped_boundary_faces']} "
+text = open(sys.argv[1]).read()
+d = json.loads(text[text.index("{"):text.rindex("}") + 1]); m = d["cube_map"]
+print(f"lower-femur's cube map (geodesic from the cut, --up 0 0 -1): {d['surface_triangles']} "
+      f"triangles, genus {d['genus']}, {d['tets']} tets; {m['flipped_boundary_faces']} "
       f"flipped boundary faces, {m['relaxed_patches']} crowded patches relaxed, "
       f"{m['harmonic_inverted_tets']} harmonic inverted tets, folded by pass "
       f"{', '.join(map(str, m.get('folded_by_pass', [])))} (pass {m.get('kept_pass', 0)} kept), "
       f"{m.get('opened_points', 0)} points untangled locally after, "
-      f"{m['inverted_tets']} inverted and {m['flat_tets']} flat left; {float(sys.argv[2]):.1f} s, "
-      f"{int(sys.argv[3]) / 1024:.0f} MB")
+      f"{m['inverted_tets']} inverted and {m['flat_tets']} flat left")
 PY
   fi
 fi
@@ -1066,7 +1072,7 @@ if [[ "$section" == all || "$section" == material || "$section" == material-audi
   echo
   echo "| model | nc | RS G / M % | folded Gauss / finer points | bound: proven / folded / undecided | surface mm³ | stack mm³ | difference | turned over | iso pieces / small (tets') | non-manifold edges | fit s | slice s |"
   echo "|---|---:|---|---|---|---:|---:|---:|---:|---|---:|---:|---:|"
-  for name in bunny00 bear fandisk sphere upper-femur duck; do
+  for name in bunny00 bear fandisk sphere upper-femur duck lower-femur; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
     seed_material "$name"
