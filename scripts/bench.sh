@@ -965,7 +965,7 @@ if [[ "$section" == all || "$section" == material || "$section" == material-tabl
   echo
   echo "| model | basis | steps | nc | G ni | RS G % | M ni | RS M % | G rms / max | M rms | folded | seed nc | seed ni G / M | seed RS G / M % | wall s |"
   echo "|---|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
-  # The lower femur (144,743 tets after meshing finer where its map folded; about 30 min a
+  # The lower femur (144,743 tets after meshing finer where its map folded; 25 min a
   # fit) gets Euler steps only, and the seed's own uniform 41³ rather than 4 × THB's count.
   for name in upper-femur duck lower-femur; do
     f="$tmp/mat/$name.off"

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/io.hpp>
 #include <tpmsfill/io/volume.hpp>
@@ -256,6 +257,21 @@ void add_finer_region(const TetMesh& mesh, const Tet& tet, std::vector<FinerRegi
   if (!covered) finer.push_back(region);
 }
 
+// The progress of a finer pass: its stages (tetrahedralize, cube map) named with the pass,
+// so that a user watching the same stages come round again sees why.
+class PassProgress : public Progress {
+ public:
+  PassProgress(Progress* to, std::string pass) : to_(to), pass_(std::move(pass)) {}
+  void begin(std::string_view stage) override {
+    to_->begin(StageInfo{.name = stage, .step = pass_});
+  }
+  bool report(double fraction) override { return to_->report(fraction); }
+
+ private:
+  Progress* to_;
+  std::string pass_;
+};
+
 // map_once(), and where the map folds on tets made from a surface, the surface meshed again
 // with smaller tets around the folded ones, up to kFinerPasses times: the lower femur's
 // stand-in kept 218 folded tets under its condyles at diagonal / 30 (43 at / 45 everywhere),
@@ -284,7 +300,13 @@ MappedSolid map_input(const MaterialArgs& a, nlohmann::ordered_json& j,
     Pass now;
     now.j = j;
     now.index = pass;
-    now.solid = map_once(a, input, finer, now.j, now.found, progress);
+    std::optional<PassProgress> pass_progress;
+    if (progress && pass > 0)
+      pass_progress.emplace(progress, "pass " + std::to_string(pass + 1) + " of up to " +
+                                          std::to_string(kFinerPasses + 1) + ", finer around " +
+                                          std::to_string(folded_by_pass.back()) + " folded tets");
+    now.solid =
+        map_once(a, input, finer, now.j, now.found, pass_progress ? &*pass_progress : progress);
     const std::vector<std::uint32_t> folded =
         now.solid.map ? folded_tets(now.solid.mesh, *now.solid.map) : std::vector<std::uint32_t>{};
     folded_by_pass.push_back(folded.size());
