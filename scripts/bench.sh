@@ -36,10 +36,10 @@
 #     plain fit as it folds (--allow-folds), three rounds, on the same meshes
 # 21b (material-tables). seed 001's Tables 1-2 side by side: its models' stand-ins (the genus-0
 #     upper piece of libcgal-demo's femur, cut and capped by `tpmsfill repair`; assimp-testmodels'
-#     Collada duck, converted by assimp-utils and repaired), THB and uniform, Euler and Newton
-#     steps, with the seed's nc / ni / RS in the same rows; the lower piece (its handles cut,
-#     capped by repair) by Euler steps only, THB and the seed's uniform 41³, with its cube
-#     map's folded tets by pass
+#     Collada duck, converted by assimp-utils and repaired), THB with each model's marking and
+#     the seed's uniform n³, Euler and Newton steps to one stopping rule, with the seed's
+#     nc / ni / RS in the same rows; the lower piece (its handles cut, capped by repair) by
+#     Euler steps only, with its cube map's folded tets by pass (about 90 min in all)
 # 21d (material-tspline). seed 001's T-splines on the octrees of those six models: functions
 #     against THB's, how far they are from summing to one, pairs not dual-compatible
 # 22b (material-audit). issue 40's acceptance per model (the four above, the upper femur, the
@@ -956,58 +956,64 @@ if [[ "$section" == all || "$section" == material || "$section" == material-tabl
   echo
   extract_material_meshes
   extract_seed_models
-  echo "Tets of size diagonal / 30 (the seed: ≤ 5 tets a cell, as here); material: the femur's geodesic"
-  echo "distance from its cut (diagonal / 100 deep), the duck's distance to its box's centre (the seed's"
-  echo "rules). THB: 2 rounds of progressive refinement; uniform: n³ ≈ 4 × THB's count. Seed columns"
-  echo "from Li & Fu 2021 Tables 1-2 (its models: a lower and an upper femur end and a rubber duck; nc"
-  echo "its control points, ni its iterations, its RS over the tets' points). Our ni: steps over all"
-  echo "rounds; RS and errors: the last round's."
+  echo "Tets of size diagonal / 30; material: the femur's geodesic distance from its cut (diagonal / 100"
+  echo "deep), the duck's distance to its box's centre (the seed's rules). Both bases take Euler steps"
+  echo "until RS moves by less than 0.01 points a step (at most 100 a field and round), the seed's"
+  echo "uniform n³ (its Table 2: 40³, 41³, 38³), and THB the seed's progressive refinement with each"
+  echo "model's marking (the share of the squared residual whose leaves split, and the rounds; the"
+  echo "lower femur's octree counts 20 tets a cell, its tets meshed finer where its map folded). Seed"
+  echo "columns from Li & Fu 2021 Tables 1-2 (nc its control points, ni its iterations, its RS over"
+  echo "the tets' points). Our ni: steps over all rounds; RS and errors: the last round's; bound: det"
+  echo "J_G's Bernstein bound on the written G, elements folded / undecided (a folded one is refused)."
   echo
-  echo "| model | basis | steps | nc | G ni | RS G % | M ni | RS M % | G rms / max | M rms | folded | seed nc | seed ni G / M | seed RS G / M % | wall s |"
-  echo "|---|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
-  # The lower femur (144,743 tets after meshing finer where its map folded; 25 min a
-  # fit) gets Euler steps only, and the seed's own uniform 41³ rather than 4 × THB's count.
+  echo "| model | basis | marking | steps | nc | nc / uniform | G ni | RS G % | M ni | RS M % | G rms / max | M rms | bound | seed nc | seed ni G / M | seed RS G / M % | wall s | peak MB |"
+  echo "|---|---|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|"
+  stop=(--rs-change 0.01 --max-iterations 100)
   for name in upper-femur duck lower-femur; do
     f="$tmp/mat/$name.off"
     material_sizes "$f" || continue
     seed_material "$name"
     methods=(euler newton)
     case $name in
-      duck) seed_thb="27455 | 23 / 16 | 80.47 / 88.66"; seed_uniform="54872 | 31 / 19 | 83.84 / 90.27" ;;
-      upper-femur) seed_thb="21659 | 23 / 27 | 85.33 / 88.03"; seed_uniform="64000 | 28 / 27 | 84.62 / 85.92" ;;
+      duck) seed_thb="27455 | 23 / 16 | 80.47 / 88.66"; seed_uniform="54872 | 31 / 19 | 83.84 / 90.27"
+        n=38; marking=(--refine-share 0.5 --refinements 2) ;;
+      upper-femur) seed_thb="21659 | 23 / 27 | 85.33 / 88.03"; seed_uniform="64000 | 28 / 27 | 84.62 / 85.92"
+        n=40; marking=(--refine-share 0.65 --refinements 3) ;;
+      # 25 min a fit (meshing finer where its map folds and mapping take 16): Euler steps only.
       lower-femur) seed_thb="17409 | 20 / 25 | 86.76 / 90.13"; seed_uniform="68921 | 25 / 27 | 84.57 / 82.66"
-        methods=(euler) ;;
+        n=41; marking=(--max-tets-per-cell 20 --refine-share 0.65 --refinements 2); methods=(euler) ;;
     esac
-    thb_nc=0
     for basis in thb uniform; do
       for method in "${methods[@]}"; do
-        extra=()
-        n=$(python3 -c "print(max(4, round((4 * $thb_nc) ** (1 / 3))))"); [[ $name == lower-femur ]] && n=41
+        extra=("${marking[@]}")
         [[ $basis == uniform ]] && extra=(--uniform "$n")
         timed timeout 3600 ./build/tpmsfill material fit "$f" "$tmp/m.tsm" --cell "$cell" "${material[@]}" \
-          --json --method "$method" "${extra[@]}" >"$tmp/fit.json" 2>"$tmp/err.txt"
+          --json --method "$method" "${stop[@]}" "${extra[@]}" >"$tmp/fit.json" 2>"$tmp/err.txt"
         [[ $name == lower-femur && $basis == thb ]] && cp "$tmp/fit.json" "$tmp/lower.json"
         seed=$seed_thb; [[ $basis == uniform ]] && seed=$seed_uniform
-        line=$(python3 - "$tmp/fit.json" "$name" "$basis" "$method" "$wall" "$code" "$seed" <<'PY'
+        python3 - "$tmp/fit.json" "$tmp/err.txt" "$name" "$basis" "$method" "$wall" "$code" "$seed" \
+          "$n" "$kb" "${extra[*]}" <<'PY'
 import json, sys
-name, basis, method, wall, code, seed = sys.argv[2:8]
+name, basis, method, wall, code, seed, n, kb, marking = sys.argv[3:12]
+marking = "" if basis == "uniform" else marking.replace("--refine-share", "share").replace(
+    "--refinements", "refinements").replace("--max-tets-per-cell", "tets a cell")
 text = open(sys.argv[1]).read()
 try:
     d = json.loads(text[text.index("{"):text.rindex("}") + 1]); r = d["rounds"][-1]
 except Exception:
-    print(f"| {name} | {basis} | {method} | | | | | | | | | {seed} | {float(wall):.1f} (exit {code}) |\t0"); sys.exit(0)
+    why = next((l.strip() for l in open(sys.argv[2]) if l.startswith("tpmsfill:")), "")[:160]
+    print(f"| {name} | {basis} | {marking} | {method} | | | | | | | | | {why} | {seed} | "
+          f"{float(wall):.1f} (exit {code}) | {int(kb) // 1024} |"); sys.exit(0)
 nc = r["control_points"]
 label = f"THB, {len(d['rounds'])} rounds" if basis == "thb" else f"uniform {round(nc ** (1 / 3))}³"
 steps_g = sum(x["geometry_iterations"] for x in d["rounds"])
 steps_m = sum(x.get("material_iterations", 0) for x in d["rounds"])
-print(f"| {name} | {label} | {method} | {nc} | {steps_g} | {r['geometry_rs_percent']:.1f} | "
-      f"{steps_m} | {r.get('material_rs_percent', 0):.1f} | "
+b = d["fold_certificate"]
+print(f"| {name} | {label} | {marking} | {method} | {nc} | {nc / int(n) ** 3:.2f} | {steps_g} | "
+      f"{r['geometry_rs_percent']:.1f} | {steps_m} | {r.get('material_rs_percent', 0):.1f} | "
       f"{r['geometry_rms_mm']:.4g} / {r['geometry_max_mm']:.4g} | {r.get('material_rms', 0):.4g} | "
-      f"{100 * r['folded_samples'] / max(1, r['samples']):.1f} % | {seed} | {float(wall):.1f} |\t{nc}")
+      f"{b['folded']} / {b['undecided']} | {seed} | {float(wall):.1f} | {int(kb) // 1024} |")
 PY
-)
-        echo "${line%%$'\t'*}"
-        [[ $basis == thb && $method == euler ]] && thb_nc=${line##*$'\t'}
       done
     done
   done

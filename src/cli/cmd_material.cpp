@@ -415,16 +415,23 @@ std::string where_in_solid(const SolidSpline& spline, const std::array<double, 3
   return where;
 }
 
+// What the bound found folded, in words: "det J <= 0 found in 3 of 9,000 elements (least
+// at ...)".
+std::string found_folds(const SolidSpline& spline, const FoldCertificate& c) {
+  return "det J <= 0 found in " + std::to_string(c.folded) + " of " + std::to_string(c.elements) +
+         " elements (least at " + where_in_solid(spline, c.fold) + ")";
+}
+
 // Where det J_G > 0 is proven (fold_certificate.hpp), as the report's "fold_certificate",
-// and a warning where a fold was found between the points the fit watched.
-nlohmann::ordered_json certify(const SolidSpline& spline, std::vector<std::string>& warnings) {
+// and a warning where a fold was found between the points the fit watched. `made`: the
+// certificate, when already made.
+nlohmann::ordered_json certify(const SolidSpline& spline, std::vector<std::string>& warnings,
+                               std::optional<FoldCertificate> made = std::nullopt) {
   const auto t0 = std::chrono::steady_clock::now();
-  const FoldCertificate c = certify_fold_free(spline);
+  const FoldCertificate c = made ? *made : certify_fold_free(spline);
   if (c.folded > 0)
-    warnings.push_back("G folds between the points the fit watched: det J <= 0 found in " +
-                       std::to_string(c.folded) + " of " + std::to_string(c.elements) +
-                       " elements (least at " + where_in_solid(spline, c.fold) +
-                       "); slices may turn triangles over there");
+    warnings.push_back("G folds between the points the fit watched: " + found_folds(spline, c) +
+                       "; slices may turn triangles over there");
   return {
       {"elements", c.elements},
       {"proven", c.proven},
@@ -587,7 +594,21 @@ int run_material_fit(const MaterialArgs& a) {
                          " steps moved it away from its data (RS fell over a point below its "
                          "best); the model keeps the best step's (try --method euler)");
   if (!material) warnings.push_back("the tets have no material: only G was fitted");
-  j["fold_certificate"] = certify(model.fit.spline, warnings);
+  // Fold-free, a fold the bound finds between the watched points is refused too: a model
+  // that slices with turned-over triangles is not the solid asked for.
+  const auto t_bound = std::chrono::steady_clock::now();
+  const FoldCertificate bound = certify_fold_free(model.fit.spline);
+  if (options.fold_free && bound.folded > 0) {
+    print_warnings(warnings);
+    std::fprintf(stderr,
+                 "tpmsfill: %s: G folds between the points the fit watched: %s; nothing "
+                 "written; try a smaller --cell, fewer --refinements, or --allow-folds\n",
+                 a.input.c_str(), found_folds(model.fit.spline, bound).c_str());
+    return kNotValid;
+  }
+  j["fold_certificate"] = certify(model.fit.spline, warnings, bound);
+  j["fold_certificate"]["seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bound).count();
   write_solid_model(a.output, model);
   j["output"] = a.output;
   j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -45,10 +45,11 @@ struct SolidSpline {
 ///   element anchored lightly to the tets' map, so that both bases reach the minimum of one
 ///   energy and compare fairly. Measured on bunny00 and bear (docs/benchmarks.md §21): the
 ///   uniform basis fits M 1.6–1.8 times closer than by Euler steps, THB about as closely, G
-///   neither closer; 2–6 times the time and 1.9–2.8 times the memory. Fold-free holds can
-///   undo its descent: on the upper femur's uniform 40³, G's RS fell from 43.7 % after one
-///   step to −572 % after 50, so a field ending over a point below its best step's goes back
-///   to it (FitRound::undone_steps).
+///   neither closer; 2–6 times the time and 1.9–2.8 times the memory. Each trial step of the
+///   line search is held fold-free before its energy is measured, so a held step still
+///   lowers E (held after the search, the upper femur's uniform 40³ G fell from RS 43.7 % to
+///   −572 % in 50 steps; held inside, 55.0 %). E freezes g, so RS can still fall: a field
+///   ending over a point below its best step's goes back to it (FitRound::undone_steps).
 enum class SolidFitMethod { Newton, Euler };
 
 struct SolidFitOptions {
