@@ -1002,7 +1002,9 @@ text = open(sys.argv[1]).read()
 try:
     d = json.loads(text[text.index("{"):text.rindex("}") + 1]); r = d["rounds"][-1]
 except Exception:
-    why = next((l.strip() for l in open(sys.argv[2]) if l.startswith("tpmsfill:")), "")[:160]
+    said = open(sys.argv[2]).read().replace("\r", "\n").splitlines()
+    why = next((l.strip() for l in reversed(said) if l.startswith("tpmsfill:") and "nothing written" in l),
+               next((l.strip() for l in reversed(said) if l.startswith("tpmsfill:")), ""))[:200]
     print(f"| {name} | {basis} | {marking} | {method} | | | | | | | | | {why} | {seed} | "
           f"{float(wall):.1f} (exit {code}) | {int(kb) // 1024} |"); sys.exit(0)
 nc = r["control_points"]
@@ -1013,7 +1015,8 @@ b = d["fold_certificate"]
 print(f"| {name} | {label} | {marking} | {method} | {nc} | {nc / int(n) ** 3:.2f} | {steps_g} | "
       f"{r['geometry_rs_percent']:.1f} | {steps_m} | {r.get('material_rs_percent', 0):.1f} | "
       f"{r['geometry_rms_mm']:.4g} / {r['geometry_max_mm']:.4g} | {r.get('material_rms', 0):.4g} | "
-      f"{b['folded']} / {b['undecided']} | {seed} | {float(wall):.1f} | {int(kb) // 1024} |")
+      f"{b['folded']} / {b['undecided']}{' refused' if 'refused' in d else ''} | {seed} | "
+      f"{float(wall):.1f}{f' (exit {code})' if code != '0' else ''} | {int(kb) // 1024} |")
 PY
       done
     done

@@ -595,20 +595,28 @@ int run_material_fit(const MaterialArgs& a) {
                          "best); the model keeps the best step's (try --method euler)");
   if (!material) warnings.push_back("the tets have no material: only G was fitted");
   // Fold-free, a fold the bound finds between the watched points is refused too: a model
-  // that slices with turned-over triangles is not the solid asked for.
+  // that slices with turned-over triangles is not the solid asked for. The report still
+  // says how close the fit came (JSON "refused").
   const auto t_bound = std::chrono::steady_clock::now();
   const FoldCertificate bound = certify_fold_free(model.fit.spline);
-  if (options.fold_free && bound.folded > 0) {
-    print_warnings(warnings);
-    std::fprintf(stderr,
-                 "tpmsfill: %s: G folds between the points the fit watched: %s; nothing "
-                 "written; try a smaller --cell, fewer --refinements, or --allow-folds\n",
-                 a.input.c_str(), found_folds(model.fit.spline, bound).c_str());
-    return kNotValid;
-  }
-  j["fold_certificate"] = certify(model.fit.spline, warnings, bound);
+  const bool refused = options.fold_free && bound.folded > 0;
+  std::vector<std::string> unsaid;
+  j["fold_certificate"] = certify(model.fit.spline, refused ? unsaid : warnings, bound);
   j["fold_certificate"]["seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bound).count();
+  if (refused) {
+    const std::string why =
+        "G folds between the points the fit watched: " + found_folds(model.fit.spline, bound) +
+        "; nothing written";
+    j["refused"] = why;
+    if (a.json) print_json_or_text(j, true);
+    print_warnings(warnings);
+    std::fprintf(stderr,
+                 "tpmsfill: %s: %s; try a smaller --cell, fewer --refinements, or "
+                 "--allow-folds\n",
+                 a.input.c_str(), why.c_str());
+    return kNotValid;
+  }
   write_solid_model(a.output, model);
   j["output"] = a.output;
   j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
