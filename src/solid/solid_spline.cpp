@@ -939,7 +939,7 @@ struct FieldFit {
   // (hold_unfolded()) before its E is measured, so the step taken is one that lowers E as
   // held: held after the search, a step that lowered E could rise above it, and on the upper
   // femur's uniform 40³ G's RS fell from 43.7 % to −572 % in 50 steps (with the hold inside:
-  // 55.0 %, no step undone).
+  // 55.7 %, docs/benchmarks.md §21b part 16).
   // `between` runs within the solve (iterate() reports the step's progress again there, so
   // that a cancel is honoured within a conjugate-gradient iteration, not after the step).
   void newton_step(const std::function<void()>& between, bool hold) {

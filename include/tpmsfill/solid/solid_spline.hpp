@@ -48,8 +48,9 @@ struct SolidSpline {
 ///   neither closer; 2–6 times the time and 1.9–2.8 times the memory. Each trial step of the
 ///   line search is held fold-free before its energy is measured, so a held step still
 ///   lowers E (held after the search, the upper femur's uniform 40³ G fell from RS 43.7 % to
-///   −572 % in 50 steps; held inside, 55.0 %). E freezes g, so RS can still fall: a field
-///   ending over a point below its best step's goes back to it (FitRound::undone_steps).
+///   −572 % in 50 steps; held inside, 55.7 %, docs/benchmarks.md §21b part 16). E freezes g, so RS
+///   can still fall: a field ending over a point below its best step's goes back to it
+///   (FitRound::undone_steps).
 enum class SolidFitMethod { Newton, Euler };
 
 struct SolidFitOptions {
