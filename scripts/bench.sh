@@ -996,8 +996,11 @@ if [[ "$section" == all || "$section" == material || "$section" == material-tabl
           "$n" "$kb" "${extra[*]}" <<'PY'
 import json, sys
 name, basis, method, wall, code, seed, n, kb, marking = sys.argv[3:12]
-marking = "" if basis == "uniform" else marking.replace("--refine-share", "share").replace(
-    "--refinements", "refinements").replace("--max-tets-per-cell", "tets a cell")
+# "--max-tets-per-cell 20 --refine-share 0.65" as "tets a cell 20, share 0.65"
+words = {"--max-tets-per-cell": "tets a cell", "--refine-share": "share", "--refinements": "refinements"}
+flags = marking.split()
+marking = "" if basis == "uniform" else ", ".join(
+    f"{words[flags[i]]} {flags[i + 1]}" for i in range(0, len(flags), 2))
 text = open(sys.argv[1]).read()
 try:
     d = json.loads(text[text.index("{"):text.rindex("}") + 1]); r = d["rounds"][-1]
@@ -1005,7 +1008,8 @@ except Exception:
     said = open(sys.argv[2]).read().replace("\r", "\n").splitlines()
     why = next((l.strip() for l in reversed(said) if l.startswith("tpmsfill:") and "nothing written" in l),
                next((l.strip() for l in reversed(said) if l.startswith("tpmsfill:")), ""))[:200]
-    print(f"| {name} | {basis} | {marking} | {method} | | | | | | | | | {why} | {seed} | "
+    label = "THB" if basis == "thb" else f"uniform {n}³"
+    print(f"| {name} | {label} | {marking} | {method} | | | | | | | | | {why} | {seed} | "
           f"{float(wall):.1f} (exit {code}) | {int(kb) // 1024} |"); sys.exit(0)
 nc = r["control_points"]
 label = f"THB, {len(d['rounds'])} rounds" if basis == "thb" else f"uniform {round(nc ** (1 / 3))}³"
