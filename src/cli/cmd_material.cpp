@@ -567,17 +567,24 @@ int run_material_fit(const MaterialArgs& a) {
   for (const FitRound& r : model.fit.rounds) rounds.push_back(round_json(r, material));
   j["rounds"] = rounds;
   const FitRound& last = model.fit.rounds.back();
-  // Fold-free (the default), a folded G is not what was asked: refused, with where.
-  if (options.fold_free && (last.folded_samples > 0 || last.fine_folded_samples > 0)) {
+  // Fold-free (the default), a folded G is not what was asked: refused, with where, nothing
+  // written. The report still says how close the fit came (JSON "refused").
+  const auto refuse = [&](const std::string& why) {
+    j["refused"] = why + "; nothing written";
+    if (a.json) print_json_or_text(j, true);
     print_warnings(warnings);
     std::fprintf(stderr,
-                 "tpmsfill: %s: G still folds (det J <= 0) at %zu of %zu Gauss points and %zu "
-                 "of %zu points of a finer sample (worst at %s); nothing written; try a smaller "
-                 "--cell, or --allow-folds\n",
-                 a.input.c_str(), last.folded_samples, last.samples, last.fine_folded_samples,
-                 last.fine_samples, where_in_solid(model.fit.spline, last.worst_fold).c_str());
+                 "tpmsfill: %s: %s; nothing written; try a smaller --cell, fewer --refinements, "
+                 "or --allow-folds\n",
+                 a.input.c_str(), why.c_str());
     return kNotValid;
-  }
+  };
+  if (options.fold_free && (last.folded_samples > 0 || last.fine_folded_samples > 0))
+    return refuse("G still folds (det J <= 0) at " + std::to_string(last.folded_samples) + " of " +
+                  std::to_string(last.samples) + " Gauss points and " +
+                  std::to_string(last.fine_folded_samples) + " of " +
+                  std::to_string(last.fine_samples) + " points of a finer sample (worst at " +
+                  where_in_solid(model.fit.spline, last.worst_fold) + ")");
   if (last.folded_samples > 0)
     warnings.push_back("G folds (det J <= 0) at " + std::to_string(last.folded_samples) + " of " +
                        std::to_string(last.samples) +
@@ -596,26 +603,14 @@ int run_material_fit(const MaterialArgs& a) {
                          "best); the model keeps the best step's (try --method euler)");
   if (!material) warnings.push_back("the tets have no material: only G was fitted");
   // Fold-free, a fold the bound finds between the watched points is refused too: a model
-  // that slices with turned-over triangles is not the solid asked for. The report still
-  // says how close the fit came (JSON "refused").
+  // that slices with turned-over triangles is not the solid asked for.
   FoldCertificate bound;
   std::vector<std::string> bound_warnings;
   j["fold_certificate"] = certify(model.fit.spline, bound_warnings, &bound);
-  if (!options.fold_free || bound.folded == 0) {
-    warnings.insert(warnings.end(), bound_warnings.begin(), bound_warnings.end());
-  } else {
-    const std::string why =
-        "G folds between the points the fit watched: " + found_folds(model.fit.spline, bound) +
-        "; nothing written";
-    j["refused"] = why;
-    if (a.json) print_json_or_text(j, true);
-    print_warnings(warnings);
-    std::fprintf(stderr,
-                 "tpmsfill: %s: %s; try a smaller --cell, fewer --refinements, or "
-                 "--allow-folds\n",
-                 a.input.c_str(), why.c_str());
-    return kNotValid;
-  }
+  if (options.fold_free && bound.folded > 0)
+    return refuse("G folds between the points the fit watched: " +
+                  found_folds(model.fit.spline, bound));
+  warnings.insert(warnings.end(), bound_warnings.begin(), bound_warnings.end());
   write_solid_model(a.output, model);
   j["output"] = a.output;
   j["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -475,6 +475,7 @@ struct FieldFit {
   // Per element, points where the fold certificate found det J_G ≤ 0 between the grids'
   // points (open_found_folds()): watched like theirs from then on.
   std::vector<std::vector<std::array<double, 3>>> found{};
+  std::vector<char> dense{};  // per element, whether `found` holds a dense patch
 
   // The regularisers are stiff on fine elements (their Hessian grows as 1 / h): an explicit
   // step of ε is stable only while ε · Σ_j |H_ij| ≤ 1. This bounds Σ_j |H_ij| per function
@@ -658,10 +659,12 @@ struct FieldFit {
 
   // Per element (those `dirty`), the watched points (Gauss, finer check's, those `found` and,
   // while watch_children, the children's Gauss points) where det J_G ≤ 0 on `rows`; with
-  // `was`, only those where it was > 0 on it.
-  std::vector<std::vector<Fold>> folded_points(const std::vector<double>& rows,
-                                               const std::vector<double>* was,
-                                               const std::vector<char>& dirty) const
+  // `was`, only those where it was > 0 on it; with `floor` (and no `was`), those where
+  // det J_G < floor(uvw), folded or not.
+  std::vector<std::vector<Fold>> folded_points(
+      const std::vector<double>& rows, const std::vector<double>* was,
+      const std::vector<char>& dirty,
+      const std::function<double(std::array<double, 3>)>* floor = nullptr) const
       requires(Dim == 3) {
     std::vector<std::vector<Fold>> folded(basis.elements.size());
     detail::parallel_for(folded.size(), 64, [&](std::size_t begin, std::size_t end) {
@@ -669,6 +672,13 @@ struct FieldFit {
         if (!dirty[e]) continue;
         const auto now = local_coefficients(rows, e);
         const auto watch = [&](const Grid& grid) {
+          if (floor) {
+            grid_determinants(basis, axes, e, now.data(), grid, [&](int p, double det) {
+              const std::array<double, 3> uvw = grid.point(basis.elements[e], basis.spans, p);
+              if (det < (*floor)(uvw)) folded[e].push_back({uvw, 1.0});
+            });
+            return;
+          }
           bool any = false;
           grid_determinants(basis, axes, e, now.data(), grid,
                             [&](int, double det) { any = any || det <= 0; });
@@ -689,6 +699,11 @@ struct FieldFit {
         for (const Grid& grid : finer_check(basis, e)) watch(grid);
         if (found.empty()) continue;
         for (const std::array<double, 3>& uvw : found[e]) {
+          if (floor) {
+            if (detail::determinant(jacobian_at(now, e, uvw)) < (*floor)(uvw))
+              folded[e].push_back({uvw, 1.0});
+            continue;
+          }
           if (detail::determinant(jacobian_at(now, e, uvw)) > 0) continue;
           const double det_was =
               was ? detail::determinant(jacobian_at(local_coefficients(*was, e), e, uvw)) : 1.0;
@@ -838,9 +853,15 @@ struct FieldFit {
   // start's, or a refined G's at the finer elements' points) without folding it elsewhere:
   // each folded point's det J_G is pushed, to first order, up to `target(uvw)` (a projection,
   // point after point), and hold_unfolded() keeps the push from folding another point.
-  // Returns the watched points folded at first, and after `sweeps` such pushes.
+  // With `lift`, folds left after those sweeps get up to `sweeps` more, each pushing every
+  // watched point under its target in the elements the folds' functions reach, folded or
+  // not: a fold whose neighbours sit just above 0 cannot open alone, as the hold keeps each
+  // neighbour from folding in its place (the upper femur's uniform 40³, a face v = 0: its
+  // last found folds stayed 3 → 2, 7 → 7, 10 → 10 over ten sweeps; lifted, each opened).
+  // Returns the watched points folded at first, and after the sweeps.
   std::pair<std::size_t, std::size_t> open_folds(
-      const std::function<double(std::array<double, 3>)>& target, int sweeps) requires(Dim == 3) {
+      const std::function<double(std::array<double, 3>)>& target, int sweeps,
+      bool lift = false) requires(Dim == 3) {
     std::size_t first = 0;
     std::vector<char> all(basis.elements.size(), 1);
     for (int sweep = 0;; ++sweep) {
@@ -849,7 +870,17 @@ struct FieldFit {
       std::size_t left = 0;
       for (const auto& points : folded) left += points.size();
       if (sweep == 0) first = left;
-      if (left == 0 || sweep == sweeps) return {first, left};
+      if (left == 0 || sweep == (lift ? 2 * sweeps : sweeps)) return {first, left};
+      if (sweep >= sweeps) {
+        std::vector<char> moved(basis.functions.size(), 0), region(folded.size(), 0);
+        for (std::size_t e = 0; e < folded.size(); ++e)
+          if (!folded[e].empty())
+            detail::for_each_term(basis, e, [&](int, std::uint32_t f, double w) {
+              if (w != 0) moved[f] = 1;
+            });
+        mark_reached(moved, region);
+        folded = folded_points(rows, nullptr, region, &target);
+      }
       const std::vector<double> before = c;
       visit_linearised(folded, rows, [&](const Fold& fold) {
         // The deficit counts what the points pushed before moved here: pushed each by its own
@@ -873,29 +904,57 @@ struct FieldFit {
 
   // The folds the fold certificate finds between the grids' points (element_verdicts(): the
   // least corner seen where det J_G ≤ 0, one an element), watched from then on and pushed
-  // open like a round's start's, then the certificate again, up to `passes` times. Returns
-  // the points found.
+  // open like a round's start's (lifted: open_folds()), then the certificate again, up to
+  // `passes` times. A fold opened at its point may surface again beside it: an element
+  // takes up to kFoundPerElement points, and from its kDenseAfter-th on a dense patch
+  // around it. Returns the points found (the certificate's, not the patches').
   std::size_t open_found_folds(const std::function<double(std::array<double, 3>)>& target,
                                int sweeps, int passes,
                                const std::function<void()>& poll) requires(Dim == 3) {
     const int depth = detail::kCertificateDepth;
     // An element whose fold outlives so many pushes at its points is left (bear: one at a
-    // corner of the cube, pushed from a pass's fifth to its sixteenth to no end).
-    constexpr std::size_t kFoundPerElement = 4;
+    // corner of the cube, pushed from a pass's fifth to its sixteenth to no end, before the
+    // lift). At 4 points (and 12 passes), without the lift and the patches, the upper
+    // femur's uniform 40³ kept 2 elements folded and its THB (the seed's marking) 10, each
+    // fold found again beside its last point on a face of the cube; at 16 (and 40) with the
+    // lift, 0 and 4; with the patches too, 0 and 0 (docs/benchmarks.md §21b, part 17).
+    constexpr std::size_t kFoundPerElement = 16;
+    constexpr std::size_t kDenseAfter = 4, kDense = 729;  // the patch: 9³ points
     found.resize(basis.elements.size());
+    dense.resize(basis.elements.size(), 0);
     std::size_t count = 0;
     for (int pass = 0; pass < passes; ++pass) {
       poll();  // a pass takes seconds on a large G: Ctrl-C is heard between them
       const std::vector<detail::ElementVerdict> verdicts =
           detail::element_verdicts(basis, row_coefficients(basis, c, Dim), depth);
       std::size_t added = 0;
-      for (std::size_t e = 0; e < verdicts.size(); ++e)
-        if (verdicts[e].kind == detail::ElementVerdict::Kind::folded &&
-            found[e].size() < kFoundPerElement)
-          found[e].push_back(verdicts[e].uvw), ++added;
+      for (std::size_t e = 0; e < verdicts.size(); ++e) {
+        if (verdicts[e].kind != detail::ElementVerdict::Kind::folded ||
+            found[e].size() >= kFoundPerElement + (dense[e] ? kDense : 0))
+          continue;
+        found[e].push_back(verdicts[e].uvw), ++added;
+        if (found[e].size() < kDenseAfter || dense[e]) continue;
+        // A fold found again and again beside its last points: watch the region around it
+        // densely, a 9³ grid over half the element's side centred on it.
+        dense[e] = 1;
+        const OctreeCell& cell = basis.elements[e];
+        const double h = 1.0 / basis.spans[cell.level];
+        for (int k = 0; k < 9; ++k)
+          for (int j = 0; j < 9; ++j)
+            for (int i = 0; i < 9; ++i) {
+              std::array<double, 3> uvw{};
+              const int at[3] = {i, j, k};
+              for (int a = 0; a < 3; ++a) {
+                const double lo = cell.index[a] * h, side = h / 2;
+                const double from = std::clamp(verdicts[e].uvw[a] - side / 2, lo, lo + h - side);
+                uvw[a] = from + side * at[a] / 8;
+              }
+              found[e].push_back(uvw);
+            }
+      }
       if (added == 0) break;
       count += added;
-      open_folds(target, sweeps);
+      open_folds(target, sweeps, true);
     }
     return count;
   }
@@ -1518,7 +1577,7 @@ class ReferenceJacobians {
 constexpr double kOpenTo = 0.25;
 constexpr int kOpenSweeps = 10;
 // Rounds of the fold certificate and pushes on the last G (FieldFit::open_found_folds()).
-constexpr int kFoundPasses = 12;
+constexpr int kFoundPasses = 40;
 
 // The position term's weight against the Jacobian term's when G is untangled.
 constexpr double kUntangleFidelity = 1;
