@@ -917,7 +917,8 @@ struct FieldFit {
     // lift). At 4 points (and 12 passes), without the lift and the patches, the upper
     // femur's uniform 40³ kept 2 elements folded and its THB (the seed's marking) 10, each
     // fold found again beside its last point on a face of the cube; at 16 (and 40) with the
-    // lift, 0 and 4; with the patches too, 0 and 0 (docs/benchmarks.md §21b, part 17).
+    // lift, 0 and 4; with the patches too, 1 (on a cube edge) and 0 (docs/benchmarks.md §21b,
+    // part 17: which elements should get a patch is not settled).
     constexpr std::size_t kFoundPerElement = 16;
     constexpr std::size_t kDenseAfter = 4, kDense = 729;  // the patch: 9³ points
     found.resize(basis.elements.size());
