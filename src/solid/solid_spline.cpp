@@ -902,6 +902,23 @@ struct FieldFit {
     }
   }
 
+  // Watches element e densely around `uvw`: a 9³ grid over half its side, centred there
+  // (moved inside the element where it would reach past it), joins found[e].
+  void add_patch(std::size_t e, std::array<double, 3> uvw) requires(Dim == 3) {
+    const OctreeCell& cell = basis.elements[e];
+    const double h = 1.0 / basis.spans[cell.level], side = h / 2;
+    std::array<double, 3> from;
+    for (int a = 0; a < 3; ++a) {
+      const double lo = cell.index[a] * h;
+      from[a] = std::clamp(uvw[a] - side / 2, lo, lo + h - side);
+    }
+    for (int k = 0; k < 9; ++k)
+      for (int j = 0; j < 9; ++j)
+        for (int i = 0; i < 9; ++i)
+          found[e].push_back(
+              {from[0] + side * i / 8, from[1] + side * j / 8, from[2] + side * k / 8});
+  }
+
   // The folds the fold certificate finds between the grids' points (element_verdicts(): the
   // least corner seen where det J_G ≤ 0, one an element), watched from then on and pushed
   // open like a round's start's (lifted: open_folds()), then the certificate again, up to
@@ -934,24 +951,9 @@ struct FieldFit {
             found[e].size() >= kFoundPerElement + (dense[e] ? kDense : 0))
           continue;
         found[e].push_back(verdicts[e].uvw), ++added;
-        if (found[e].size() < kDenseAfter || dense[e]) continue;
-        // A fold found again and again beside its last points: watch the region around it
-        // densely, a 9³ grid over half the element's side centred on it.
-        dense[e] = 1;
-        const OctreeCell& cell = basis.elements[e];
-        const double h = 1.0 / basis.spans[cell.level];
-        for (int k = 0; k < 9; ++k)
-          for (int j = 0; j < 9; ++j)
-            for (int i = 0; i < 9; ++i) {
-              std::array<double, 3> uvw{};
-              const int at[3] = {i, j, k};
-              for (int a = 0; a < 3; ++a) {
-                const double lo = cell.index[a] * h, side = h / 2;
-                const double from = std::clamp(verdicts[e].uvw[a] - side / 2, lo, lo + h - side);
-                uvw[a] = from + side * at[a] / 8;
-              }
-              found[e].push_back(uvw);
-            }
+        // A fold found again and again beside its last points: watch the region around it.
+        if (found[e].size() >= kDenseAfter && !dense[e])
+          dense[e] = 1, add_patch(e, verdicts[e].uvw);
       }
       if (added == 0) break;
       count += added;

@@ -303,18 +303,12 @@ TEST(MaterialCli, FoldsOnTheCubesFacesOpenOnTheFemursUpperEnd) {
   double low = whole.points.front().z, high = low;
   for (const Vec3& p : whole.points) low = std::min(low, p.z), high = std::max(high, p.z);
   const double cut = low + 0.3 * (high - low);
-  TriangleSoup upper;
-  std::vector<std::uint32_t> index(whole.points.size(), ~0u);
+  // The points below the cut stay in the file unreferenced: repair drops them, keeping the
+  // others' order.
+  TriangleSoup upper{whole.points, {}};
   for (const Triangle& t : whole.triangles)
     if (std::all_of(t.begin(), t.end(), [&](std::uint32_t v) { return whole.points[v].z >= cut; }))
       upper.triangles.push_back(t);
-  for (const Triangle& t : upper.triangles)  // the points kept, in the file's order
-    for (std::uint32_t v : t) index[v] = 0;
-  for (std::size_t v = 0; v < index.size(); ++v)
-    if (index[v] == 0)
-      index[v] = std::uint32_t(upper.points.size()), upper.points.push_back(whole.points[v]);
-  for (Triangle& t : upper.triangles)
-    for (std::uint32_t& v : t) v = index[v];
   write_mesh(dir / "cut.off", upper);
   std::string out;
   ASSERT_EQ(test::run_command(std::string(TPMSFILL_CLI) + " repair '" + (dir / "cut.off").string() +
