@@ -49,8 +49,9 @@ struct JobReport {
   std::string grading;                    ///< "porosity 0.5→0.8 along depth", ... ("" none)
   Vec3 rotation_degrees;                  ///< the lattice's rotation as Euler angles
   Vec3 cell;                              ///< mm
-  double level = 0;                       ///< mm (network)
-  double thickness = 0;                   ///< mm (sheet)
+  double level = 0;                       ///< mm (network), or raw C where level_unit says so
+  double thickness = 0;                   ///< mm (sheet), or raw C where level_unit says so
+  std::string level_unit = "mm";          ///< "mm", or "c": the seeds' raw C on f
   double skin = 0;                        ///< mm (0: none)
   std::optional<double> porosity_target;  ///< what --porosity asked (level/thickness solved)
   bool sheet = false;                     ///< the base lattice is a sheet

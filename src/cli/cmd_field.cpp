@@ -37,7 +37,7 @@ struct StructureArgs {
   int threshold_coefficients = 6;
   std::optional<double> surface, thickness, porosity;
   std::vector<double> size;
-  bool tile = false;
+  bool tile = false, stretch = false;
 };
 
 struct FieldArgs {
@@ -89,7 +89,9 @@ void apply_structure(const StructureArgs& a, PorousStructure& s) {
     s.sheet_thickness = *a.thickness;
   }
   if (!a.size.empty()) s.size = box_size(a.size);
+  if (a.tile && a.stretch) throw InputError("give --tile or --stretch, not both");
   if (a.tile) s.placement = Placement::Tile;
+  if (a.stretch) s.placement = Placement::Stretch;
   // Thresholds of their own: a discrete grid (seed claim 6) or a ramp, each fitted small.
   auto slot = [&](const std::string& name, const char* flag) -> Threshold& {
     if (name == "t0" || name == "t1" || name == "t2")
@@ -138,6 +140,18 @@ double report_iso(const FieldArgs& a, const PorousStructure& s) {
   return std::isfinite(s.t2.constant)   ? s.t2.constant
          : std::isfinite(s.t1.constant) ? s.t1.constant
                                         : 0;
+}
+
+CoefficientType coefficient_type_from_name(const std::string& name) {
+  return name == "float64" ? CoefficientType::Float64
+         : name == "int16" ? CoefficientType::Int16
+                           : CoefficientType::Float32;
+}
+
+const char* coefficient_type_name(CoefficientType type) {
+  return type == CoefficientType::Float64 ? "float64"
+         : type == CoefficientType::Int16 ? "int16"
+                                          : "float32";
 }
 
 int run_fit(const FieldArgs& a) {
@@ -200,9 +214,7 @@ int run_fit(const FieldArgs& a) {
                        .iso = iso,
                        .flipped = double(flips) / double(c.size()),
                        .seconds = fit_seconds};
-  file.encoding[0].type = a.coefficient_type == "float64" ? CoefficientType::Float64
-                          : a.coefficient_type == "int16" ? CoefficientType::Int16
-                                                          : CoefficientType::Float32;
+  file.encoding[0].type = coefficient_type_from_name(a.coefficient_type);
   file.provenance = "tpmsfill " TPMSFILL_VERSION " field fit of " + a.input + " (sha256 " +
                     sha256_of_file(a.input) + ")";
   const std::string bytes = itdf_bytes(file);
@@ -234,6 +246,68 @@ int run_fit(const FieldArgs& a) {
                  "tpmsfill: warning: the fit's RMS error is %.1f %% of the value range: the "
                  "structure will not follow the scan closely; use more --coefficients\n",
                  100 * fit.report.rms / (*hi - *lo));
+  return kOk;
+}
+
+bool structure_flags_given(const StructureArgs& a) {
+  return !a.solid.empty() || a.surface || a.thickness || a.porosity || !a.size.empty() || a.tile ||
+         a.stretch || !a.threshold_file.empty() || !a.threshold_ramp.empty();
+}
+
+// Seed 003's "edit further, then print": a stored structure's thresholds, porosity, size,
+// placement or coefficient type changed without refitting C, the fit's record kept and the
+// provenance extended by what changed.
+int run_edit(const FieldArgs& a, bool coefficient_type_given) {
+  if (!structure_flags_given(a.structure) && !coefficient_type_given)
+    throw InputError(
+        "field edit: nothing to change; give --solid, --surface, --thickness, --porosity, "
+        "--size, --tile, --stretch, --threshold-file, --threshold-ramp or --coefficient-type");
+  const std::string output = a.output.empty() ? a.input : a.output;
+  if (tpmsfill::detail::lower_extension(output) != ".itdf")
+    throw InputError(output + ": field edit writes an ITDF file, named .itdf");
+  if (!a.output.empty()) require_writable_outputs({a.input}, {{"OUT", a.output}});
+  ItdfFile file = read_itdf(a.input);
+  PorousStructure& s = file.structure;
+  const PorousStructure before = s;
+  auto unit_cube = [](const PorousStructure& p) {
+    return p.size[0] > 0 ? p.size : std::array<double, 3>{1, 1, 1};
+  };
+  const double porosity_before = 1 - porous_solid_share(before, unit_cube(before));
+  apply_structure(a.structure, s);
+  if (a.structure.porosity) s = with_porosity(s, *a.structure.porosity, unit_cube(s));
+  std::vector<std::string> changes;
+  if (structure_label(s) != structure_label(before))
+    changes.push_back("structure " + structure_label(before) + " -> " + structure_label(s));
+  if (s.size != before.size) {
+    char b[96];
+    std::snprintf(b, sizeof b, "size %g x %g x %g mm", s.size[0], s.size[1], s.size[2]);
+    changes.push_back(b);
+  }
+  if (s.placement != before.placement)
+    changes.push_back("placement " + std::string(placement_name(s.placement)));
+  if (coefficient_type_given) {
+    const CoefficientType type = coefficient_type_from_name(a.coefficient_type);
+    if (type != file.encoding[0].type)
+      changes.push_back(std::string("coefficients ") +
+                        coefficient_type_name(file.encoding[0].type) + " -> " +
+                        coefficient_type_name(type));
+    for (CoefficientEncoding& e : file.encoding) e = {type, 0, 0};  // int16: scale from the values
+  }
+  const double porosity_after = 1 - porous_solid_share(s, unit_cube(s));
+  std::string what;
+  for (const std::string& c : changes) what += (what.empty() ? "" : ", ") + c;
+  if (what.empty()) what = "nothing changed";
+  file.provenance += (file.provenance.empty() ? "" : "; then ") +
+                     std::string("tpmsfill " TPMSFILL_VERSION " field edit: ") + what;
+  write_file_atomically(output, itdf_bytes(file));
+  if (!a.quiet) {
+    std::printf("%s -> %s\n", a.input.c_str(), output.c_str());
+    std::printf("edited       %s\n", what.c_str());
+    std::printf("porosity     %.4f -> %.4f of the unit cube\n", porosity_before, porosity_after);
+  }
+  if (changes.empty())
+    std::fprintf(stderr, "tpmsfill: warning: field edit: the flags leave %s as it was\n",
+                 a.input.c_str());
   return kOk;
 }
 
@@ -401,6 +475,9 @@ void add_structure_flags(CLI::App* sub, StructureArgs& s) {
       ->check(positive());
   sub->add_flag("--tile", s.tile,
                 "Tile the structure with --size as its cell instead of stretching it");
+  sub->add_flag("--stretch", s.stretch,
+                "Stretch the structure over the model's box (the default; undoes a stored "
+                "--tile)");
   sub->add_option("--threshold-file", s.threshold_file,
                   "NAME FILE: threshold t0, t1 or t2 from its own field file (any grid of the "
                   "unit cube), fitted with --threshold-coefficients (repeatable)")
@@ -423,7 +500,7 @@ Command add_field_command(CLI::App& app) {
   auto a = std::make_shared<FieldArgs>();
   CLI::App* field = app.add_subcommand(
       "field",
-      "Porous structures from a scanned distance field (fit, info, mesh, from-mesh, "
+      "Porous structures from a scanned distance field (fit, edit, info, mesh, from-mesh, "
       "from-points, from-ct)");
   field->require_subcommand(1);
   field->footer(
@@ -435,6 +512,7 @@ Command add_field_command(CLI::App& app) {
       "  tpmsfill field from-ct skull_2.9.inr skull-distance.nrrd --iso 2.9\n"
       "  tpmsfill field fit skull_2.9.inr bone.itdf --coefficients 32 --solid 2.9 inf\n"
       "  tpmsfill field info bone.itdf\n"
+      "  tpmsfill field edit bone.itdf --porosity 0.75\n"
       "  tpmsfill field mesh bone.itdf bone.stl --voxel 1 --porosity 0.7\n"
       "  tpmsfill fill femur.stl femur-bone.stl --field bone.itdf --cell 20 --voxel 0.2");
 
@@ -469,6 +547,26 @@ Command add_field_command(CLI::App& app) {
       ->check(CLI::IsMember({"float32", "float64", "int16"}));
   add_structure_flags(fit, a->structure);
   fit->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
+
+  CLI::App* edit = field->add_subcommand(
+      "edit",
+      "Change a stored structure's thresholds, porosity, size, placement or coefficient type, "
+      "without refitting");
+  edit->add_option("IN", a->input, "ITDF file")->required()->check(existing_file());
+  edit->add_option("OUT", a->output, "The ITDF file to write (default: IN, rewritten atomically)");
+  CLI::Option* edit_type =
+      edit->add_option("--coefficient-type", a->coefficient_type,
+                       "Store C and its thresholds as float32, float64 or int16 (int16 "
+                       "quantizes them: about 1/65535 of their range)")
+          ->check(CLI::IsMember({"float32", "float64", "int16"}));
+  add_structure_flags(edit, a->structure);
+  edit->add_flag("--quiet", a->quiet, "Print nothing but errors and warnings");
+  edit->footer(
+      "The fitted C is kept; what it describes changes. The provenance line gains what was "
+      "edited.\n\nExamples:\n"
+      "  tpmsfill field edit bone.itdf --porosity 0.75\n"
+      "  tpmsfill field edit bone.itdf bone-tiled.itdf --size 5 5 5 --tile\n"
+      "  tpmsfill field edit bone.itdf bone-small.itdf --coefficient-type int16");
 
   CLI::App* info = field->add_subcommand("info", "Describe an ITDF file or a field file");
   info->add_option("FILE", a->input, "ITDF or field file")->required()->check(existing_file());
@@ -510,8 +608,9 @@ Command add_field_command(CLI::App& app) {
     from.push_back(sub);
   }
 
-  return [a, fit, info, mesh, from] {
+  return [a, fit, edit, edit_type, info, mesh, from] {
     if (fit->parsed()) return run_fit(*a);
+    if (edit->parsed()) return run_edit(*a, edit_type->count() > 0);
     if (info->parsed()) return run_info(*a);
     if (mesh->parsed()) return run_mesh(*a);
     for (CLI::App* sub : from)

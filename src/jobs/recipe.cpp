@@ -138,13 +138,70 @@ class Reader {
   std::vector<std::string> used_;
 };
 
+// A level or thickness: mm as a number, or the seeds' raw C as {"c": value}; `raw` says which
+// unit the lattice's earlier key used, so that one lattice does not mix them.
+void read_level(Reader& r, const std::string& key, double& out, std::optional<LevelUnit>& unit) {
+  const json* v = r.get(key);
+  if (!v) return;
+  LevelUnit here = LevelUnit::Millimetre;
+  if (v->is_object()) {
+    Reader c = r.object(key, *v);
+    if (!v->contains("c")) c.fail("", "must be a number of mm or {\"c\": raw level}");
+    c.number("c", out);
+    c.finish();
+    here = LevelUnit::Raw;
+  } else {
+    r.number(key, out);
+  }
+  if (unit && *unit != here)
+    r.fail(key, "mixes mm and raw C in one lattice: give the level and thickness in one unit");
+  unit = here;
+}
+
+// "terms": [{"amplitude": A, "wave": [h, k, l], "phase": P}, ...] of a fourier lattice.
+bool read_terms(Reader& r, std::vector<FourierTerm>& terms) {
+  const json* v = r.get("terms");
+  if (!v) return false;
+  if (!v->is_array()) r.fail("terms", "must be an array of {amplitude, wave, phase} objects");
+  if (v->size() > kMaxFourierTerms)
+    r.fail("terms", std::to_string(v->size()) + " terms: at most " +
+                        std::to_string(kMaxFourierTerms) + " (the limit)");
+  terms.clear();
+  for (std::size_t i = 0; i < v->size(); ++i) {
+    Reader t = r.object("terms[" + std::to_string(i) + "]", (*v)[i]);
+    if (!(*v)[i].is_object()) t.fail("", "must be an object {amplitude, wave, phase}");
+    FourierTerm term;
+    t.number("amplitude", term.amplitude);
+    const json* w = t.get("wave");
+    if (!w || !w->is_array() || w->size() != 3)
+      t.fail("wave", "must be [h, k, l]: whole periods per cell along x, y and z");
+    for (int a = 0; a < 3; ++a) {
+      if (!(*w)[a].is_number_integer())
+        t.fail("wave", "must be whole numbers (periods per cell), so that the cell is a period");
+      const auto n = (*w)[a].get<long long>();
+      if (std::llabs(n) > kMaxFourierWave)
+        t.fail("wave", std::to_string(n) + " periods a cell: at most " +
+                           std::to_string(kMaxFourierWave) + " (the limit)");
+      term.wave[a] = static_cast<int>(n);
+    }
+    t.number("phase", term.phase);
+    t.finish();
+    terms.push_back(term);
+  }
+  return true;
+}
+
 // A recipe's "lattice" object: one TPMS.
 void read_tpms(Reader& r, TpmsOptions& o) {
   r.name("type", o.type, tpms_type_from_name);
+  // A blend starts from the base's lattice: a named type there drops the base's terms.
+  if (!read_terms(r, o.terms) && o.type != TpmsType::Fourier) o.terms.clear();
   r.name("style", o.style, tpms_style_from_name);
   r.vec3("cell", o.cell, true);
-  r.number("level", o.level);
-  r.number("thickness", o.thickness);
+  std::optional<LevelUnit> unit;
+  read_level(r, "level", o.level, unit);
+  read_level(r, "thickness", o.thickness, unit);
+  if (unit) o.unit = *unit;
   r.optional_number("porosity", o.porosity);
   r.vec3("origin", o.origin);
   Vec3 euler;
@@ -200,10 +257,19 @@ json vec(Vec3 v) {
 json tpms_json(const TpmsOptions& o, bool full) {
   json j;
   j["type"] = tpms_type_name(o.type);
+  if (o.type == TpmsType::Fourier) {
+    json terms = json::array();
+    for (const FourierTerm& t : o.terms)
+      terms.push_back({{"amplitude", t.amplitude},
+                       {"wave", json::array({t.wave[0], t.wave[1], t.wave[2]})},
+                       {"phase", t.phase}});
+    j["terms"] = terms;
+  }
   j["style"] = tpms_style_name(o.style);
   j["cell"] = o.cell.x == o.cell.y && o.cell.y == o.cell.z ? json(o.cell.x) : vec(o.cell);
-  if (o.style == TpmsStyle::Network || o.level != 0) j["level"] = o.level;
-  if (o.style == TpmsStyle::Sheet) j["thickness"] = o.thickness;
+  auto level = [&](double v) { return o.unit == LevelUnit::Raw ? json{{"c", v}} : json(v); };
+  if (o.style == TpmsStyle::Network || o.level != 0) j["level"] = level(o.level);
+  if (o.style == TpmsStyle::Sheet) j["thickness"] = level(o.thickness);
   if (o.porosity) j["porosity"] = *o.porosity;
   j["origin"] = vec(o.origin);
   if (full || !o.rotation.is_identity()) j["rotation_matrix"] = o.rotation.m;

@@ -295,6 +295,12 @@ void require_valid(const LatticeDesign& d) {
           throw InputError("graded porosities must be between 0 and 1");
         if (find_grading(d, Graded::Level) || find_grading(d, Graded::Thickness))
           throw InputError("porosity and level or thickness cannot both be graded");
+        if (d.unit == LevelUnit::Raw ||
+            std::any_of(d.blends.begin(), d.blends.end(),
+                        [](const Blend& b) { return b.tpms.unit == LevelUnit::Raw; }))
+          throw InputError(
+              "a porosity grading solves levels in mm; it cannot grade a lattice with raw "
+              "levels C");
         break;
       case Graded::Level:
         if (!network) throw InputError("level grading needs a network lattice");
@@ -590,7 +596,7 @@ double DesignRows::layer_value(const PreparedTpms& L, const Frame& f, int i, int
   Vec3 g, q;
   FGrad fg;
   if (L.separable) {
-    fg = tpms_f(t.o.type, L.trig[0][i], L.trig[1][j], L.trig[2][k]);
+    fg = t.formula(L.trig[0][i], L.trig[1][j], L.trig[2][k]);
     g = t.lattice_gradient(fg);
     if (t.refine)
       q = Vec3{warp_.axis == 0 ? warped_[i] : grid_.coordinate(0, i),
@@ -607,7 +613,6 @@ double DesignRows::layer_value(const PreparedTpms& L, const Frame& f, int i, int
     fg = t.at(f.w, q);
     g = f.gradient(warp_, t.o.rotation * t.lattice_gradient(fg));
   }
-  const double d = t.distance(fg, g, q);
   const bool network = t.o.style == TpmsStyle::Network;
   double v;
   if (porosity_)
@@ -620,7 +625,7 @@ double DesignRows::layer_value(const PreparedTpms& L, const Frame& f, int i, int
     v = thickness_->value(ramp_t(*thickness_, f));
   else
     v = (network ? t.o.level : t.o.thickness) * (t.o.porosity ? f.scale : 1.0);
-  return t.phi(d, v);
+  return t.value(fg, g, q, v);
 }
 
 void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* values,
@@ -633,8 +638,8 @@ void DesignRows::rows(std::size_t first_row, std::size_t row_count, float* value
     const double v = t.o.style == TpmsStyle::Network ? t.o.level : t.o.thickness;
     for_each_needed_node(
         grid_, first_row, row_count, need, [&](int i, int j, int k, std::size_t n) {
-          const FGrad fg = tpms_f(t.o.type, L.trig[0][i], L.trig[1][j], L.trig[2][k]);
-          values[n] = static_cast<float>(t.phi(t.distance(fg, t.lattice_gradient(fg), Vec3{}), v));
+          const FGrad fg = t.formula(L.trig[0][i], L.trig[1][j], L.trig[2][k]);
+          values[n] = static_cast<float>(t.value(fg, t.lattice_gradient(fg), Vec3{}, v));
         });
     return;
   }
@@ -721,8 +726,8 @@ MixOffsets mix_offsets(const LatticeDesign& design, double small_cell, double la
   };
   const TpmsOptions small = base(small_cell), large = base(large_cell);
   auto same = [](const TpmsOptions& x, const TpmsOptions& y) {
-    return x.type == y.type && x.style == y.style && x.cell == y.cell && x.level == y.level &&
-           x.thickness == y.thickness;
+    return x.type == y.type && x.terms == y.terms && x.style == y.style && x.cell == y.cell &&
+           x.level == y.level && x.thickness == y.thickness && x.unit == y.unit;
   };
   struct Entry {
     TpmsOptions small, large;

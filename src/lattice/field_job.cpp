@@ -68,9 +68,24 @@ constexpr double kMostPorousLattice = 0.97;
 double area_per_volume(const TpmsOptions& t) {
   static constexpr double kNetwork[] = {3.1, 2.2, 3.8, 3.6, 3.3, 4.8, 6.1, 5.2};
   static constexpr double kSheet[] = {5.5, 4.3, 6.6, 6.2, 6.1, 7.6, 8.3, 8.1};
+  const double cell = std::fmin(t.cell.x, std::fmin(t.cell.y, t.cell.z));
+  if (t.type == TpmsType::Fourier) {
+    // Scaled from the primitive's (one period a cell) by the terms' rms frequency, weighted as
+    // they weigh in |∇f|: 3.1, 3.8 for the gyroid's and diamond's terms (measured 3.1, 3.8),
+    // 5.4 for FRD's (4.8), so a little over where high waves are many.
+    double moment = 0, weight = 0;
+    for (const FourierTerm& term : t.terms) {
+      const double a2 = term.amplitude * term.amplitude;
+      const double w2 =
+          term.wave[0] * term.wave[0] + term.wave[1] * term.wave[1] + term.wave[2] * term.wave[2];
+      if (w2 > 0) moment += a2 * w2, weight += a2;
+    }
+    const double frequency = weight > 0 ? std::sqrt(moment / weight) : 1;
+    const auto primitive = static_cast<std::size_t>(TpmsType::Primitive);
+    return (t.style == TpmsStyle::Sheet ? kSheet : kNetwork)[primitive] * frequency / cell;
+  }
   const auto type = static_cast<std::size_t>(t.type);
-  return (t.style == TpmsStyle::Sheet ? kSheet : kNetwork)[type] /
-         std::fmin(t.cell.x, std::fmin(t.cell.y, t.cell.z));
+  return (t.style == TpmsStyle::Sheet ? kSheet : kNetwork)[type] / cell;
 }
 
 // The options' settings into the report and the design resolved against the model's box.
@@ -94,6 +109,7 @@ LatticeDesign describe(const Box3& bounds, std::uint64_t triangles, const FillOp
   if (!d.structure) r.cell = d.cell;
   r.level = d.level;
   r.thickness = d.thickness;
+  r.level_unit = d.unit == LevelUnit::Raw ? "c" : "mm";
   r.skin = o.skin;
   r.porosity_target = d.porosity;
   r.sheet = d.style == TpmsStyle::Sheet;

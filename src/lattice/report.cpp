@@ -128,6 +128,7 @@ json job_json(const JobReport& r) {
         {"grading", nullable(r.grading)},
         {"level", r.level},
         {"thickness", r.thickness},
+        {"level_unit", r.level_unit},
         {"porosity_target", r.porosity_target ? json(*r.porosity_target) : json(nullptr)},
         {"skin", r.skin}}},
       {"grid",

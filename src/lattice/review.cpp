@@ -124,13 +124,23 @@ double solid_fraction(const TpmsOptions& t) {
   return tpms_solid_fraction(t, 48);
 }
 
+// A level or thickness in the layer's unit: "0.3 mm", or "0.3c" for the seeds' raw C.
+std::string in_unit(const TpmsOptions& t, double v) {
+  return t.unit == LevelUnit::Raw ? num(v) + "c" : mm(v);
+}
+
+std::string level_text(const TpmsOptions& t) {
+  return t.style == TpmsStyle::Network ? "level " + in_unit(t, t.level)
+                                       : "thickness " + in_unit(t, t.thickness);
+}
+
 // What range of the layer's level or thickness gives between 3 % and 97 % solid.
 std::string fitting_range(const TpmsOptions& t) {
   const CellSamples cell = sample_cell(t);
   if (t.style == TpmsStyle::Network)
-    return "levels from " + mm(level_for_porosity(cell, t.style, 0.97)) + " to " +
-           mm(level_for_porosity(cell, t.style, 0.03)) + " give 3-97 % solid";
-  return "thicknesses up to " + mm(level_for_porosity(cell, t.style, 0.03)) +
+    return "levels from " + in_unit(t, level_for_porosity(cell, t.style, 0.97)) + " to " +
+           in_unit(t, level_for_porosity(cell, t.style, 0.03)) + " give 3-97 % solid";
+  return "thicknesses up to " + in_unit(t, level_for_porosity(cell, t.style, 0.03)) +
          " leave some void; --porosity sets it directly";
 }
 
@@ -141,9 +151,7 @@ void review_extremes(const std::vector<Extreme>& extremes, const ReviewOptions& 
   for (const Extreme& l : extremes) {
     const double solid = solid_fraction(l.tpms);
     const std::string name = "the " + tpms_label(l.tpms) + l.where;
-    const std::string what = l.tpms.style == TpmsStyle::Network
-                                 ? "level " + mm(l.tpms.level)
-                                 : "thickness " + mm(l.tpms.thickness);
+    const std::string what = level_text(l.tpms);
     if (solid < 0.01 || solid > 0.99)
       throw InputError(name + " with " + what + " leaves " +
                        (solid < 0.5 ? "no solid" : "no void") + " (solid " + percent(solid) +

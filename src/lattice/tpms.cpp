@@ -10,6 +10,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <string>
 
 #include "core/names.hpp"
@@ -22,18 +23,14 @@ namespace tpmsfill {
 namespace {
 
 // Each type's first entry is its name; the later ones are aliases from_name accepts.
-constexpr detail::Named<TpmsType> kTypeNames[] = {{TpmsType::Primitive, "primitive"},
-                                                  {TpmsType::Gyroid, "gyroid"},
-                                                  {TpmsType::Diamond, "diamond"},
-                                                  {TpmsType::Iwp, "iwp"},
-                                                  {TpmsType::Neovius, "neovius"},
-                                                  {TpmsType::Frd, "frd"},
-                                                  {TpmsType::Lidinoid, "lidinoid"},
-                                                  {TpmsType::SplitP, "splitp"},
-                                                  {TpmsType::Primitive, "schwarz-p"},
-                                                  {TpmsType::Diamond, "schwarz-d"},
-                                                  {TpmsType::Iwp, "i-wp"},
-                                                  {TpmsType::SplitP, "split-p"}};
+constexpr detail::Named<TpmsType> kTypeNames[] = {
+    {TpmsType::Primitive, "primitive"}, {TpmsType::Gyroid, "gyroid"},
+    {TpmsType::Diamond, "diamond"},     {TpmsType::Iwp, "iwp"},
+    {TpmsType::Neovius, "neovius"},     {TpmsType::Frd, "frd"},
+    {TpmsType::Lidinoid, "lidinoid"},   {TpmsType::SplitP, "splitp"},
+    {TpmsType::Fourier, "fourier"},     {TpmsType::Primitive, "schwarz-p"},
+    {TpmsType::Diamond, "schwarz-d"},   {TpmsType::Iwp, "i-wp"},
+    {TpmsType::SplitP, "split-p"}};
 constexpr detail::Named<TpmsStyle> kStyleNames[] = {{TpmsStyle::Network, "network"},
                                                     {TpmsStyle::Sheet, "sheet"}};
 
@@ -56,15 +53,106 @@ TpmsStyle tpms_style_from_name(std::string_view name) {
 }
 
 std::string tpms_label(const TpmsOptions& o) {
-  std::string label =
-      std::string(tpms_type_name(o.type)) + " " + std::string(tpms_style_name(o.style));
+  const bool raw = o.unit == LevelUnit::Raw;
+  char b[96];
+  std::string label(tpms_type_name(o.type));
+  if (o.type == TpmsType::Fourier) {
+    std::snprintf(b, sizeof b, " (%zu term%s)", o.terms.size(), o.terms.size() == 1 ? "" : "s");
+    label += b;
+  }
+  label += ' ';
+  label += tpms_style_name(o.style);
   if (o.style == TpmsStyle::Sheet && o.level != 0) {  // walls between two levels
-    char b[96];
-    std::snprintf(b, sizeof b, " between levels %.4g and %.4g mm", -o.level - 0.5 * o.thickness,
-                  -o.level + 0.5 * o.thickness);
+    std::snprintf(b, sizeof b, " between levels %.4g and %.4g %s", -o.level - 0.5 * o.thickness,
+                  -o.level + 0.5 * o.thickness, raw ? "(raw C)" : "mm");
+    label += b;
+  } else if (raw) {
+    std::snprintf(b, sizeof b, o.style == TpmsStyle::Network ? " at C = %.4g" : " of |f| < %.4g",
+                  o.style == TpmsStyle::Network ? o.level : 0.5 * o.thickness);
     label += b;
   }
   return label;
+}
+
+namespace {
+
+// Sums of f's terms, and products of sums by cos a cos b = ½(cos(a + b) + cos(a − b)), so a
+// named type's Fourier terms read as its formula does.
+using Terms = std::vector<FourierTerm>;
+
+Terms operator+(Terms a, const Terms& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+Terms operator*(double k, Terms a) {
+  for (FourierTerm& t : a) t.amplitude *= k;
+  return a;
+}
+
+Terms operator*(const Terms& a, const Terms& b) {
+  Terms r;
+  for (const FourierTerm& s : a)
+    for (const FourierTerm& t : b) {
+      const double half = 0.5 * s.amplitude * t.amplitude;
+      const std::array<int, 3> sum = {s.wave[0] + t.wave[0], s.wave[1] + t.wave[1],
+                                      s.wave[2] + t.wave[2]},
+                               difference = {s.wave[0] - t.wave[0], s.wave[1] - t.wave[1],
+                                             s.wave[2] - t.wave[2]};
+      r.push_back({half, sum, s.phase + t.phase});
+      r.push_back({half, difference, s.phase - t.phase});
+    }
+  return r;
+}
+
+// cos(n·θ_axis) and sin(n·θ_axis).
+Terms cos_of(int axis, int n = 1) {
+  std::array<int, 3> w = {0, 0, 0};
+  w[axis] = n;
+  return {{1, w, 0}};
+}
+
+Terms sin_of(int axis, int n = 1) {
+  std::array<int, 3> w = {0, 0, 0};
+  w[axis] = n;
+  return {{1, w, -M_PI / 2}};
+}
+
+Terms constant(double c) {
+  return {{c, {0, 0, 0}, 0}};
+}
+
+}  // namespace
+
+std::vector<FourierTerm> fourier_terms(const TpmsOptions& o) {
+  // X, Y, Z's single and double angles; sums over the cyclic permutations as in tpms_kernel.hpp.
+  const Terms cX = cos_of(0), cY = cos_of(1), cZ = cos_of(2), sX = sin_of(0), sY = sin_of(1),
+              sZ = sin_of(2), c2X = cos_of(0, 2), c2Y = cos_of(1, 2), c2Z = cos_of(2, 2),
+              s2X = sin_of(0, 2), s2Y = sin_of(1, 2), s2Z = sin_of(2, 2);
+  const Terms pairs_c2 = c2X * c2Y + c2Y * c2Z + c2Z * c2X;
+  switch (o.type) {
+    case TpmsType::Gyroid:
+      return cX * sY + cY * sZ + cZ * sX;
+    case TpmsType::Primitive:
+      return cX + cY + cZ;
+    case TpmsType::Diamond:
+      return cX * cY * cZ + (-1.0) * (sX * sY * sZ);
+    case TpmsType::Iwp:
+      return 2.0 * (cX * cY + cY * cZ + cZ * cX) + (-1.0) * (c2X + c2Y + c2Z);
+    case TpmsType::Neovius:
+      return 3.0 * (cX + cY + cZ) + 4.0 * (cX * cY * cZ);
+    case TpmsType::Frd:
+      return 4.0 * (cX * cY * cZ) + (-1.0) * pairs_c2;
+    case TpmsType::Lidinoid:
+      return 0.5 * (s2X * cY * sZ + s2Y * cZ * sX + s2Z * cX * sY) + (-0.5) * pairs_c2 +
+             constant(0.15);
+    case TpmsType::SplitP:
+      return 1.1 * (s2X * sZ * cY + s2Y * sX * cZ + s2Z * sY * cX) + (-0.2) * pairs_c2 +
+             (-0.4) * (c2X + c2Y + c2Z);
+    case TpmsType::Fourier:
+      return o.terms;
+  }
+  return {};
 }
 
 Mat3 rotation_from_euler(Vec3 degrees) {
@@ -92,6 +180,34 @@ Vec3 euler_from_rotation(const Mat3& r) {
 }
 
 void require_valid(const TpmsOptions& o) {
+  if (o.type != TpmsType::Fourier && !o.terms.empty())
+    throw InputError("Fourier terms are for the fourier lattice type, not " +
+                     std::string(tpms_type_name(o.type)) + " (its own formula is fixed)");
+  if (o.type == TpmsType::Fourier) {
+    if (o.terms.empty() || o.terms.size() > kMaxFourierTerms)
+      throw InputError("a fourier lattice needs 1 to " + std::to_string(kMaxFourierTerms) +
+                       " terms, not " + std::to_string(o.terms.size()));
+    bool varies = false;
+    for (std::size_t i = 0; i < o.terms.size(); ++i) {
+      const FourierTerm& t = o.terms[i];
+      const std::string which = "fourier term " + std::to_string(i + 1);
+      if (!std::isfinite(t.amplitude) || !std::isfinite(t.phase))
+        throw InputError(which + ": its amplitude and phase must be finite");
+      for (int w : t.wave)
+        if (std::abs(w) > kMaxFourierWave)
+          throw InputError(which + ": " + std::to_string(w) +
+                           " periods a cell along an axis; at most " +
+                           std::to_string(kMaxFourierWave) + " (the limit)");
+      varies = varies || (t.amplitude != 0 && t.wave != std::array<int, 3>{0, 0, 0});
+    }
+    if (!varies)
+      throw InputError(
+          "a fourier lattice needs a term with a non-zero amplitude and wave: a constant has no "
+          "surface");
+  }
+  if (o.unit == LevelUnit::Raw && o.porosity)
+    throw InputError(
+        "a porosity target solves the level in mm; give a raw level C or a porosity, not both");
   for (int axis = 0; axis < 3; ++axis)
     if (!(o.cell[axis] > 0) || !std::isfinite(o.cell[axis]))
       throw InputError("the cell size must be a positive number of millimetres");
@@ -137,14 +253,14 @@ struct TpmsRows {
     detail::FGrad fg;
     Vec3 g, q;
     if (!L.rotated) {
-      fg = detail::tpms_f(L.o.type, trig[0][i], trig[1][j], trig[2][k]);
+      fg = L.formula(trig[0][i], trig[1][j], trig[2][k]);
       g = L.lattice_gradient(fg);
       if (L.refine) q = grid.node(i, j, k) - L.o.origin;
     } else {
       fg = L.at(grid.node(i, j, k), q);
       g = L.o.rotation * L.lattice_gradient(fg);
     }
-    return L.phi(L.distance(fg, g, q), value);
+    return L.value(fg, g, q, value);
   }
 
   void rows(std::size_t first_row, std::size_t row_count, float* values,
@@ -171,7 +287,8 @@ FieldSource tpms_source(const TpmsOptions& options) {
 
 namespace {
 
-// f̃ at samples³ cell-centred points of one unit cell (rotation and origin do not matter).
+// f̃ (f for raw levels) at samples³ cell-centred points of one unit cell (rotation and origin
+// do not matter).
 std::vector<float> cell_values(const TpmsOptions& options, int samples) {
   require_valid(options);
   if (samples < 2) throw InputError("sample_cell: at least 2 samples per axis");
@@ -185,14 +302,18 @@ std::vector<float> cell_values(const TpmsOptions& options, int samples) {
   detail::parallel_for(n * n, 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t jk = begin; jk < end; ++jk)
       for (std::size_t i = 0; i < n; ++i) {
-        const detail::FGrad g = detail::tpms_f(options.type, t[0][i], t[1][jk % n], t[2][jk / n]);
+        const detail::FGrad g = L.formula(t[0][i], t[1][jk % n], t[2][jk / n]);
+        if (options.unit == LevelUnit::Raw) {  // raw levels are read off f itself
+          values[jk * n + i] = static_cast<float>(g.f);
+          continue;
+        }
         double d = detail::tpms_distance(g.f, L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz, L.clamp);
         if (L.refine) {  // sheets, as TpmsLayer::distance refines them
           const double q[3] = {options.cell.x * (i + 0.5) / samples,
                                options.cell.y * ((jk % n) + 0.5) / samples,
                                options.cell.z * ((jk / n) + 0.5) / samples};
           const double gq[3] = {L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz};
-          d = detail::refined_distance(options.type, L.k, q, g.f, gq);
+          d = detail::refined_distance(L.formula, L.k, q, g.f, gq);
         }
         values[jk * n + i] = static_cast<float>(d);
       }
@@ -221,8 +342,10 @@ std::shared_ptr<const CellSamples> shared_cell_samples(const TpmsOptions& option
   // rather than copied (7 MB each at 96³).
   struct Entry {
     TpmsType type;
+    std::vector<FourierTerm> terms;
     TpmsStyle style;
     Vec3 cell;
+    LevelUnit unit;
     int samples;
     std::shared_ptr<const CellSamples> value;
   };
@@ -231,13 +354,14 @@ std::shared_ptr<const CellSamples> shared_cell_samples(const TpmsOptions& option
   {
     const std::lock_guard<std::mutex> lock(mutex);
     for (const Entry& e : cache)
-      if (e.type == options.type && e.style == options.style && e.cell == options.cell &&
-          e.samples == samples)
+      if (e.type == options.type && e.terms == options.terms && e.style == options.style &&
+          e.cell == options.cell && e.unit == options.unit && e.samples == samples)
         return e.value;
   }
   auto value = std::make_shared<const CellSamples>(sample_cell_uncached(options, samples));
   const std::lock_guard<std::mutex> lock(mutex);
-  cache.push_front({options.type, options.style, options.cell, samples, value});
+  cache.push_front(
+      {options.type, options.terms, options.style, options.cell, options.unit, samples, value});
   if (cache.size() > 4) cache.pop_back();
   return value;
 }
@@ -273,14 +397,26 @@ TpmsOptions resolve_porosity(const TpmsOptions& options) {
 
 double tpms_solid_fraction(const TpmsOptions& options, int samples) {
   const TpmsOptions o = resolve_porosity(options);
-  const std::vector<float> values = cell_values(o, samples);
-  const bool network = o.style == TpmsStyle::Network;
-  const double threshold = network ? -o.level : 0.5 * o.thickness;
-  const std::size_t solid =
-      static_cast<std::size_t>(std::count_if(values.begin(), values.end(), [&](float v) {
-        return (network ? v : std::fabs(v + o.level)) < threshold;
-      }));
-  return static_cast<double>(solid) / static_cast<double>(values.size());
+  require_valid(o);
+  if (samples < 2) throw InputError("tpms_solid_fraction: at least 2 samples per axis");
+  // φ itself at samples³ cell-centred points, in whichever unit the levels are.
+  const detail::TpmsLayer L(o);
+  const double v = o.style == TpmsStyle::Network ? o.level : o.thickness;
+  const std::size_t n = static_cast<std::size_t>(samples);
+  std::vector<std::size_t> solid(n * n, 0);
+  detail::parallel_for(n * n, 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t jk = begin; jk < end; ++jk)
+      for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 q{o.cell.x * (i + 0.5) / samples, o.cell.y * ((jk % n) + 0.5) / samples,
+                     o.cell.z * ((jk / n) + 0.5) / samples};
+        const detail::FGrad fg =
+            L.formula(detail::axis_trig(L.k[0] * q.x), detail::axis_trig(L.k[1] * q.y),
+                      detail::axis_trig(L.k[2] * q.z));
+        solid[jk] += L.value(fg, L.lattice_gradient(fg), q, v) < 0;
+      }
+  });
+  return static_cast<double>(std::accumulate(solid.begin(), solid.end(), std::size_t{0})) /
+         static_cast<double>(n * n * n);
 }
 
 }  // namespace tpmsfill

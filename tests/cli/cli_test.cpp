@@ -123,8 +123,8 @@ TEST(Cli, DocsNameEveryOptionOfHelp) {
       test::read_file(std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs/cli.md");
   ASSERT_FALSE(docs.empty());
   for (const std::string command :
-       {"", "check", "fill", "repair", "decimate", "field", "field fit", "field info", "field mesh",
-        "field from-mesh", "field from-points", "field from-ct"}) {
+       {"", "check", "fill", "repair", "decimate", "field", "field fit", "field edit", "field info",
+        "field mesh", "field from-mesh", "field from-points", "field from-ct"}) {
     std::string help;
     ASSERT_EQ(test::run_command(cli() + " " + command + " --help", &help), 0);
     // Every "--word" in the help text (no std::regex: GCC 12 warns inside it under ASan).
@@ -408,4 +408,62 @@ TEST(Cli, FillTakesASheetBetweenTwoLevels) {
   EXPECT_NE(out.find("--levels C1 C2 needs C1 < C2"), std::string::npos) << out;
   EXPECT_EQ(test::run_command(cli() + " " + job + "--levels 0 0.4 --porosity 0.7 2>&1", &out), 2);
   EXPECT_NE(out.find("--levels sets the sheet's walls"), std::string::npos) << out;
+}
+
+TEST(Cli, FillTakesAFourierLatticeAndRawLevels) {
+  // Issue 41: --lattice fourier with the primitive's three terms writes the primitive's bytes;
+  // raw levels (the seeds' C on f) are named in the summary, echoed as {"c": ...} in the
+  // recipe, and the echo writes the same bytes; mixing units, a term without fourier and a
+  // fractional wave are one-line usage errors.
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "box.off", test::make_box({0, 0, 0}, {8, 8, 8}));
+  auto out_file = [&](const std::string& name) { return "'" + (dir / name).string() + "' "; };
+  auto job = [&](const std::string& out) {
+    return "fill " + out_file("box.off") + out_file(out) + "--cell 4 --voxel 0.2 ";
+  };
+  std::string out;
+  ASSERT_EQ(
+      test::run_command(cli() + " " + job("named.stl") + "--lattice primitive --quiet 2>&1", &out),
+      0)
+      << out;
+  ASSERT_EQ(test::run_command(cli() + " " + job("fourier.stl") +
+                                  "--lattice fourier --term 1 1 0 0 0 --term 1 0 1 0 0 "
+                                  "--term 1 0 0 1 0 2>&1",
+                              &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("fourier (3 terms) network"), std::string::npos) << out;
+  EXPECT_EQ(test::read_file(dir / "named.stl"), test::read_file(dir / "fourier.stl"));
+  ASSERT_EQ(test::run_command(cli() + " " + job("raw.stl") +
+                                  "--lattice diamond --levels -0.4c 0.2c --report " +
+                                  out_file("r.json") + "2>&1",
+                              &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("diamond sheet between levels -0.4 and 0.2 (raw C)"), std::string::npos)
+      << out;
+  const auto report = nlohmann::json::parse(test::read_file(dir / "r.json"));
+  EXPECT_EQ(report["lattice"]["level_unit"], "c");
+  EXPECT_DOUBLE_EQ(report["recipe"]["lattice"]["level"]["c"].get<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(report["recipe"]["lattice"]["thickness"]["c"].get<double>(), 0.6);
+  test::write_file(dir / "echo.json", report["recipe"].dump());
+  ASSERT_EQ(
+      test::run_command(cli() + " fill '" + (dir / "box.off").string() + "' " +
+                            out_file("echo.stl") + "--quiet --recipe " + out_file("echo.json"),
+                        &out),
+      0)
+      << out;
+  EXPECT_EQ(test::read_file(dir / "raw.stl"), test::read_file(dir / "echo.stl"));
+  EXPECT_EQ(test::run_command(cli() + " " + job("x.stl") + "--sheet --levels 0 0.4c 2>&1", &out),
+            2);
+  EXPECT_NE(out.find("mixes mm and raw C"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(cli() + " " + job("x.stl") + "--term 1 1 0 0 0 2>&1", &out), 2);
+  EXPECT_NE(out.find("--term needs --lattice fourier"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(
+                cli() + " " + job("x.stl") + "--lattice fourier --term 1 0.5 0 0 0 2>&1", &out),
+            2);
+  EXPECT_NE(out.find("whole periods per cell"), std::string::npos) << out;
+  EXPECT_EQ(test::run_command(cli() + " " + job("x.stl") + "--level 0.3x 2>&1", &out), 2);
+  EXPECT_NE(out.find("not a number of mm (0.3) or a raw level C"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.stl"));
 }

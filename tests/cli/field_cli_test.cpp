@@ -1,6 +1,7 @@
 // `tpmsfill field fit|info|mesh` and `fill --field` (issue 13), end to end through the program.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <tpmsfill/io.hpp>
@@ -207,4 +208,65 @@ TEST(FieldCli, FromMeshPointsAndCtFeedTheFit) {
       run("field from-ct " + (dir / "ball.tdfb").string() + " " + (dir / "ct2.tdf").string(), &out),
       2);
   EXPECT_NE(out.find("--iso"), std::string::npos) << out;
+}
+
+TEST(FieldCli, EditChangesTheStructureWithoutRefitting) {
+  // Issue 41 (seed 003: "edit further, then print"): field edit moves the thresholds to a
+  // porosity, tiles, re-encodes C, and keeps the fitted C: the edited file meshes with the
+  // porosity asked, its C is the fit's (to float32, or int16's quantum), the provenance says
+  // what changed, and bad edits write nothing.
+  const auto dir = test::scratch_dir();
+  const auto field = sponge_field(dir);
+  const std::string s = (dir / "s.itdf").string();
+  std::string out;
+  ASSERT_EQ(run("field fit " + field.string() + " " + s + " --coefficients 16 --solid 0 inf", &out),
+            0)
+      << out;
+  const ItdfFile fitted = read_itdf(s);
+  const std::string e = (dir / "e.itdf").string();
+  ASSERT_EQ(run("field edit " + s + " " + e + " --porosity 0.7 --size 6 6 6 --tile", &out), 0)
+      << out;
+  EXPECT_NE(out.find("porosity"), std::string::npos) << out;
+  const ItdfFile edited = read_itdf(e);
+  EXPECT_EQ(edited.structure.field.coefficients, fitted.structure.field.coefficients);
+  EXPECT_EQ(edited.structure.placement, Placement::Tile);
+  EXPECT_EQ(edited.structure.size, (std::array<double, 3>{6, 6, 6}));
+  ASSERT_TRUE(edited.fit);
+  EXPECT_EQ(edited.fit->rms, fitted.fit->rms);
+  EXPECT_NEAR(1 - porous_solid_share(edited.structure, edited.structure.size), 0.7, 0.01);
+  EXPECT_EQ(edited.provenance.rfind(fitted.provenance, 0), 0u);
+  EXPECT_NE(edited.provenance.find("field edit: structure"), std::string::npos)
+      << edited.provenance;
+  EXPECT_NE(edited.provenance.find("placement tile"), std::string::npos) << edited.provenance;
+  // Meshed as stored, no flags: its 6 mm box at the edited porosity.
+  ASSERT_EQ(run("field mesh " + e + " " + (dir / "e.stl").string() + " --voxel 0.1", &out), 0)
+      << out;
+  const double volume = test::signed_volume(read_mesh(dir / "e.stl"));
+  EXPECT_NEAR(1 - volume / (6.0 * 6 * 6), 0.7, 0.015) << out;
+  // In place, to int16: C within half a quantum of the fit's, the file smaller.
+  ASSERT_EQ(run("field edit " + e + " --coefficient-type int16 --stretch --quiet", &out), 0) << out;
+  EXPECT_TRUE(out.empty()) << out;
+  const ItdfFile small = read_itdf(e);
+  EXPECT_EQ(small.encoding[0].type, CoefficientType::Int16);
+  EXPECT_EQ(small.structure.placement, Placement::Stretch);
+  const auto& c0 = fitted.structure.field.coefficients;
+  const auto& c1 = small.structure.field.coefficients;
+  ASSERT_EQ(c0.size(), c1.size());
+  const auto [lo, hi] = std::minmax_element(c0.begin(), c0.end());
+  for (std::size_t i = 0; i < c0.size(); ++i)
+    ASSERT_NEAR(c1[i], c0[i], 0.5 * (*hi - *lo) / 32767 * 1.01);
+  EXPECT_LT(std::filesystem::file_size(e), std::filesystem::file_size(s));
+  // Nothing to change, contradicting flags, a mesh name: refused, nothing written.
+  const auto bytes = test::read_file(e);
+  EXPECT_EQ(run("field edit " + e, &out), 2);
+  EXPECT_NE(out.find("nothing to change"), std::string::npos) << out;
+  EXPECT_EQ(run("field edit " + e + " --tile --stretch", &out), 2);
+  EXPECT_NE(out.find("--tile or --stretch"), std::string::npos) << out;
+  EXPECT_EQ(run("field edit " + e + " " + (dir / "x.stl").string() + " --porosity 0.5", &out), 2);
+  EXPECT_NE(out.find("named .itdf"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.stl"));
+  EXPECT_EQ(test::read_file(e), bytes);
+  // The same value again: written, with a warning that nothing changed.
+  ASSERT_EQ(run("field edit " + e + " --stretch", &out), 0) << out;
+  EXPECT_NE(out.find("leave"), std::string::npos) << out;
 }

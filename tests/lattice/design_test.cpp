@@ -664,3 +664,40 @@ TEST(Design, BlendRegionsTakeOverInsideAndLeaveOutside) {
           << region_name(region.shape);
     }
 }
+
+TEST(Recipe, FourierTermsAndRawLevelsRoundTrip) {
+  // Issue 41: a fourier lattice's terms and raw levels {"c": ...} read back as written, a
+  // blend of a named type drops the base's terms, and bad terms or mixed units say where.
+  FillOptions o;
+  o.design.type = TpmsType::Fourier;
+  o.design.terms = fourier_terms(TpmsOptions{.type = TpmsType::Diamond});
+  o.design.terms.push_back({0.25, {2, -1, 0}, 0.5});
+  o.design.style = TpmsStyle::Sheet;
+  o.design.level = -0.1, o.design.thickness = 0.4, o.design.unit = LevelUnit::Raw;
+  o.design.blends.push_back({.tpms = {.type = TpmsType::Gyroid, .level = 0.2},
+                             .region = {.shape = RegionShape::Sphere, .size = 3},
+                             .width = 1});
+  const std::string text = recipe_json(o);
+  const FillOptions back = read_recipe(text, "r.json");
+  EXPECT_EQ(recipe_json(back), text);
+  EXPECT_EQ(back.design.terms, o.design.terms);
+  EXPECT_EQ(back.design.unit, LevelUnit::Raw);
+  EXPECT_TRUE(back.design.blends.at(0).tpms.terms.empty());
+  EXPECT_EQ(back.design.blends.at(0).tpms.unit, LevelUnit::Millimetre);
+  EXPECT_NE(message(R"({"lattice": {"type": "fourier", "terms": [{"wave": [1, 0.5, 0]}]}})")
+                .find("lattice.terms[0].wave: must be whole numbers"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"lattice": {"type": "fourier"}})").find("needs 1 to 256 terms"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"lattice": {"type": "gyroid", "terms": [{"wave": [1, 0, 0]}]}})")
+                .find("Fourier terms are for the fourier lattice type"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"lattice": {"style": "sheet", "level": {"c": 0.1}, "thickness": 0.3}})")
+                .find("lattice.thickness: mixes mm and raw C"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"lattice": {"level": {"c": 0.1}, "porosity": 0.5}})")
+                .find("raw level C or a porosity"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"lattice": {"level": {"mm": 0.1}}})").find("lattice.level"),
+            std::string::npos);
+}

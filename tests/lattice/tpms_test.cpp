@@ -49,8 +49,21 @@ double raw_f(TpmsType type, Vec3 p, Vec3 cell) {
              0.2 * (std::cos(2 * X) * std::cos(2 * Y) + std::cos(2 * Y) * std::cos(2 * Z) +
                     std::cos(2 * Z) * std::cos(2 * X)) -
              0.4 * (std::cos(2 * X) + std::cos(2 * Y) + std::cos(2 * Z));
+    case TpmsType::Fourier:  // fourier_f() below
+      break;
   }
   return 0;
+}
+
+// Seed 000's eq. 2 written out: Σ A cos(2π(h x/Tx + k y/Ty + l z/Tz) + P).
+double fourier_f(const std::vector<FourierTerm>& terms, Vec3 p, Vec3 cell) {
+  double f = 0;
+  for (const FourierTerm& t : terms)
+    f += t.amplitude * std::cos(2 * M_PI *
+                                    (t.wave[0] * p.x / cell.x + t.wave[1] * p.y / cell.y +
+                                     t.wave[2] * p.z / cell.z) +
+                                t.phase);
+  return f;
 }
 
 Vec3 numeric_gradient(TpmsType type, Vec3 p, Vec3 cell) {
@@ -201,4 +214,147 @@ TEST(Tpms, SheetBetweenTwoLevels) {
   // A porosity target has no thickness left to solve.
   o.porosity = 0.7;
   EXPECT_THROW(require_valid(o), InputError);
+}
+
+TEST(Tpms, EveryNamedTypeIsAFourierSum) {
+  // Issue 41: the eight named types as instances of the general form, the same field to
+  // round-off: first f itself (the terms against the formulas written out above), then φ as
+  // the fill samples it (the separable kernel's Fourier path against its named one), network
+  // and sheet, rotated and not.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(-5, 5);
+  for (TpmsType type : kTypes) {
+    const Vec3 cell = {2, 2.5, 3};
+    const std::vector<FourierTerm> terms = fourier_terms(TpmsOptions{.type = type});
+    for (int n = 0; n < 200; ++n) {
+      const Vec3 p{u(rng), u(rng), u(rng)};
+      EXPECT_NEAR(fourier_f(terms, p, cell), raw_f(type, p, cell), 1e-12)
+          << tpms_type_name(type) << " at " << p.x << " " << p.y << " " << p.z;
+    }
+    for (TpmsStyle style : {TpmsStyle::Network, TpmsStyle::Sheet})
+      for (bool rotated : {false, true}) {
+        TpmsOptions named{.type = type, .style = style, .cell = cell, .level = 0.1};
+        if (rotated) named.rotation = rotation_from_euler({10, 20, 30});
+        TpmsOptions general = named;
+        general.type = TpmsType::Fourier;
+        general.terms = terms;
+        require_valid(general);
+        const Grid grid{.origin = {-1, -2, 0.5}, .spacing = 0.13, .dims = {12, 11, 10}};
+        const Field a = sample_field(tpms_source(named), grid),
+                    b = sample_field(tpms_source(general), grid);
+        for (std::size_t i = 0; i < a.values.size(); ++i)
+          ASSERT_NEAR(a.values[i], b.values[i], 1e-5)
+              << tpms_label(named) << (rotated ? " rotated" : "") << " at node " << i;
+      }
+  }
+}
+
+TEST(Tpms, AFourierLatticeTakesPorositySheetsAndLevels) {
+  // A type of no name (a gyroid's terms plus a second harmonic): normalised like the named
+  // ones, so a porosity is reached over the cell, a sheet's thickness is mm, and its field is
+  // f/|∇f| near the surface.
+  std::vector<FourierTerm> terms = fourier_terms(TpmsOptions{.type = TpmsType::Gyroid});
+  terms.push_back({0.3, {2, 0, 1}, 0.4});
+  terms.push_back({0.2, {0, 0, 0}, 0});  // a constant shifts the surface
+  const TpmsOptions network{
+      .type = TpmsType::Fourier, .terms = terms, .cell = {3, 3, 3}, .porosity = 0.7};
+  EXPECT_NEAR(tpms_solid_fraction(network, 96), 0.3, 0.005);
+  EXPECT_NE(tpms_label(network).find("fourier (8 terms)"), std::string::npos);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-4, 4);
+  const TpmsOptions plain{.type = TpmsType::Fourier, .terms = terms, .cell = {3, 3, 3}};
+  for (int n = 0, near = 0; n < 2000 && near < 100; ++n) {
+    const Vec3 p{u(rng), u(rng), u(rng)};
+    const double f = fourier_f(terms, p, plain.cell);
+    const double h = 1e-6;
+    const Vec3 g{(fourier_f(terms, p + Vec3{h, 0, 0}, plain.cell) -
+                  fourier_f(terms, p - Vec3{h, 0, 0}, plain.cell)) /
+                     (2 * h),
+                 (fourier_f(terms, p + Vec3{0, h, 0}, plain.cell) -
+                  fourier_f(terms, p - Vec3{0, h, 0}, plain.cell)) /
+                     (2 * h),
+                 (fourier_f(terms, p + Vec3{0, 0, h}, plain.cell) -
+                  fourier_f(terms, p - Vec3{0, 0, h}, plain.cell)) /
+                     (2 * h)};
+    if (std::fabs(f) > 0.3 * norm(g)) continue;  // near the surface, where f/|∇f| is unclamped
+    ++near;
+    EXPECT_NEAR(test::tpms_value(p, plain), f / norm(g), 1e-5);
+  }
+  // A thin sheet holds about its area times its thickness, as the named ones do: the same
+  // fraction at twice the thickness doubles (within the curvature's share).
+  const TpmsOptions thin{.type = TpmsType::Fourier,
+                         .terms = terms,
+                         .style = TpmsStyle::Sheet,
+                         .cell = {3, 3, 3},
+                         .thickness = 0.06};
+  TpmsOptions twice = thin;
+  twice.thickness = 0.12;
+  EXPECT_NEAR(tpms_solid_fraction(twice, 128) / tpms_solid_fraction(thin, 128), 2, 0.06);
+}
+
+TEST(Tpms, FourierTermsAreChecked) {
+  const std::vector<FourierTerm> p = fourier_terms(TpmsOptions{.type = TpmsType::Primitive});
+  EXPECT_EQ(p.size(), 3u);
+  EXPECT_THROW(require_valid(TpmsOptions{.type = TpmsType::Fourier}), InputError);  // no terms
+  EXPECT_THROW(require_valid(TpmsOptions{.type = TpmsType::Gyroid, .terms = p}), InputError);
+  EXPECT_THROW(require_valid(TpmsOptions{.type = TpmsType::Fourier, .terms = {{1, {0, 0, 0}, 0}}}),
+               InputError);  // a constant has no surface
+  EXPECT_THROW(require_valid(TpmsOptions{.type = TpmsType::Fourier, .terms = {{1, {17, 0, 0}, 0}}}),
+               InputError);
+  EXPECT_THROW(require_valid(
+                   TpmsOptions{.type = TpmsType::Fourier, .terms = {{std::nan(""), {1, 0, 0}, 0}}}),
+               InputError);
+  EXPECT_THROW(require_valid(TpmsOptions{.type = TpmsType::Fourier,
+                                         .terms = std::vector<FourierTerm>(kMaxFourierTerms + 1)}),
+               InputError);
+  EXPECT_EQ(tpms_type_from_name("fourier"), TpmsType::Fourier);
+}
+
+TEST(Tpms, RawLevelsAreTheSeedsC) {
+  // The seeds write a network as f + C < 0 and a sheet as f² − C² < 0 (|f| < C). With raw
+  // levels the solid is exactly that set, and φ is (f + C)/|∇f|, a distance in mm near it.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-5, 5);
+  for (TpmsType type : kTypes) {
+    const Vec3 cell = {2, 2.5, 3};
+    const TpmsOptions network{.type = type, .cell = cell, .level = 0.3, .unit = LevelUnit::Raw};
+    const TpmsOptions sheet{.type = type,
+                            .style = TpmsStyle::Sheet,
+                            .cell = cell,
+                            .thickness = 0.6,
+                            .unit = LevelUnit::Raw};
+    for (int n = 0; n < 300; ++n) {
+      const Vec3 p{u(rng), u(rng), u(rng)};
+      const double f = raw_f(type, p, cell), g = norm(numeric_gradient(type, p, cell));
+      const double network_phi = test::tpms_value(p, network),
+                   sheet_phi = test::tpms_value(p, sheet);
+      if (std::fabs(f + 0.3) > 1e-6) {
+        EXPECT_EQ(network_phi < 0, f + 0.3 < 0);
+      }
+      if (std::fabs(std::fabs(f) - 0.3) > 1e-6) {
+        EXPECT_EQ(sheet_phi < 0, std::fabs(f) < 0.3);
+      }
+      if (std::fabs(f + 0.3) < 0.5 * 3 * g) {
+        EXPECT_NEAR(network_phi, (f + 0.3) / g, 1e-4 * (1 + std::fabs(network_phi)));
+      }
+    }
+    // The cell's solid fraction counts the same set.
+    double solid = 0;
+    const int m = 40;
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j)
+        for (int k = 0; k < m; ++k)
+          solid +=
+              raw_f(type, {cell.x * (i + 0.5) / m, cell.y * (j + 0.5) / m, cell.z * (k + 0.5) / m},
+                    cell) +
+                  0.3 <
+              0;
+    // (a sample within round-off of f = −C may fall either way: 2 of 64,000 allowed)
+    EXPECT_NEAR(tpms_solid_fraction(network, m), solid / (m * m * m), 3.2e-5)
+        << tpms_type_name(type);
+  }
+  // A porosity solves a level in mm: not with raw ones.
+  EXPECT_THROW(require_valid(TpmsOptions{.unit = LevelUnit::Raw, .porosity = 0.7}), InputError);
+  EXPECT_NE(tpms_label(TpmsOptions{.level = 0.3, .unit = LevelUnit::Raw}).find("C = 0.3"),
+            std::string::npos);
 }

@@ -12,10 +12,20 @@
 /// Without rotation the evaluation is separable: the per-axis sines and cosines are computed
 /// once per grid line, so a sample costs a few multiply-adds, a square root and a division.
 ///
+/// Besides the named types, `fourier` is the seeds' general form (seed 000 eq. 2, seed 004's
+/// Fourier form): f = Σ A cos(2π(h x/Tx + k y/Ty + l z/Tz) + P) over its terms, each with whole
+/// periods (h, k, l) per cell, so the cell is a period and porosity solves over it as for the
+/// named types (each of which is such a sum: tests/lattice/tpms_test.cpp writes all eight so).
+///
+/// Levels and thicknesses are mm on f̃ by default. LevelUnit::Raw takes them as the seeds write
+/// C, on f itself: a network is f + C < 0 and a sheet |f + level| < thickness/2 (the seed's
+/// f² − C² < 0 is level 0, thickness 2C), each measured as (f + C)/|∇f| so φ stays in mm.
+///
 /// tpms_source() is the field a TPMS plugs into the field seam (field.hpp) with; graded and
 /// blended designs build on this stage (design.hpp).
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,8 +36,25 @@
 
 namespace tpmsfill {
 
-/// The surface types of the table in docs/method.md.
-enum class TpmsType { Gyroid, Primitive, Diamond, Iwp, Neovius, Frd, Lidinoid, SplitP };
+/// The surface types of the table in docs/method.md, and the general Fourier sum.
+enum class TpmsType { Gyroid, Primitive, Diamond, Iwp, Neovius, Frd, Lidinoid, SplitP, Fourier };
+
+/// One term of a `fourier` lattice: amplitude · cos(2π(h x/Tx + k y/Ty + l z/Tz) + phase), with
+/// (x, y, z) the lattice coordinates. (0, 0, 0) is a constant (the lidinoid's + 0.15).
+struct FourierTerm {
+  double amplitude = 1;
+  std::array<int, 3> wave = {1, 0, 0};  ///< (h, k, l): whole periods per cell along each axis
+  double phase = 0;                     ///< P, radians
+  bool operator==(const FourierTerm&) const = default;
+};
+
+/// Whole periods of one term along one axis at most (a finer term needs a finer grid anyway).
+inline constexpr int kMaxFourierWave = 16;
+/// Terms of one `fourier` lattice at most.
+inline constexpr std::size_t kMaxFourierTerms = 256;
+
+/// What a level and a thickness are measured in: mm on f̃ (the default), or the seeds' raw C on f.
+enum class LevelUnit { Millimetre, Raw };
 
 /// Network: the solid is one side of the level set. Sheet: a shell around the surface.
 enum class TpmsStyle { Network, Sheet };
@@ -35,6 +62,8 @@ enum class TpmsStyle { Network, Sheet };
 /// One TPMS: its type, style and cell, and where and how it sits in space.
 struct TpmsOptions {
   TpmsType type = TpmsType::Gyroid;
+  /// type == Fourier: its terms (1 to kMaxFourierTerms, at least one not constant); else empty.
+  std::vector<FourierTerm> terms = {};
   TpmsStyle style = TpmsStyle::Network;
   Vec3 cell = {2, 2, 2};  ///< cell size T per axis, mm (> 0)
   /// Network: offset of the solid's boundary, mm (+ = thinner). Sheet: the wall's centre lies
@@ -42,7 +71,9 @@ struct TpmsOptions {
   /// different C" of Yang et al. 2023, an asymmetric sheet) has level −(C1 + C2)/2 and
   /// thickness C2 − C1.
   double level = 0;
-  double thickness = 0.3;   ///< sheet: wall thickness, mm (> 0)
+  double thickness = 0.3;  ///< sheet: wall thickness, mm (> 0)
+  /// Raw: `level` and `thickness` are the seeds' C on f, not mm (no porosity target then).
+  LevelUnit unit = LevelUnit::Millimetre;
   Vec3 origin = {0, 0, 0};  ///< where the phase is zero, mm (shifts the lattice)
   /// Orientation: the lattice's axes are R's columns (rotation_from_euler makes one).
   Mat3 rotation = {};
@@ -51,7 +82,7 @@ struct TpmsOptions {
   std::optional<double> porosity = {};
 };
 
-/// "primitive", "gyroid", "diamond", "iwp", "neovius", "frd", "lidinoid", "splitp".
+/// "primitive", "gyroid", "diamond", "iwp", "neovius", "frd", "lidinoid", "splitp", "fourier".
 std::string_view tpms_type_name(TpmsType type);
 /// Inverse of tpms_type_name (also accepts "schwarz-p" for primitive, "schwarz-d" for diamond,
 /// "i-wp", "split-p").
@@ -61,8 +92,12 @@ TpmsType tpms_type_from_name(std::string_view name);
 std::string_view tpms_style_name(TpmsStyle style);
 /// @throws InputError  neither "network" nor "sheet"
 TpmsStyle tpms_style_from_name(std::string_view name);
-/// "gyroid network", "iwp sheet", ...
+/// "gyroid network", "iwp sheet", "fourier (6 terms) network", ...
 std::string tpms_label(const TpmsOptions& options);
+
+/// The `fourier` terms of options' f: a named type's formula written as a sum of cosines (the
+/// same f to round-off), a fourier type's own terms as they are.
+std::vector<FourierTerm> fourier_terms(const TpmsOptions& options);
 
 /// Rotation about x by rx, then about the (fixed) y by ry, then about z by rz, in degrees:
 /// R = Rz · Ry · Rx.
@@ -73,7 +108,10 @@ Vec3 euler_from_rotation(const Mat3& rotation);
 
 /// @throws InputError  a cell size or the thickness is not positive and finite, the level or
 ///                     origin is not finite, the rotation is not a rotation (orthonormal with
-///                     determinant +1, to 1e-6), or the porosity is not in (0, 1)
+///                     determinant +1, to 1e-6), the porosity is not in (0, 1) or comes with
+///                     raw levels, or the terms do not suit the type (a named type has none;
+///                     fourier's are 1 to kMaxFourierTerms finite ones, waves within
+///                     ±kMaxFourierWave, at least one not constant)
 void require_valid(const TpmsOptions& options);
 
 /// φ_TPMS as a field source (field.hpp), with a porosity solved first (resolve_porosity).
@@ -82,7 +120,8 @@ void require_valid(const TpmsOptions& options);
 /// @throws InputError  invalid options (require_valid)
 FieldSource tpms_source(const TpmsOptions& options);
 
-/// Samples of f̃ (mm) over one unit cell at samples³ cell-centred points, sorted ascending.
+/// Samples of f̃ (mm; f itself for raw levels) over one unit cell at samples³ cell-centred
+/// points, sorted ascending.
 /// The solid fraction of a network with level ℓ is the share of samples below −ℓ, and of a
 /// sheet of thickness t the share of |f̃| below t/2, so any porosity is read off by bisection
 /// (a binary search) on these samples. Rotation and origin do not change it.

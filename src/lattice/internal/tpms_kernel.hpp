@@ -76,6 +76,8 @@ inline double f(TpmsType type, const Axis& x, const Axis& y, const Axis& z) {
       return cyclic(x, y, z, [](const Axis& a, const Axis& b, const Axis& c) {
         return 1.1 * a.s2 * c.s * b.c - 0.2 * a.c2 * b.c2 - 0.4 * a.c2;
       });
+    case TpmsType::Fourier:  // TpmsFormula sums its terms
+      break;
   }
   return 0;
 }
@@ -101,6 +103,8 @@ inline double dx(TpmsType type, const Axis& x, const Axis& y, const Axis& z) {
     case TpmsType::SplitP:
       return 1.1 * (2 * x.c2 * z.s * y.c + y.s2 * x.c * z.c - z.s2 * y.s * x.s) +
              0.4 * x.s2 * (y.c2 + z.c2) + 0.8 * x.s2;
+    case TpmsType::Fourier:
+      break;
   }
   return 0;
 }
@@ -114,6 +118,60 @@ inline FGrad tpms_f(TpmsType type, AxisTrig tx, AxisTrig ty, AxisTrig tz) {
           table::dx(type, z, x, y)};
 }
 
+/// f of one lattice: a named type's formula, or a `fourier` sum whose terms are prepared once
+/// (cos and sin of each phase) and evaluated from the same per-axis trigonometry: e^{i(hX+kY+lZ)}
+/// is a product of powers of e^{iX}, e^{iY}, e^{iZ}, so a node needs no further cos or sin.
+class TpmsFormula {
+ public:
+  explicit TpmsFormula(const TpmsOptions& o) : type_(o.type) {
+    for (const FourierTerm& t : o.terms) {
+      terms_.push_back({t.amplitude, t.wave, std::cos(t.phase), std::sin(t.phase)});
+      for (int a = 0; a < 3; ++a) max_wave_[a] = std::max(max_wave_[a], std::abs(t.wave[a]));
+    }
+  }
+
+  FGrad operator()(AxisTrig tx, AxisTrig ty, AxisTrig tz) const {
+    if (type_ != TpmsType::Fourier) return tpms_f(type_, tx, ty, tz);
+    // powers[a][n] = e^{inθ_a}, n = 0 .. the largest |wave| along axis a.
+    struct Complex {
+      double re, im;
+      Complex operator*(Complex b) const { return {re * b.re - im * b.im, re * b.im + im * b.re}; }
+    };
+    Complex powers[3][kMaxFourierWave + 1];
+    const AxisTrig trig[3] = {tx, ty, tz};
+    for (int a = 0; a < 3; ++a) {
+      powers[a][0] = {1, 0};
+      for (int n = 1; n <= max_wave_[a]; ++n)
+        powers[a][n] = powers[a][n - 1] * Complex{trig[a].c, trig[a].s};
+    }
+    auto power = [&](int a, int n) {
+      const Complex p = powers[a][std::abs(n)];
+      return n < 0 ? Complex{p.re, -p.im} : p;
+    };
+    FGrad r{0, 0, 0, 0};
+    for (const Term& t : terms_) {
+      // e^{i(θ + P)}: A cos(θ + P) is f's term, −A sin(θ + P)·(h, k, l) its gradient's.
+      const Complex e = power(0, t.wave[0]) * power(1, t.wave[1]) * power(2, t.wave[2]) *
+                        Complex{t.cos_phase, t.sin_phase};
+      r.f += t.amplitude * e.re;
+      r.gx -= t.amplitude * t.wave[0] * e.im;
+      r.gy -= t.amplitude * t.wave[1] * e.im;
+      r.gz -= t.amplitude * t.wave[2] * e.im;
+    }
+    return r;
+  }
+
+ private:
+  struct Term {
+    double amplitude;
+    std::array<int, 3> wave;
+    double cos_phase, sin_phase;
+  };
+  TpmsType type_;
+  std::vector<Term> terms_;
+  int max_wave_[3] = {0, 0, 0};
+};
+
 /// f/|∇f| in mm from f and its gradient in mm⁻¹ (per-axis factors 2π/T, rotation and any warp
 /// already applied). Where |∇f| vanishes (away from the surface) the ratio blows up and only
 /// its sign matters there, so it is clamped to ±clamp (the largest cell size).
@@ -123,23 +181,24 @@ inline double tpms_distance(double f, double gx, double gy, double gz, double cl
 }
 
 /// Sheets refine their distance (refined_distance), so that a thickness in mm is met; networks
-/// keep the first-order one (their level is usually solved from a porosity).
+/// keep the first-order one (their level is usually solved from a porosity), and raw levels
+/// are the seeds' level sets of f, whose thickness is no length to meet.
 inline bool refines(const TpmsOptions& o) {
-  return o.style == TpmsStyle::Sheet;
+  return o.style == TpmsStyle::Sheet && o.unit == LevelUnit::Millimetre;
 }
 
 /// A second-order distance in lattice coordinates q (mm): the first-order estimate d₀ = f/|∇f|
 /// plus the first-order distance left at q − (f/|∇f|²)∇f, one Newton step towards the surface.
 /// Near curved level sets f/|∇f| alone is off by O(d²κ): thin sheets came out up to 15 %
 /// thinner than asked. `k` holds 2π/T per axis; f and gq (∇f in mm⁻¹) are at q.
-inline double refined_distance(TpmsType type, const double k[3], const double q[3], double f,
-                               const double gq[3]) {
+inline double refined_distance(const TpmsFormula& formula, const double k[3], const double q[3],
+                               double f, const double gq[3]) {
   const double g2 = gq[0] * gq[0] + gq[1] * gq[1] + gq[2] * gq[2];
   if (!(g2 > 0)) return 0;
   const double step = f / g2;
   const FGrad h =
-      tpms_f(type, axis_trig(k[0] * (q[0] - step * gq[0])), axis_trig(k[1] * (q[1] - step * gq[1])),
-             axis_trig(k[2] * (q[2] - step * gq[2])));
+      formula(axis_trig(k[0] * (q[0] - step * gq[0])), axis_trig(k[1] * (q[1] - step * gq[1])),
+              axis_trig(k[2] * (q[2] - step * gq[2])));
   const double h2 =
       k[0] * k[0] * h.gx * h.gx + k[1] * k[1] * h.gy * h.gy + k[2] * k[2] * h.gz * h.gz;
   const double d0 = f / std::sqrt(g2), correction = h2 > 0 ? h.f / std::sqrt(h2) : 0.0;
@@ -151,6 +210,7 @@ inline double refined_distance(TpmsType type, const double k[3], const double q[
 /// One TPMS ready to evaluate: its options and the constants every node needs.
 struct TpmsLayer {
   TpmsOptions o;
+  TpmsFormula formula;
   double k[3];      ///< 2π/T per axis, mm⁻¹
   double clamp;     ///< |f̃| bound: the largest cell size, mm
   bool refine;      ///< refines()
@@ -159,6 +219,7 @@ struct TpmsLayer {
 
   explicit TpmsLayer(const TpmsOptions& options)
       : o(options),
+        formula(options),
         k{2 * M_PI / options.cell.x, 2 * M_PI / options.cell.y, 2 * M_PI / options.cell.z},
         clamp(std::fmax(options.cell.x, std::fmax(options.cell.y, options.cell.z))),
         refine(refines(options)),
@@ -181,7 +242,7 @@ struct TpmsLayer {
   /// coordinates q = Rᵀ(w − origin): the path of a rotated TPMS, with no tables.
   FGrad at(Vec3 w, Vec3& q) const {
     q = to_lattice * (w - o.origin);
-    return tpms_f(o.type, axis_trig(k[0] * q.x), axis_trig(k[1] * q.y), axis_trig(k[2] * q.z));
+    return formula(axis_trig(k[0] * q.x), axis_trig(k[1] * q.y), axis_trig(k[2] * q.z));
   }
 
   /// ∇f in the lattice's own coordinates, mm⁻¹ (before rotation or warp).
@@ -199,14 +260,22 @@ struct TpmsLayer {
       // In lattice coordinates (rotation is an isometry), then scaled as the warp scales f̃.
       const Vec3 lg = lattice_gradient(fg);
       const double gq[3] = {lg.x, lg.y, lg.z}, qq[3] = {q.x, q.y, q.z};
-      d = refined_distance(o.type, k, qq, fg.f, gq) * (norm(lg) / norm(g));
+      d = refined_distance(formula, k, qq, fg.f, gq) * (norm(lg) / norm(g));
     }
     return d;
   }
 
-  /// φ from f̃ = d and the level (network) or thickness (sheet) v, mm.
-  double phi(double d, double v) const {
-    return o.style == TpmsStyle::Network ? d + v : std::fabs(d + o.level) - 0.5 * v;
+  /// φ (mm) at a node from f, its gradient g (as distance() takes them), q, and the level
+  /// (network) or thickness (sheet) v in the layer's unit: on f̃ in mm, or raw on f, where the
+  /// seeds' level sets f + C = 0 and |f + level| = thickness/2 are measured by their own
+  /// first-order distance (f + C)/|∇f|.
+  double value(const FGrad& fg, Vec3 g, Vec3 q, double v) const {
+    const bool network = o.style == TpmsStyle::Network;
+    if (o.unit == LevelUnit::Raw)
+      return tpms_distance(network ? fg.f + v : std::fabs(fg.f + o.level) - 0.5 * v, g.x, g.y, g.z,
+                           clamp);
+    const double d = distance(fg, g, q);
+    return network ? d + v : std::fabs(d + o.level) - 0.5 * v;
   }
 };
 
