@@ -595,6 +595,45 @@ TEST(Recipe, DocumentedRecipesRead) {
   }
 }
 
+TEST(Recipe, SeedFourFiguresAreRecipes) {
+  // Issue 41: seed 004's Fig. 4 (a star ring changing porosity, type, size or thickness, each
+  // without and with the Beta transition) and Fig. 7 (four rings) as recipes. Each Fig. 4 pair
+  // is the same design but for its transition band; the main lattice is the seed's (P, 5 mm,
+  // raw C = 0); the rings change what their names say.
+  const auto dir = std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs" / "recipes" / "seed004";
+  const auto files = test::files_in(dir, 1 << 20);
+  ASSERT_EQ(files.size(), 9u);
+  for (const char* feature : {"porosity", "type", "size", "thickness"}) {
+    const std::string name = std::string("fig4-") + feature;
+    const FillOptions sharp = read_recipe_file((dir / (name + "-sharp.json")).string());
+    const FillOptions beta = read_recipe_file((dir / (name + "-beta.json")).string());
+    for (const FillOptions* o : {&sharp, &beta}) {
+      EXPECT_EQ(o->design.type, TpmsType::Primitive) << name;
+      EXPECT_EQ(o->design.cell, (Vec3{5, 5, 5}));
+      EXPECT_EQ(o->design.unit, LevelUnit::Raw);
+      EXPECT_EQ(o->design.level, 0);
+      ASSERT_EQ(o->design.blends.size(), 1u) << name;
+      EXPECT_EQ(o->design.blends[0].region.shape, RegionShape::Polygon);
+    }
+    const TpmsOptions& in = beta.design.blends[0].tpms;
+    FillOptions a, b;
+    static_cast<TpmsOptions&>(a.design) = in;
+    static_cast<TpmsOptions&>(b.design) = sharp.design.blends[0].tpms;
+    EXPECT_EQ(recipe_json(a), recipe_json(b)) << name;
+    EXPECT_EQ(beta.design.blends[0].transition, Transition::Beta);
+    EXPECT_NE(sharp.design.blends[0].transition, Transition::Beta);
+    EXPECT_LT(sharp.design.blends[0].region.outer + sharp.design.blends[0].region.inner,
+              beta.design.blends[0].region.outer + beta.design.blends[0].region.inner);
+    const std::string f(feature);
+    EXPECT_EQ(in.type != TpmsType::Primitive, f == "type") << name;
+    EXPECT_EQ(in.cell.x != 5, f == "size") << name;
+    EXPECT_EQ(in.style == TpmsStyle::Sheet, f == "thickness") << name;
+    EXPECT_EQ(in.level != 0, f == "porosity") << name;
+  }
+  const FillOptions rings = read_recipe_file((dir / "fig7-four-rings.json").string());
+  EXPECT_EQ(rings.design.blends.size(), 4u);
+}
+
 TEST(Design, DepthGradingIsDenserNearTheSurface) {
   // Porosity 0.5 on the surface of a 12 mm cube rising to 0.85 from 3 mm deep: the outer 1 mm
   // shell of the output is denser than its central 4 mm cube, each within 6 % of the ramp's
