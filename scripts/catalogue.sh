@@ -53,20 +53,21 @@ fill_help=$("$tpmsfill" fill --help)
 
 # --- inputs (written into $work; the commands below run there and name them relatively) -------
 
-# cube SIZE: an axis-aligned cube from (0,0,0) to (SIZE,SIZE,SIZE), 12 outward triangles.
+# cube X [Y Z]: an axis-aligned box from (0,0,0) to (X,Y,Z) (a cube when Y and Z are left out),
+# 12 outward triangles.
 cube() {
-  local s=$1
+  local x=$1 y=${2:-$1} z=${3:-$1}
   cat <<EOF
 OFF
 8 12 0
 0 0 0
-$s 0 0
-$s $s 0
-0 $s 0
-0 0 $s
-$s 0 $s
-$s $s $s
-0 $s $s
+$x 0 0
+$x $y 0
+0 $y 0
+0 0 $z
+$x 0 $z
+$x $y $z
+0 $y $z
 3 0 2 1
 3 0 3 2
 3 4 5 6
@@ -83,6 +84,9 @@ EOF
 }
 cube 10 >"$work/cube10.off"
 cube 20 >"$work/cube20.off"
+# Plates for seed 004's ring figures, whose rings lie in the xy plane.
+cube 20 20 5 >"$work/plate20.off"
+cube 40 40 5 >"$work/plate40.off"
 # A cylinder of radius 10 mm around the z axis from z = 0 to 20 mm: 96 sides, fanned end caps.
 awk -v n=96 -v r=10 -v h=20 'BEGIN {
   pi = atan2(0, -1)
@@ -442,9 +446,24 @@ image_recipes() {
 }
 # <<< HYBRID RECIPES SLOT
 
+# Seed 004's Fig. 4 (a 20 mm plate) and Fig. 7 (a 40 mm plate) from docs/recipes/seed004, seen
+# from above; the sentence under each is the recipe's description, which gives the seed's.
+image_seed004() {
+  local recipe name note plate
+  [[ -e "$work/docs" ]] || ln -s "$PWD/docs" "$work/docs"
+  for recipe in docs/recipes/seed004/*.json; do
+    [[ -f "$recipe" ]] || continue
+    name=seed004-$(basename "$recipe" .json)
+    plate=plate20.off
+    [[ "$name" == *fig7* ]] && plate=plate40.off
+    note=$(sed -n 's/.*"description"[[:space:]]*:[[:space:]]*"\([^"]*\)".*/\1/p' "$recipe" | head -n 1)
+    shot "$name" "$plate" "--view z" "--recipe $recipe --voxel 0.1" "${note:-$recipe}"
+  done
+}
+
 features=(image_types image_porosity image_rotation image_grade_linear image_grade_radial
   image_grade_depth image_grade_cell image_skin image_femur_gyroid image_field image_conformal
-  image_material image_check image_recipes)
+  image_material image_check image_recipes image_seed004)
 for feature in "${features[@]}"; do "$feature"; done
 
 # --- the page ----------------------------------------------------------------------------------
