@@ -26,6 +26,7 @@
 #include "cli/ramp_along.hpp"
 #include "cli/terminal_progress.hpp"
 #include "cli/validators.hpp"
+#include "core/names.hpp"
 #include "io/file_bytes.hpp"
 
 namespace tpmsfill::cli {
@@ -71,6 +72,17 @@ std::array<double, 3> box_size(const std::vector<double>& v) {
   return {v[0], v[1], v[2]};
 }
 
+// What a structure's unit cube spans when its porosity or ramps are measured: its size, or the
+// unit cube itself when it has none.
+std::array<double, 3> extent_of(const PorousStructure& s) {
+  return s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1};
+}
+
+constexpr tpmsfill::detail::Named<CoefficientType> kCoefficientTypes[] = {
+    {CoefficientType::Float32, "float32"},
+    {CoefficientType::Float64, "float64"},
+    {CoefficientType::Int16, "int16"}};
+
 // The flags over `s` (a fresh fit's defaults, or what a file stores).
 void apply_structure(const StructureArgs& a, PorousStructure& s) {
   if (!a.solid.empty() && a.surface) throw InputError("give --solid or --surface, not both");
@@ -111,8 +123,7 @@ void apply_structure(const StructureArgs& a, PorousStructure& s) {
       throw InputError("--threshold-ramp " + a.threshold_ramp[i] + ": '" + a.threshold_ramp[i + 1] +
                        " " + a.threshold_ramp[i + 2] + "' are not two numbers");
     }
-    slot(a.threshold_ramp[i], "--threshold-ramp") =
-        ramp_threshold(ramp, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1}, n);
+    slot(a.threshold_ramp[i], "--threshold-ramp") = ramp_threshold(ramp, extent_of(s), n);
   }
   require_valid(s);
 }
@@ -140,18 +151,6 @@ double report_iso(const FieldArgs& a, const PorousStructure& s) {
   return std::isfinite(s.t2.constant)   ? s.t2.constant
          : std::isfinite(s.t1.constant) ? s.t1.constant
                                         : 0;
-}
-
-CoefficientType coefficient_type_from_name(const std::string& name) {
-  return name == "float64" ? CoefficientType::Float64
-         : name == "int16" ? CoefficientType::Int16
-                           : CoefficientType::Float32;
-}
-
-const char* coefficient_type_name(CoefficientType type) {
-  return type == CoefficientType::Float64 ? "float64"
-         : type == CoefficientType::Int16 ? "int16"
-                                          : "float32";
 }
 
 int run_fit(const FieldArgs& a) {
@@ -196,8 +195,7 @@ int run_fit(const FieldArgs& a) {
                      " field needs a structure: --solid T1 T2 (e.g. --solid 0 0.5 thickens a "
                      "scanned surface; --solid 2.9 inf keeps CT values above 2.9) or --surface T0");
   apply_structure(st, s);
-  if (st.porosity)
-    s = with_porosity(s, *st.porosity, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1});
+  if (st.porosity) s = with_porosity(s, *st.porosity, extent_of(s));
 
   const auto [lo, hi] = std::minmax_element(v.values.begin(), v.values.end());
   const double iso = report_iso(a, s);
@@ -214,7 +212,8 @@ int run_fit(const FieldArgs& a) {
                        .iso = iso,
                        .flipped = double(flips) / double(c.size()),
                        .seconds = fit_seconds};
-  file.encoding[0].type = coefficient_type_from_name(a.coefficient_type);
+  file.encoding[0].type =
+      tpmsfill::detail::from_name(kCoefficientTypes, a.coefficient_type, "coefficient type");
   file.provenance = "tpmsfill " TPMSFILL_VERSION " field fit of " + a.input + " (sha256 " +
                     sha256_of_file(a.input) + ")";
   const std::string bytes = itdf_bytes(file);
@@ -269,12 +268,9 @@ int run_edit(const FieldArgs& a, bool coefficient_type_given) {
   ItdfFile file = read_itdf(a.input);
   PorousStructure& s = file.structure;
   const PorousStructure before = s;
-  auto unit_cube = [](const PorousStructure& p) {
-    return p.size[0] > 0 ? p.size : std::array<double, 3>{1, 1, 1};
-  };
-  const double porosity_before = 1 - porous_solid_share(before, unit_cube(before));
+  const double porosity_before = 1 - porous_solid_share(before, extent_of(before));
   apply_structure(a.structure, s);
-  if (a.structure.porosity) s = with_porosity(s, *a.structure.porosity, unit_cube(s));
+  if (a.structure.porosity) s = with_porosity(s, *a.structure.porosity, extent_of(s));
   std::vector<std::string> changes;
   if (structure_label(s) != structure_label(before))
     changes.push_back("structure " + structure_label(before) + " -> " + structure_label(s));
@@ -286,20 +282,25 @@ int run_edit(const FieldArgs& a, bool coefficient_type_given) {
   if (s.placement != before.placement)
     changes.push_back("placement " + std::string(placement_name(s.placement)));
   if (coefficient_type_given) {
-    const CoefficientType type = coefficient_type_from_name(a.coefficient_type);
+    const CoefficientType type =
+        tpmsfill::detail::from_name(kCoefficientTypes, a.coefficient_type, "coefficient type");
     if (type != file.encoding[0].type)
-      changes.push_back(std::string("coefficients ") +
-                        coefficient_type_name(file.encoding[0].type) + " -> " +
-                        coefficient_type_name(type));
+      changes.push_back(
+          "coefficients " +
+          std::string(tpmsfill::detail::name_of(kCoefficientTypes, file.encoding[0].type)) +
+          " -> " + std::string(tpmsfill::detail::name_of(kCoefficientTypes, type)));
     for (CoefficientEncoding& e : file.encoding) e = {type, 0, 0};  // int16: scale from the values
   }
-  const double porosity_after = 1 - porous_solid_share(s, unit_cube(s));
   std::string what;
   for (const std::string& c : changes) what += (what.empty() ? "" : ", ") + c;
   if (what.empty()) what = "nothing changed";
   file.provenance += (file.provenance.empty() ? "" : "; then ") +
                      std::string("tpmsfill " TPMSFILL_VERSION " field edit: ") + what;
-  write_file_atomically(output, itdf_bytes(file));
+  const std::string bytes = itdf_bytes(file);
+  // As written: int16 coefficients move C by up to half a quantum.
+  const PorousStructure written = parse_itdf(bytes, output).structure;
+  const double porosity_after = 1 - porous_solid_share(written, extent_of(written));
+  write_file_atomically(output, bytes);
   if (!a.quiet) {
     std::printf("%s -> %s\n", a.input.c_str(), output.c_str());
     std::printf("edited       %s\n", what.c_str());
@@ -338,8 +339,7 @@ int run_info(const FieldArgs& a) {
           file.fit->source_dims[0], file.fit->source_dims[1], file.fit->source_dims[2],
           file.fit->lspia ? "lspia" : "direct", file.fit->rms, file.fit->max_error,
           100 * file.fit->flipped, file.fit->iso);
-    std::printf("porosity     %.4f of the unit cube\n",
-                1 - porous_solid_share(s, s.size[0] > 0 ? s.size : std::array<double, 3>{1, 1, 1}));
+    std::printf("porosity     %.4f of the unit cube\n", 1 - porous_solid_share(s, extent_of(s)));
     if (!file.provenance.empty())
       std::printf("provenance   %s\n", printable(file.provenance).c_str());
     return kOk;

@@ -10,7 +10,6 @@
 #include <deque>
 #include <memory>
 #include <mutex>
-#include <numeric>
 #include <string>
 
 #include "core/names.hpp"
@@ -287,36 +286,47 @@ FieldSource tpms_source(const TpmsOptions& options) {
 
 namespace {
 
-// f̃ (f for raw levels) at samples³ cell-centred points of one unit cell (rotation and origin
-// do not matter).
-std::vector<float> cell_values(const TpmsOptions& options, int samples) {
-  require_valid(options);
-  if (samples < 2) throw InputError("sample_cell: at least 2 samples per axis");
+// fn(index, f and its gradient, q) at samples³ cell-centred points q of one unit cell (index
+// x fastest), in parallel; the per-axis trigonometry is tabled once. Rotation and origin do not
+// change what a cell holds, so they are left out.
+template <class F>
+void for_each_cell_sample(const detail::TpmsLayer& L, int samples, const F& fn) {
+  if (samples < 2) throw InputError("a unit cell needs at least 2 samples per axis");
   std::vector<detail::AxisTrig> t[3];
   for (int axis = 0; axis < 3; ++axis)
     for (int i = 0; i < samples; ++i)
       t[axis].push_back(detail::axis_trig(2 * M_PI * (i + 0.5) / samples));
-  const detail::TpmsLayer L(options);
   const std::size_t n = static_cast<std::size_t>(samples);
-  std::vector<float> values(n * n * n);
+  const Vec3 cell = L.o.cell;
   detail::parallel_for(n * n, 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t jk = begin; jk < end; ++jk)
       for (std::size_t i = 0; i < n; ++i) {
-        const detail::FGrad g = L.formula(t[0][i], t[1][jk % n], t[2][jk / n]);
-        if (options.unit == LevelUnit::Raw) {  // raw levels are read off f itself
-          values[jk * n + i] = static_cast<float>(g.f);
-          continue;
-        }
-        double d = detail::tpms_distance(g.f, L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz, L.clamp);
-        if (L.refine) {  // sheets, as TpmsLayer::distance refines them
-          const double q[3] = {options.cell.x * (i + 0.5) / samples,
-                               options.cell.y * ((jk % n) + 0.5) / samples,
-                               options.cell.z * ((jk / n) + 0.5) / samples};
-          const double gq[3] = {L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz};
-          d = detail::refined_distance(L.formula, L.k, q, g.f, gq);
-        }
-        values[jk * n + i] = static_cast<float>(d);
+        const std::size_t j = jk % n, k = jk / n;
+        const Vec3 q{cell.x * (i + 0.5) / samples, cell.y * (j + 0.5) / samples,
+                     cell.z * (k + 0.5) / samples};
+        fn(jk * n + i, L.formula(t[0][i], t[1][j], t[2][k]), q);
       }
+  });
+}
+
+// f̃ (f for raw levels) at samples³ cell-centred points of one unit cell.
+std::vector<float> cell_values(const TpmsOptions& options, int samples) {
+  require_valid(options);
+  const detail::TpmsLayer L(options);
+  const std::size_t n = static_cast<std::size_t>(std::max(samples, 0));
+  std::vector<float> values(n * n * n);
+  for_each_cell_sample(L, samples, [&](std::size_t at, const detail::FGrad& g, Vec3 q) {
+    if (options.unit == LevelUnit::Raw) {  // raw levels are read off f itself
+      values[at] = static_cast<float>(g.f);
+      return;
+    }
+    double d = detail::tpms_distance(g.f, L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz, L.clamp);
+    if (L.refine) {  // sheets, as TpmsLayer::distance refines them
+      const double qq[3] = {q.x, q.y, q.z};
+      const double gq[3] = {L.k[0] * g.gx, L.k[1] * g.gy, L.k[2] * g.gz};
+      d = detail::refined_distance(L.formula, L.k, qq, g.f, gq);
+    }
+    values[at] = static_cast<float>(d);
   });
   return values;
 }
@@ -398,24 +408,15 @@ TpmsOptions resolve_porosity(const TpmsOptions& options) {
 double tpms_solid_fraction(const TpmsOptions& options, int samples) {
   const TpmsOptions o = resolve_porosity(options);
   require_valid(o);
-  if (samples < 2) throw InputError("tpms_solid_fraction: at least 2 samples per axis");
-  // φ itself at samples³ cell-centred points, in whichever unit the levels are.
+  // φ itself at the cell's samples, in whichever unit the levels are.
   const detail::TpmsLayer L(o);
   const double v = o.style == TpmsStyle::Network ? o.level : o.thickness;
-  const std::size_t n = static_cast<std::size_t>(samples);
-  std::vector<std::size_t> solid(n * n, 0);
-  detail::parallel_for(n * n, 16, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t jk = begin; jk < end; ++jk)
-      for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 q{o.cell.x * (i + 0.5) / samples, o.cell.y * ((jk % n) + 0.5) / samples,
-                     o.cell.z * ((jk / n) + 0.5) / samples};
-        const detail::FGrad fg =
-            L.formula(detail::axis_trig(L.k[0] * q.x), detail::axis_trig(L.k[1] * q.y),
-                      detail::axis_trig(L.k[2] * q.z));
-        solid[jk] += L.value(fg, L.lattice_gradient(fg), q, v) < 0;
-      }
+  const std::size_t n = static_cast<std::size_t>(std::max(samples, 0));
+  std::vector<std::uint8_t> solid(n * n * n, 0);
+  for_each_cell_sample(L, samples, [&](std::size_t at, const detail::FGrad& fg, Vec3 q) {
+    solid[at] = L.value(fg, L.lattice_gradient(fg), q, v) < 0;
   });
-  return static_cast<double>(std::accumulate(solid.begin(), solid.end(), std::size_t{0})) /
+  return static_cast<double>(std::count(solid.begin(), solid.end(), std::uint8_t{1})) /
          static_cast<double>(n * n * n);
 }
 
