@@ -329,7 +329,7 @@ TEST(CliUsage, EveryUsageErrorIsOneSentenceOfOurs) {
       {"serve --listen localhost", "--listen: 'localhost' is not ADDRESS:PORT"},
       {"serve --jobs 0", "--jobs must be 1 to 64"},
       {"serve --listen 127.0.0.1:70000", "the port in '127.0.0.1:70000' must be 0 to 65535"},
-      {"field", "field needs a command: fit, info, mesh, from-mesh, from-points or from-ct"},
+      {"field", "field needs a command: fit, edit, info, mesh, from-mesh, from-points or from-ct"},
       {"field fitt a b", "unknown command 'fitt' for field (did you mean fit?)"},
       {"field fit", "field fit needs IN and OUT"},
       {"material", "material needs a command: info, fit, slice or iso"},
