@@ -1,9 +1,19 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|seed000|layout] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
 #  3. `tpmsfill check` on the real meshes in ../shared/meshes, when that folder exists
+#  layout:
+# 35. seed 004's distortion: the square layout against auto (the free, as-rigid-as-possible
+#     layout where it has no flips and spreads the area scale less) on the dome, the wave, the
+#     face, the blade, lion-head and mushroom; flips, area scale, angle ratio, cells against the
+#     size asked, time, and what a job the cells refuse says
+#  seed000:
+# 34. seed 000/002's Table 2 side by side: the femur and the thin-walled tube, P and G, at the
+#     paper's sample counts (a = 0.1 mm; the femur scaled to 5.6e6 samples), each with the band
+#     and with --full-field: boundary-voxel, distance and full-field distance times, samples,
+#     band, distance queries, triangles, eq. 11's F from the geometry and from our stage times
 #  fill:
 #  4. `tpmsfill fill` end to end (read -> validated STL written) on the paper's two cases at our
 #     scale: Debian's femur scaled to 35 mm and a 4.7-million-triangle thin-walled tube, gyroid
@@ -92,7 +102,7 @@ bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|slow-clients)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|slow-clients|seed000|layout)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -282,6 +292,99 @@ if [[ "$section" == all || "$section" == fill ]]; then
       printf '| %s | %s | %s | %.0f | %s | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts" "$verdict"
     done
   fi
+fi
+
+if [[ "$section" == all || "$section" == seed000 ]]; then
+  echo
+  echo "## 34. seed 000/002's Table 2 side by side (a = 0.1 mm, T = 2 mm, C = 0, network)"
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+  ./build/tests/bench_fill_inputs "$tmp/femur.off" "$tmp" >/dev/null
+  # The paper's femur box, 20 x 20 x 14 mm at a = 0.1 mm, is 201 x 201 x 141 = 5.70e6 samples:
+  # its 5.6e6. Debian's femur (0.40 : 0.34 : 1) scaled by 33.5 gives a grid of 5.62e6 samples.
+  : >"$tmp/seed000.tsv"
+  for model in femur tube; do
+    if [[ $model == femur ]]; then in="$tmp/femur.off" scale=33.5; else in="$tmp/tube.stl" scale=1; fi
+    ./build/tpmsfill check --no-self-intersections --json "$in" >"$tmp/seed000-check.json"
+    for type in primitive gyroid; do
+      for field in band full; do
+        # The model's distance does not depend on the lattice: the tube's whole grid runs once.
+        [[ $field == full && $model == tube && $type == gyroid ]] && continue
+        extra=()
+        [[ $field == full ]] && extra=(--full-field)
+        # The tube's whole grid: nodes near its axis are almost equidistant from the whole inner
+        # wall, so no tree prunes their queries; it runs SEED000_LIMIT s (default 900) at most.
+        limit=()
+        [[ $field == full && $model == tube ]] && limit=(timeout "${SEED000_LIMIT:-900}")
+        timed "${limit[@]}" ./build/tpmsfill fill "$in" "$tmp/seed000-out.stl" --quiet --scale "$scale" \
+          --lattice "$type" --cell 2 --voxel 0.1 --report "$tmp/seed000-$model-$type-$field.json" "${extra[@]}"
+        if ((code == 124)); then
+          rm -f "$tmp/seed000-$model-$type-$field.json"
+        elif ((code != 0)); then
+          exit "$code"
+        fi
+        printf '%s\t%s\t%s\t%s\t%s\n' "$model" "$type" "$field" "$wall" "$kb" >>"$tmp/seed000.tsv"
+      done
+    done
+    cp "$tmp/seed000-check.json" "$tmp/seed000-check-$model.json"
+  done
+  python3 - "$tmp" <<'PY'
+import json, sys
+tmp = sys.argv[1]
+a = 0.1
+scale = {"femur": 33.5, "tube": 1.0}
+# Table 2 of seed 000 (002 is the same paper): size, triangles, samples, boundary-voxel s,
+# distance s, the original method's distance s (its ref. [13]).
+paper = {("femur", "primitive"): ("20×20×14", 424290, 5.6e6, 78, 410, 1.7e4),
+         ("femur", "gyroid"): ("20×20×14", 521354, 5.6e6, 76, 414, 1.7e4),
+         ("tube", "primitive"): ("40×40×20", 4767164, 3.2e7, 313, 1017, 3.2e4),
+         ("tube", "gyroid"): ("40×40×20", 3693576, 3.2e7, 316, 1028, 3.2e4)}
+runs = {}
+for line in open(f"{tmp}/seed000.tsv"):
+    m, t, f, wall, kb = line.split()
+    try:
+        r = json.load(open(f"{tmp}/seed000-{m}-{t}-{f}.json"))
+    except FileNotFoundError:  # stopped by the time limit
+        r = None
+    st = {s["name"]: s["seconds"] for s in r["stages"]} if r else {}
+    runs[m, t, f] = (r, st, float(wall), float(kb) / 1024)
+geo = {}
+for m in scale:
+    c = json.load(open(f"{tmp}/seed000-check-{m}.json"))
+    k = scale[m]  # check reads the file as it is; fill scaled it
+    L, W, H = ((c["bbox"]["max"][i] - c["bbox"]["min"][i]) * k for i in range(3))
+    S = c["area"] * k * k
+    geo[m] = (L, W, H, S, (L / a + 1) * (W / a + 1) * (H / a + 1) / (S / a**2))
+print("| model | lattice | box mm (ours / paper) | samples (ours / paper) | triangles out (ours / paper) | boundary voxels s: classify + band (ours / paper) | distance s (ours / paper) | whole grid's distance s (ours with --full-field / paper's ref. [13]) | distance queries band / grid | F from stage times (ours / paper) | F of eq. 11 (ours) | whole job s: band / full field | peak MB |")
+print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+for (m, t), (box, tri, smp, bv, dist, orig) in paper.items():
+    r, st, wall, mb = runs[m, t, "band"]
+    rf, stf, wallf, mbf = runs.get((m, t, "full")) or runs[m, "gyroid" if t == "primitive" else "primitive", "full"]
+    L, W, H, S, F11 = geo[m]
+    ours_box = f"{L:.1f}×{W:.1f}×{H:.1f}"
+    bvs = st["classify"] + st["band"]
+    if rf:
+        full_s, F_time = f"{stf['distance']:.2f}", f"{stf['distance'] / st['distance']:.0f}"
+    else:
+        full_s, F_time = f"> {wallf:.0f} (stopped)", f"> {wallf / st['distance']:.0f}"
+    print(f"| {m} | {'P' if t == 'primitive' else 'G'} | {ours_box} / {box} | {r['grid']['samples']:.3g} / {smp:.2g} | "
+          f"{r['output']['triangles']:,} / {tri:,} | {bvs:.3f} / {bv} | {st['distance']:.3f} / {dist} | "
+          f"{full_s} / {orig:.2g} | {r['distance_queries']:,} / {r['grid']['samples']:,} "
+          f"({r['grid']['samples'] / r['distance_queries']:.1f}×) | {F_time} / {orig / dist:.0f} | "
+          f"≥ {F11:.0f} | {wall:.2f} / {wallf:.2f}{'' if rf else ' (stopped)'} | {mb:.0f} / {mbf:.0f} |")
+print()
+for m in scale:
+    L, W, H, S, F11 = geo[m]
+    print(f"{m}: L×W×H = {L:.2f}×{W:.2f}×{H:.2f} mm, S = {S:.1f} mm², a = {a} mm: "
+          f"(L/a+1)(W/a+1)(H/a+1)/(S/a²) = {F11:.1f}; the paper's right-hand form a(L+a)(W+a)(H+a)/S "
+          f"= {a * (L + a) * (W + a) * (H + a) / S:.2f} (its a belongs in the denominator)")
+print()
+print("Ours: every output above is validated (closed, 2-manifold, outward, no self-intersections) before it is written:")
+for (m, t, f), (r, st, wall, mb) in sorted(runs.items()):
+    if r:
+        print(f"- {m} {t} {f}: valid {r['valid']}, porosity {100 * r['porosity']:.2f} %, validate {st['validate']:.2f} s")
+    else:
+        print(f"- {m} {t} {f}: stopped after {wall:.0f} s")
+PY
 fi
 
 if [[ "$section" == all || "$section" == inside ]]; then
@@ -507,6 +610,48 @@ PY
     echo "- $t thread(s): $wall s"
   done
   cmp -s "$tmp/face-1.stl" "$tmp/face-2.stl" && echo "- outputs byte-identical" || echo "- OUTPUTS DIFFER"
+fi
+
+if [[ "$section" == all || "$section" == layout ]]; then
+  echo
+  echo "## 35. seed 004's distortion: the square layout against auto (free where it does better)"
+  python3 scripts/surfaces.py "$tmp" >/dev/null
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/nefertiti.off \
+    data/meshes/blade.off data/meshes/lion-head.off data/meshes/mushroom.off
+  echo "| surface | layout asked | exit | wall s | layout s | layout | free rounds | flips | area scale p5/p50/p95 | angle p5/p50/p95 | cells mm p5-p95 (× asked) | valid | message |"
+  echo "|---|---|---:|---:|---:|---|---:|---:|---|---|---|---|---|"
+  layout_case() {
+    local name=$1 in=$2 layout=$3
+    shift 3
+    local extra=()
+    [[ $layout == square ]] && extra=(--allow-distortion)
+    timed ./build/tpmsfill conformal "$in" "$tmp/$name.stl" --quiet --report "$tmp/$name.json" \
+      --layout "$layout" "${extra[@]}" "$@" 2>"$tmp/$name.err"
+    if ((code != 0)); then
+      echo "| $name | $layout | $code | $wall | - | - | - | - | - | - | - | - | $(head -1 "$tmp/$name.err" | sed 's/|/\//g') |"
+      return
+    fi
+    python3 - "$tmp/$name.json" "$name" "$layout" "$wall" "$*" <<'PY'
+import json, sys, re
+r = json.load(open(sys.argv[1])); c = r["conformal"]; l = c["layout"]
+name, layout, wall, job = sys.argv[2], sys.argv[3], float(sys.argv[4]), sys.argv[5]
+asked = float(re.search(r"--cell ([0-9.]+)", job).group(1)) if "--cell" in job else 5.0
+a, g, s = l["area_scale"], l["angle_distortion"], c["cell_size"]
+t = {x["name"]: x["seconds"] for x in r["stages"]}
+print(f"| {name} | {layout} | 0 | {wall:.2f} | {t['parameterize']:.2f} | {l['method']} | {l['free_iterations']} | {l['flips']} "
+      f"| {a['p5']:.3g}/{a['p50']:.3g}/{a['p95']:.3g} | {g['p5']:.3g}/{g['p50']:.3g}/{g['p95']:.3g} "
+      f"| {s['p5']:.3g}-{s['p95']:.3g} ({s['p5']/asked:.2f}-{s['p95']/asked:.2f}) | {r['valid']} | "
+      f"{len(r['warnings'])} warning(s) |")
+PY
+  }
+  for layout in square auto; do
+    layout_case dome "$tmp/hemisphere.off" "$layout" --height 3 --lattice primitive --cell 5 --voxel 0.3
+    layout_case wave "$tmp/wave.off" "$layout" --height 3 --lattice gyroid --cell 5 --voxel 0.3
+    layout_case face "$tmp/nefertiti.off" "$layout" --scale 20 --height 3 --lattice primitive --cell 5 --voxel 0.3
+    layout_case blade "$tmp/blade.off" "$layout" --scale 2.5 --height 4 --lattice primitive --cell 5 --voxel 0.4
+    layout_case lion-head "$tmp/lion-head.off" "$layout" --scale 100 --height 3 --lattice primitive --cell 5 --voxel 0.3
+    layout_case mushroom "$tmp/mushroom.off" "$layout" --scale 60 --height 3 --lattice primitive --cell 5 --voxel 0.3
+  done
 fi
 
 if [[ "$section" == all || "$section" == any ]]; then

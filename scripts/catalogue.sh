@@ -447,7 +447,8 @@ image_recipes() {
 # <<< HYBRID RECIPES SLOT
 
 # Seed 004's Fig. 4 (a 20 mm plate) and Fig. 7 (a 40 mm plate) from docs/recipes/seed004, seen
-# from above; the sentence under each is the recipe's description, which gives the seed's.
+# from above, and Fig. 9's blade (a 4 mm layer on Debian's blade); the sentence under each is the
+# recipe's description, which gives the seed's.
 image_seed004() {
   local recipe name note plate
   [[ -e "$work/docs" ]] || ln -s "$PWD/docs" "$work/docs"
@@ -457,6 +458,13 @@ image_seed004() {
     plate=plate20.off
     [[ "$name" == *fig7* ]] && plate=plate40.off
     note=$(sed -n 's/.*"description"[[:space:]]*:[[:space:]]*"\([^"]*\)".*/\1/p' "$recipe" | head -n 1)
+    if [[ "$name" == *fig9* ]]; then  # the blade of Fig. 9: a layer on Debian's blade
+      shot_command=conformal
+      shot "$name" blade.off "--view -15 25" "--scale 2.5 --height 4 --recipe $recipe --voxel 0.3" \
+        "${note:-$recipe}"
+      shot_command=fill
+      continue
+    fi
     shot "$name" "$plate" "--view z" "--recipe $recipe --voxel 0.1" "${note:-$recipe}"
   done
 }

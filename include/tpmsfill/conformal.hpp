@@ -65,10 +65,10 @@ struct VertexMapReport {
 /// mapped midpoint strays from their mapped chord by more than options.chord_tolerance are
 /// split (docs/method.md, section "Mapping a slab design onto a surface").
 /// @param[in] slab     a mesh in slab coordinates (e.g. fill() of the slab box with the design)
-/// @param[in] layout   a disk's layout (periodic_u false)
+/// @param[in] layout   a disk's layout on the square (periodic_u false, method Square)
 /// @param[in] lengths  Lu, Lv, mm (slab_lengths())
 /// @param[in] layer    height, side and normal scale (skins are not used)
-/// @throws InputError  a tube's layout, lengths not positive
+/// @throws InputError  a tube's layout or a free one (LayoutMethod::Free), lengths not positive
 TriangleSoup map_slab_vertices(const TriangleSoup& slab, const SurfaceParameterization& layout,
                                std::array<double, 2> lengths, const ConformalOptions& layer,
                                const VertexMapOptions& options = {},
@@ -107,7 +107,10 @@ struct ConformalJobOptions {
   SlabMap map = SlabMap::Field;
   VertexMapOptions vertex_map;  ///< SlabMap::Vertex
   LatticeDesign design;         ///< in slab coordinates (x along u, y along v, z up the layer)
-  ParameterizeOptions layout;
+  ParameterizeOptions layout;   ///< the vertex map takes the square layout (Auto: the square)
+  /// Write the layer even where the layout gives cells under half or over twice the size asked
+  /// (p5 or p95 on the surface); otherwise such a job is refused before the fill.
+  bool allow_distortion = false;
   GridOptions grid;  ///< voxel size (mm) and padding of the fill's grid
   bool keep_islands = false;
   bool check_self_intersections = true;

@@ -25,14 +25,14 @@ namespace tpmsfill::cli {
 namespace {
 
 struct ConformalArgs {
-  std::string input, output, report, recipe, side = "out", map = "field";
+  std::string input, output, report, recipe, side = "out", map = "field", layout = "auto";
   TpmsArgs tpms;
   double height = 0;
   std::optional<double> voxel, normal_scale, scale;
   std::optional<std::string> units;
   std::vector<double> slab, skins;
   std::vector<std::uint32_t> corners;
-  bool keep_islands = false, quiet = false;
+  bool keep_islands = false, allow_distortion = false, quiet = false;
   int threads = 0;
 };
 
@@ -53,6 +53,8 @@ ConformalJobOptions job_options(const ConformalArgs& a) {
   if (!a.corners.empty())
     o.layout.corners =
         std::array<std::uint32_t, 4>{a.corners[0], a.corners[1], a.corners[2], a.corners[3]};
+  o.layout.method = layout_method_from_name(a.layout);
+  o.allow_distortion = a.allow_distortion;
   o.keep_islands = a.keep_islands;
   return o;
 }
@@ -118,7 +120,11 @@ Command add_conformal_command(CLI::App& app) {
       "conformal", "Grow a lattice layer of a given height that follows a surface");
   sub->footer(
       "The surface (one boundary loop, or two for a tube such as a blade, cut along a seam) is "
-      "laid flat on the unit square by mean-value coordinates. The lattice is designed in a "
+      "laid flat: on the unit square by mean-value coordinates, or free (as rigid as possible, "
+      "the boundary let move), whichever spreads the cells' sizes less (--layout). A surface "
+      "whose cells would come out under half or over twice the size asked is refused (a deep "
+      "face or cap: cut it into flatter pieces) unless --allow-distortion. The lattice is designed "
+      "in a "
       "slab of LU x LV x H mm (x along u, y along v, z up the layer; LU and LV default to the "
       "surface's mean lengths, so cells keep their size on average) and carried onto the "
       "surface: each grid node takes its closest point on the surface, the (u, v) there and "
@@ -173,6 +179,13 @@ Command add_conformal_command(CLI::App& app) {
                   "Solid skins A B mm thick on the surface and under the top (0 for none), "
                   "making the layer a closed channel")
       ->expected(2);
+  sub->add_option("--layout", args->layout,
+                  "auto (default: free where it has no flips and spreads the area scale less, "
+                  "else the square), square (mean-value coordinates on the unit square) or free "
+                  "(as rigid as possible: cells keep their size on deep surfaces)");
+  sub->add_flag("--allow-distortion", args->allow_distortion,
+                "Write the layer even where cells come out under half or over twice the size "
+                "asked (refused otherwise, with the sizes)");
   sub->add_option("--corners", args->corners,
                   "Disks: the four boundary vertices (indices in SURFACE) placed at the unit "
                   "square's corners, in order along the boundary (default: where it turns most, "

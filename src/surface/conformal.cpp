@@ -1,6 +1,7 @@
 // Stage "conformal": the field-space map of a slab design onto a surface (conformal.hpp).
 #include "tpmsfill/conformal.hpp"
 
+#include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -30,6 +31,9 @@ using K = detail::Kernel;
 using Triangles = std::vector<K::Triangle_3>;
 using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+using Segments = std::vector<K::Segment_3>;
+using RimTree = CGAL::AABB_tree<
+    CGAL::AABB_traits<K, CGAL::AABB_segment_primitive<K, Segments::const_iterator>>>;
 
 bool positive(double x) {
   return std::isfinite(x) && x > 0;
@@ -93,8 +97,18 @@ class SurfaceMap {
         const std::uint32_t a = m.triangles[i][c], b = m.triangles[i][(c + 1) % 3];
         const auto pa = pos(a), pb = pos(b);
         const bool seam = open.count({pb[0], pb[1], pb[2], pa[0], pa[1], pa[2]}) > 0;
-        if (!twin(a, b) && !seam) boundary_edge_[i][c] = on_boundary_[a] = on_boundary_[b] = true;
+        if (!twin(a, b) && !seam) {
+          boundary_edge_[i][c] = on_boundary_[a] = on_boundary_[b] = true;
+          rim_.emplace_back(detail::to_cgal(m.points[a]), detail::to_cgal(m.points[b]));
+        }
       }
+    // A free layout's boundary is no square: the distance to the rim is measured on the surface
+    // (to its boundary edges), not in the plane.
+    if (layout.method == LayoutMethod::Free && !rim_.empty()) {
+      rim_tree_.insert(rim_.begin(), rim_.end());
+      rim_tree_.build();
+      rim_tree_.accelerate_distance_queries();
+    }
   }
 
   // The smallest radius of curvature bending towards the layer, from each edge's two vertex
@@ -206,9 +220,14 @@ class SurfaceMap {
       // Over the surface h is the distance itself, signed by the side (the normal at q, the
       // vertices' where q is on an edge): continuous, and h = H is the true offset surface.
       s.h = sign_ * (dot(d, n) < 0 ? -norm(d) : norm(d));
-      double inside = std::min(s.v, 1 - s.v) * lengths_[1];
-      if (!layout_.periodic_u) inside = std::min(inside, std::min(s.u, 1 - s.u) * lengths_[0]);
-      s.lateral = -inside;
+      if (layout_.method == LayoutMethod::Free) {
+        s.lateral = rim_.empty() ? -std::numeric_limits<double>::infinity()
+                                 : -std::sqrt(rim_tree_.squared_distance(detail::to_cgal(q)));
+      } else {
+        double inside = std::min(s.v, 1 - s.v) * lengths_[1];
+        if (!layout_.periodic_u) inside = std::min(inside, std::min(s.u, 1 - s.u) * lengths_[0]);
+        s.lateral = -inside;
+      }
     }
     return s;
   }
@@ -222,6 +241,8 @@ class SurfaceMap {
   std::vector<Vec3> normals_;
   std::vector<std::array<bool, 3>> boundary_edge_;
   std::vector<bool> on_boundary_;
+  Segments rim_;  // the surface's boundary edges (a tube's seam is none)
+  RimTree rim_tree_;
 };
 
 // The slab design sampled on a grid of half the voxel, read back trilinearly.
@@ -477,6 +498,12 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   ConformalReport& r = result.report;
   ParameterizeOptions po = options.layout;
   po.progress = options.progress;
+  // The vertex map lifts the slab box: it needs the layout to fill the square.
+  if (options.map == SlabMap::Vertex) {
+    if (po.method == LayoutMethod::Free)
+      throw InputError("the vertex map needs the square layout (--layout square or auto)");
+    po.method = LayoutMethod::Square;
+  }
   auto t0 = std::chrono::steady_clock::now();
   const auto seconds = [&] {
     const auto t = std::chrono::steady_clock::now();
@@ -495,6 +522,21 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   const auto cell = [&](double s) { return options.design.cell.x * std::sqrt(s * factor); };
   const Spread& a = r.layout.area_scale;
   r.cell_size = {cell(a.min), cell(a.p5), cell(a.p50), cell(a.p95), cell(a.max)};
+  const double asked = options.design.cell.x;
+  if (!options.allow_distortion && (r.cell_size.p5 < 0.5 * asked || r.cell_size.p95 > 2 * asked)) {
+    std::string other;
+    if (r.layout.other_area_scale)
+      other = std::string("; the ") + (r.layout.method == LayoutMethod::Free ? "square" : "free") +
+              " layout gives " + mm(cell(r.layout.other_area_scale->p5)) + " to " +
+              mm(cell(r.layout.other_area_scale->p95));
+    throw InputError(
+        "the surface cannot be laid out flat with cells near the size asked: cells of " +
+        mm(asked) + " would measure " + mm(r.cell_size.p5) + " to " + mm(r.cell_size.p95) +
+        " on it (p5 to p95, " + std::string(layout_method_name(r.layout.method)) + " layout" +
+        other +
+        "), beyond half to twice; cut it into flatter pieces, or pass "
+        "--allow-distortion to write it so");
+  }
 
   r.map = options.map;
   const std::shared_ptr<const SurfaceLayer> layer = make_layer(r.layout, options.design, o);
@@ -528,7 +570,6 @@ ConformalResult conformal_fill(const TriangleSoup& surface, const ConformalJobOp
   }
 
   const double voxel = options.grid.voxel_size;
-  const double asked = options.design.cell.x;
   if (r.cell_size.p95 > 2 * r.cell_size.p5)
     warnings.push_back("the layout stretches the surface unevenly: cells asked " + mm(asked) +
                        " measure " + mm(r.cell_size.p5) + " to " + mm(r.cell_size.p95) +

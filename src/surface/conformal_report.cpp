@@ -44,7 +44,10 @@ std::string to_json(const ConformalResult& result) {
                                               : json(nullptr)},
       {"layer_volume", result.fill.model_volume},
       {"layout",
-       {{"boundary_loops", p.boundary_loops},
+       {{"method", layout_method_name(p.method)},
+        {"free_iterations", p.free_iterations},
+        {"other_area_scale", p.other_area_scale ? spread(*p.other_area_scale) : json(nullptr)},
+        {"boundary_loops", p.boundary_loops},
         {"periodic_u", p.periodic_u},
         {"seam_edges", p.seam_edges},
         {"corners", p.corners},
@@ -81,7 +84,12 @@ std::string to_text(const ConformalResult& result) {
   s += "layout       " +
        (p.periodic_u ? format("a tube cut along %.0f seam edges", static_cast<double>(p.seam_edges))
                      : std::string("a disk")) +
+       (p.method == LayoutMethod::Free ? ", free (as rigid as possible)" : ", on the square") +
        format(", %.0f flips, area %.4g mm2\n", static_cast<double>(p.flips), p.area);
+  if (p.other_area_scale)
+    s += std::string("             the ") + (p.method == LayoutMethod::Free ? "square" : "free") +
+         format(" layout's area scale: %.3g / %.3g / %.3g\n", p.other_area_scale->p5,
+                p.other_area_scale->p50, p.other_area_scale->p95);
   s += format("distortion   area scale %.3g / %.3g / %.3g, angle %.3g", p.area_scale.p5,
               p.area_scale.p50, p.area_scale.p95, p.angle_distortion.p5) +
        format(" / %.3g / %.3g (p5 / p50 / p95)\n", p.angle_distortion.p50, p.angle_distortion.p95);

@@ -18,6 +18,7 @@
 #include "tpmsfill/error.hpp"
 
 #include "mesh/dirichlet.hpp"
+#include "surface/internal/arap.hpp"
 
 namespace tpmsfill {
 namespace {
@@ -393,6 +394,56 @@ std::vector<std::array<double, 2>> solve_mvc(const TriangleSoup& m,
   return uv;
 }
 
+// The free layout from the square's (in mm), its tube period turned onto x, normalised to its
+// bounding box and scaled so the area scale averages 1 (as the square's).
+SurfaceParameterization free_layout(
+    const SurfaceParameterization& square,
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& seam) {
+  std::vector<std::array<double, 2>> start(square.uv.size());
+  for (std::size_t i = 0; i < start.size(); ++i)
+    start[i] = {square.uv[i][0] * square.length_u, square.uv[i][1] * square.length_v};
+  const detail::ArapLayout a = detail::arap_layout(square.mesh, start, seam, 200);
+  SurfaceParameterization q = square;
+  q.method = LayoutMethod::Free;
+  q.free_iterations = a.iterations;
+  // A tube's period along +x, so u + 1 is the seam's other side.
+  const double turn = seam.empty() ? 0 : -std::atan2(a.period[1], a.period[0]);
+  const double c = std::cos(turn), s = std::sin(turn);
+  std::array<double, 2> lo{std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::infinity()};
+  std::array<double, 2> hi{-lo[0], -lo[1]};
+  std::vector<std::array<double, 2>> xy(a.xy.size());
+  for (std::size_t i = 0; i < xy.size(); ++i) {
+    xy[i] = {c * a.xy[i][0] - s * a.xy[i][1], s * a.xy[i][0] + c * a.xy[i][1]};
+    for (int k = 0; k < 2; ++k)
+      lo[k] = std::min(lo[k], xy[i][k]), hi[k] = std::max(hi[k], xy[i][k]);
+  }
+  double laid = 0;  // the layout's own area
+  for (const Triangle& t : q.mesh.triangles)
+    laid += 0.5 * ((xy[t[1]][0] - xy[t[0]][0]) * (xy[t[2]][1] - xy[t[0]][1]) -
+                   (xy[t[2]][0] - xy[t[0]][0]) * (xy[t[1]][1] - xy[t[0]][1]));
+  const double period = std::hypot(a.period[0], a.period[1]);
+  const double lu = seam.empty() ? hi[0] - lo[0] : period, lv = hi[1] - lo[1];
+  if (!(lu > 0) || !(lv > 0) || !(laid > 0))
+    throw InputError("the surface cannot be laid out freely: its layout has no area");
+  for (std::size_t i = 0; i < xy.size(); ++i)
+    q.uv[i] = {(xy[i][0] - lo[0]) / lu, (xy[i][1] - lo[1]) / lv};
+  // Scaled so the p5 and p95 cells lie as far (in ratio) below and above the size asked: a
+  // free layout of a deep surface packs most triangles tighter than the mean (σ_A > 1) and a
+  // few looser, so the mean would leave nearly all cells too large.
+  const double k = std::sqrt(square.area / laid);
+  q.length_u = lu * k, q.length_v = lv * k;
+  q.area = 0, q.flips = 0;
+  measure(q);
+  const double centre = std::sqrt(std::sqrt(q.area_scale.p5 * q.area_scale.p95));
+  if (std::isfinite(centre) && centre > 0) {
+    q.length_u *= centre, q.length_v *= centre;
+    q.area = 0, q.flips = 0;
+    measure(q);
+  }
+  return q;
+}
+
 }  // namespace
 
 SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
@@ -426,11 +477,13 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
   p.boundary_loops = static_cast<int>(loops.size());
   std::array<std::uint32_t, 4> c{};
   std::vector<std::uint32_t> boundary = loops[0];  // of the disk laid out (a tube's: after the cut)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> seam;  // a tube's (original, copy) points
   if (loops.size() == 2) {
     if (options.corners)
       throw InputError("a tube takes its corners from its seam; corners cannot be given");
     const std::vector<std::uint32_t> path = seam_path(w.mesh, e, loops[0], loops[1]);
     const std::vector<std::uint32_t> copy = cut_along(w.mesh, e, path);
+    for (std::size_t i = 0; i < path.size(); ++i) seam.emplace_back(path[i], copy[i]);
     p.periodic_u = true;
     p.seam_edges = path.size() - 1;
     // With the surface on the left the cut disk's boundary runs along loop 0 into the seam's
@@ -453,6 +506,8 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
     c = options.corners ? given_corners(*options.corners, w.merged, loops[0])
                         : default_corners(w.mesh, loops[0]);
   }
+  if (options.corners && options.method == LayoutMethod::Free)
+    throw InputError("a free layout places no corners; corners need the square layout");
   p.corners = c;
   p.uv = solve_mvc(w.mesh, boundary, c);
   const std::vector<std::uint32_t>& loop = boundary;
@@ -471,7 +526,35 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
   p.mesh = std::move(w.mesh);
   p.source_triangle = std::move(w.source_triangle);
   measure(p);
+  if (options.method == LayoutMethod::Square || options.corners) return p;
+  SurfaceParameterization q = free_layout(p, seam);
+  if (options.method == LayoutMethod::Free) return q;
+  const auto ratio = [](const Spread& s) { return s.p95 / std::max(s.p5, 1e-300); };
+  if (q.flips == 0 && ratio(q.area_scale) < 0.95 * ratio(p.area_scale)) {
+    q.other_area_scale = p.area_scale;
+    return q;
+  }
+  p.other_area_scale = q.area_scale;
+  p.free_iterations = q.free_iterations;
   return p;
+}
+
+std::string_view layout_method_name(LayoutMethod method) {
+  switch (method) {
+    case LayoutMethod::Square:
+      return "square";
+    case LayoutMethod::Free:
+      return "free";
+    case LayoutMethod::Auto:
+      break;
+  }
+  return "auto";
+}
+
+LayoutMethod layout_method_from_name(std::string_view name) {
+  for (LayoutMethod m : {LayoutMethod::Square, LayoutMethod::Free, LayoutMethod::Auto})
+    if (name == layout_method_name(m)) return m;
+  throw InputError("unknown layout '" + std::string(name) + "' (use square, free or auto)");
 }
 
 }  // namespace tpmsfill

@@ -76,6 +76,10 @@ TriangleSoup map_slab_vertices(const TriangleSoup& slab, const SurfaceParameteri
     throw InputError(
         "the vertex map takes disks only: a tube's slab has walls at u = 0 and "
         "u = 1 that land on the same seam (use the field-space map)");
+  if (layout.method != LayoutMethod::Square)
+    throw InputError(
+        "the vertex map lifts the slab's box, which only the square layout fills (lay the "
+        "surface out with LayoutMethod::Square, --layout square)");
   if (!(lengths[0] > 0) || !(lengths[1] > 0))
     throw InputError("the slab's lengths must be positive");
   const UvLocator locator(layout);

@@ -602,7 +602,7 @@ TEST(Recipe, SeedFourFiguresAreRecipes) {
   // raw C = 0); the rings change what their names say.
   const auto dir = std::filesystem::path(TPMSFILL_SOURCE_DIR) / "docs" / "recipes" / "seed004";
   const auto files = test::files_in(dir, 1 << 20);
-  ASSERT_EQ(files.size(), 9u);
+  ASSERT_EQ(files.size(), 11u);
   for (const char* feature : {"porosity", "type", "size", "thickness"}) {
     const std::string name = std::string("fig4-") + feature;
     const FillOptions sharp = read_recipe_file((dir / (name + "-sharp.json")).string());
@@ -632,6 +632,20 @@ TEST(Recipe, SeedFourFiguresAreRecipes) {
   }
   const FillOptions rings = read_recipe_file((dir / "fig7-four-rings.json").string());
   EXPECT_EQ(rings.design.blends.size(), 4u);
+  // Fig. 9's blade: I-WP (skeletal in 9c, a shell in 9d) and a skeletal G beyond a free
+  // boundary, grown by the Beta transition.
+  for (const char* name : {"fig9c-skeletal-iwp-g.json", "fig9d-shell-iwp-skeletal-g.json"}) {
+    const FillOptions blade = read_recipe_file((dir / name).string());
+    EXPECT_EQ(blade.design.type, TpmsType::Iwp) << name;
+    EXPECT_EQ(blade.design.style == TpmsStyle::Sheet,
+              std::string(name).find("shell") != std::string::npos);
+    ASSERT_EQ(blade.design.blends.size(), 1u) << name;
+    const Blend& g = blade.design.blends[0];
+    EXPECT_EQ(g.tpms.type, TpmsType::Gyroid);
+    EXPECT_EQ(g.tpms.style, TpmsStyle::Network);
+    EXPECT_EQ(g.region.shape, RegionShape::Polygon);
+    EXPECT_EQ(g.transition, Transition::Beta);
+  }
 }
 
 TEST(Design, DepthGradingIsDenserNearTheSurface) {

@@ -75,15 +75,19 @@ TEST(Parameterize, GivenCornersAreTheSquaresCorners) {
 }
 
 TEST(Parameterize, CurvedDisksHaveNoFlips) {
+  // The square's own properties: mean-value coordinates inside a fixed convex boundary.
+  const ParameterizeOptions square{.method = LayoutMethod::Square};
   const SurfaceParameterization hemi =
-      parameterize_surface(make_spherical_cap(20, kPi / 2, 16, 48));
+      parameterize_surface(make_spherical_cap(20, kPi / 2, 16, 48), square);
   EXPECT_EQ(hemi.flips, 0u);
   EXPECT_NEAR(hemi.area, 2 * kPi * 400, 0.01 * 2 * kPi * 400);
   EXPECT_GT(hemi.angle_distortion.p95, 1.0);  // a sphere cannot be laid flat without it
-  const SurfaceParameterization wave =
-      parameterize_surface(make_height_field(40, 40, [](double x, double y) {
-        return 3 * std::sin(2 * kPi * x / 20) * std::sin(2 * kPi * y / 20);
-      }));
+  const SurfaceParameterization wave = parameterize_surface(
+      make_height_field(40, 40,
+                        [](double x, double y) {
+                          return 3 * std::sin(2 * kPi * x / 20) * std::sin(2 * kPi * y / 20);
+                        }),
+      square);
   EXPECT_EQ(wave.flips, 0u);
   // The waves vanish on the boundary: a square, scaled up to the surface's area.
   EXPECT_GT(wave.area, 1600 * 1.05);
@@ -107,6 +111,77 @@ TEST(Parameterize, ATubeIsCutAlongASeam) {
   EXPECT_NEAR(p.angle_distortion.max, 1, 1e-6);
   EXPECT_NEAR(p.area_scale.max, 1, 1e-6);
   EXPECT_EQ(p.mesh.points.size(), 40u * 17u + 17u);  // the seam's 17 points doubled
+}
+
+TEST(Parameterize, AFreeLayoutKeepsCellsOnADeepCap) {
+  // A bowl three quarters of a sphere deep: the square squeezes its middle into a small share
+  // of the unit square, while the free layout keeps each triangle near its own size. Both have
+  // no flips; the free one's area scale spreads far less, and auto takes it.
+  const TriangleSoup bowl = make_spherical_cap(10, 0.75 * kPi, 32, 96);
+  const SurfaceParameterization square =
+      parameterize_surface(bowl, {.method = LayoutMethod::Square});
+  const SurfaceParameterization free = parameterize_surface(bowl, {.method = LayoutMethod::Free});
+  EXPECT_EQ(square.method, LayoutMethod::Square);
+  EXPECT_EQ(free.method, LayoutMethod::Free);
+  EXPECT_EQ(square.flips, 0u);
+  EXPECT_EQ(free.flips, 0u);
+  EXPECT_GT(free.free_iterations, 0);
+  const auto ratio = [](const Spread& s) { return s.p95 / s.p5; };
+  EXPECT_GT(ratio(square.area_scale), 5.0);
+  EXPECT_LT(ratio(free.area_scale), 0.5 * ratio(square.area_scale));
+  // Centred: the p5 and p95 of the area scale lie equally far from 1.
+  EXPECT_NEAR(free.area_scale.p5 * free.area_scale.p95, 1.0, 1e-9);
+  // The bounding box is the unit square and the slab holds the layout's own size.
+  double lo = 1, hi = 0;
+  for (const auto& uv : free.uv)
+    for (double c : uv) lo = std::min(lo, c), hi = std::max(hi, c);
+  EXPECT_NEAR(lo, 0, 1e-12);
+  EXPECT_NEAR(hi, 1, 1e-12);
+  const SurfaceParameterization chosen = parameterize_surface(bowl);
+  EXPECT_EQ(chosen.method, LayoutMethod::Free);
+  ASSERT_TRUE(chosen.other_area_scale.has_value());
+  EXPECT_DOUBLE_EQ(chosen.other_area_scale->p95, square.area_scale.p95);
+  // Corners belong to the square.
+  ParameterizeOptions cornered{.method = LayoutMethod::Free};
+  cornered.corners = std::array<std::uint32_t, 4>{0, 1, 2, 3};
+  EXPECT_THROW(parameterize_surface(bowl, cornered), InputError);
+  EXPECT_EQ(layout_method_from_name("free"), LayoutMethod::Free);
+  EXPECT_THROW(layout_method_from_name("round"), InputError);
+}
+
+TEST(Parameterize, AFreeTubeStaysClosedAcrossItsSeam) {
+  // A cone's frustum (radius 6 at the foot, 9 at the top): the square stretches the foot's
+  // circumference to the top's, so its area scale spreads by about 1.5; the free layout may
+  // bend and shear but each seam copy stays one period (u + 1) from its original, so a lattice
+  // of whole cells along u closes around the tube.
+  TriangleSoup frustum = make_open_cylinder(6, 12, 64, 12);
+  for (Vec3& p : frustum.points) {
+    const double r = 1 + 0.5 * p.z / 12;
+    p.x *= r, p.y *= r;
+  }
+  const SurfaceParameterization square =
+      parameterize_surface(frustum, {.method = LayoutMethod::Square});
+  const SurfaceParameterization free =
+      parameterize_surface(frustum, {.method = LayoutMethod::Free});
+  EXPECT_TRUE(free.periodic_u);
+  EXPECT_EQ(free.flips, 0u);
+  const auto ratio = [](const Spread& s) { return s.p95 / s.p5; };
+  EXPECT_GT(ratio(square.area_scale), 1.4);
+  EXPECT_LT(ratio(free.area_scale), ratio(square.area_scale));
+  // The seam's copies (the last 13 points) sit at u ± 1 of the points they copy, same v.
+  const std::size_t n = free.mesh.points.size();
+  std::size_t matched = 0;
+  for (std::size_t c = n - 13; c < n; ++c)
+    for (std::size_t i = 0; i < n - 13; ++i)
+      if (free.mesh.points[i] == free.mesh.points[c]) {
+        ++matched;
+        EXPECT_NEAR(std::fabs(free.uv[c][0] - free.uv[i][0]), 1, 1e-9);
+        EXPECT_NEAR(free.uv[c][1], free.uv[i][1], 1e-9);
+      }
+  EXPECT_EQ(matched, 13u);
+  // The period lies between the foot's and the top's circumferences.
+  EXPECT_GT(free.length_u, 2 * kPi * 6);
+  EXPECT_LT(free.length_u, 2 * kPi * 9);
 }
 
 TEST(Parameterize, RefusesWhatIsNotADiskOrATube) {
@@ -239,6 +314,41 @@ TEST(Conformal, ALayerAroundATubeClosesAcrossTheSeam) {
   }
 }
 
+TEST(Conformal, ADeepBowlTakesTheFreeLayoutOrIsRefused) {
+  // On the bowl the square would give cells from under half to over twice the size asked:
+  // refused with the sizes. Auto lays it out freely and the layer is valid, within its
+  // height, and its cells within 0.7-1.4 times the size asked (p5 to p95).
+  const TriangleSoup bowl = make_spherical_cap(10, 0.75 * kPi, 24, 72);
+  ConformalJobOptions o;
+  o.layer.height = 1;
+  o.design.cell = {3, 3, 3};
+  o.grid.voxel_size = 0.15;
+  o.layout.method = LayoutMethod::Square;
+  try {
+    conformal_fill(bowl, o);
+    ADD_FAILURE() << "the square layout's cells were not refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--allow-distortion"), std::string::npos) << e.what();
+  }
+  o.layout.method = LayoutMethod::Auto;
+  const ConformalResult r = conformal_fill(bowl, o);
+  EXPECT_EQ(r.report.layout.method, LayoutMethod::Free);
+  const MeshCheck c = check_mesh(r.mesh);
+  EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
+  EXPECT_GE(r.report.height_min, -0.15);
+  EXPECT_LE(r.report.height_max, 1 + 0.15);
+  EXPECT_GE(r.report.cell_size.p5, 0.7 * 3);
+  EXPECT_LE(r.report.cell_size.p95, 1.4 * 3);
+  // The layer ends at the bowl's rim (radius 10 sin 135° about the axis, at z = 10 cos 135°):
+  // no vertex beyond it by more than a voxel.
+  for (const Vec3& p : r.mesh.points)
+    ASSERT_GE(p.z, 10 * std::cos(0.75 * kPi) - 1.2) << p.x << " " << p.y << " " << p.z;
+  // The vertex map lifts the square's slab: it takes the square (and refuses a free layout).
+  o.map = SlabMap::Vertex;
+  o.layout.method = LayoutMethod::Free;
+  EXPECT_THROW(conformal_fill(bowl, o), InputError);
+}
+
 TEST(Conformal, OptionsAreChecked) {
   ConformalOptions o;
   EXPECT_THROW(require_valid(o), InputError);  // no height
@@ -270,7 +380,8 @@ TEST(ConformalCli, WritesAValidLayerAndItsReport) {
                 &out),
             0)
       << out;
-  EXPECT_NE(out.find("layout       a disk, 0 flips"), std::string::npos) << out;
+  EXPECT_NE(out.find("layout       a disk, "), std::string::npos) << out;
+  EXPECT_NE(out.find(", 0 flips"), std::string::npos) << out;
   const MeshCheck c = check_mesh(read_mesh(dir / "layer.stl"));
   EXPECT_TRUE(c.valid()) << testing::PrintToString(c.problems());
   const std::string report = read_file(dir / "layer.json");
@@ -279,6 +390,18 @@ TEST(ConformalCli, WritesAValidLayerAndItsReport) {
 }
 
 TEST(ConformalCli, RefusesAClosedSurfaceAndBadFlags) {
+  {
+    const fs::path dir = scratch_dir();
+    write_mesh(dir / "dome.off", make_spherical_cap(12, kPi / 2, 8, 24));
+    std::string out;
+    EXPECT_EQ(cli("conformal " + (dir / "dome.off").string() + " " + (dir / "l.stl").string() +
+                      " --height 2 --layout round",
+                  &out),
+              2)
+        << out;
+    EXPECT_NE(out.find("unknown layout 'round'"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(dir / "l.stl"));
+  }
   const fs::path dir = scratch_dir();
   write_mesh(dir / "ball.off", make_sphere({0, 0, 0}, 5, 2));
   write_mesh(dir / "dome.off", make_spherical_cap(12, kPi / 2, 8, 24));

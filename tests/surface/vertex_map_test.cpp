@@ -38,7 +38,9 @@ TEST(VertexMap, AFlatPlateMapsTheSlabOntoItself) {
 
 TEST(VertexMap, ALatticeOnASphericalCapIsValidAndFollowsTheSurface) {
   const double R = 20;
-  const SurfaceParameterization layout = parameterize_surface(make_spherical_cap(R, 0.6, 16, 48));
+  const TriangleSoup cap = make_spherical_cap(R, 0.6, 16, 48);
+  const SurfaceParameterization layout =
+      parameterize_surface(cap, {.method = LayoutMethod::Square});
   ConformalOptions layer;
   layer.height = 2;
   FillOptions f;
@@ -62,6 +64,10 @@ TEST(VertexMap, ALatticeOnASphericalCapIsValidAndFollowsTheSurface) {
   layer.side = SurfaceSide::In;
   const MeshCheck in = check_mesh(map_slab_vertices(slab, layout, lengths, layer));
   EXPECT_TRUE(in.valid()) << testing::PrintToString(in.problems());
+  // A free layout does not fill the slab's box: refused.
+  EXPECT_THROW(map_slab_vertices(slab, parameterize_surface(cap, {.method = LayoutMethod::Free}),
+                                 lengths, layer),
+               InputError);
 }
 
 TEST(VertexMap, RefusesATube) {
