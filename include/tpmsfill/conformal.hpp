@@ -98,7 +98,8 @@ FieldSource conformal_source(const SurfaceParameterization& layout, const Lattic
                              const ConformalOptions& options);
 
 /// How the slab reaches the surface: through the field (conformal_source: the default) or the
-/// vertex map of Yang et al. 2023 (map_slab_vertices: disks only, no skins; the mapped mesh is
+/// vertex map of Yang et al. 2023 (map_slab_vertices: disks on the square layout; skins are made
+/// in the slab before it is lifted; the mapped mesh is
 /// validated and refused with its intersecting pairs where it folds).
 enum class SlabMap { Field, Vertex };
 

@@ -160,7 +160,7 @@ Command add_conformal_command(CLI::App& app) {
   sub->add_option("--map", args->map,
                   "field (default: every grid node takes its closest point's (u, v) and height; "
                   "always valid) or vertex (the seed's: the slab's mesh lifted vertex by vertex "
-                  "along the normals, edges split where they stray; disks only, no skins, "
+                  "along the normals, edges split where they stray; disks only, "
                   "refused where it folds)");
   add_tpms_options(sub, args->tpms);
   add_units_flag(sub, args->units);

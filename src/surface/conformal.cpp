@@ -454,10 +454,30 @@ FillResult fill_through_field(std::shared_ptr<const SurfaceLayer> layer,
 // which the field map cannot).
 FillResult fill_by_vertices(ConformalReport& r, const ConformalJobOptions& options,
                             std::array<double, 2> lengths, const Box3& slab) {
-  if (options.layer.skin_surface > 0 || options.layer.skin_top > 0)
-    throw InputError("skins need the field map (the vertex map carries the slab as it is)");
   FillOptions f = fill_options(options);
   f.design = options.design;
+  const ConformalOptions& o = options.layer;
+  if (o.skin_surface > 0 || o.skin_top > 0) {
+    // Skins in the slab: its design (blends and all, resolved over the slab) united with solid
+    // layers where h = s·z lies under skin_surface or over H − skin_top, as the field map has.
+    const FieldSource lattice = design_source(resolve_design(options.design, slab));
+    f.design = LatticeDesign{};
+    f.design.cell = options.design.cell;  // for the report; the field is the slab's
+    f.design.custom = {.on_grid = [lattice, o](const Grid& grid) -> RowFunction {
+      const RowFunction rows = bind_source(lattice, grid);
+      return [rows, grid, o](std::size_t first, std::size_t count, float* values,
+                             const std::uint8_t* need) {
+        rows(first, count, values, need);
+        for_each_needed_node(grid, first, count, need, [&](int i, int j, int k, std::size_t n) {
+          const double h = grid.node(i, j, k).z * o.normal_scale;
+          double v = values[n];
+          if (o.skin_surface > 0) v = std::min(v, h - o.skin_surface);
+          if (o.skin_top > 0) v = std::min(v, o.height - o.skin_top - h);
+          values[n] = static_cast<float>(v);
+        });
+      };
+    }};
+  }
   // The flat slab is carried over before it is written: rounded after the map, not before.
   f.rounding = CoordinateRounding::None;
   FillResult filled = fill_box(slab, f);

@@ -96,8 +96,21 @@ TEST(VertexMap, ConformalFillOffersItAndRefusesWhatItCannotDo) {
   EXPECT_GT(r.report.height_min, -0.1);
   EXPECT_LT(r.report.height_max, 2.1);
   EXPECT_GT(r.report.height_max, 1.9);
-  o.layer.skin_top = 0.2;
-  EXPECT_THROW(conformal_fill(surface, o), InputError);
+  // Skins are made in the flat slab and lifted with it: a channel closed on both sides, valid,
+  // whose solid grows by the void the skins fill: about half of their volume (the gyroid at
+  // C = 0 is half solid; two skins of area × 0.3 mm, the cap's area 2πR²(1 − cos 0.6) ≈ 438
+  // mm²), certainly more than a quarter and less than all of it.
+  const double open = *check_mesh(r.mesh).volume;
+  o.layer.skin_surface = 0.3, o.layer.skin_top = 0.3;
+  const ConformalResult channel = conformal_fill(surface, o);
+  const MeshCheck closed = check_mesh(channel.mesh);
+  EXPECT_TRUE(closed.valid()) << testing::PrintToString(closed.problems());
+  const double area = 2 * std::numbers::pi * 400 * (1 - std::cos(0.6));
+  EXPECT_GT(*closed.volume - open, 0.25 * 2 * 0.3 * area);
+  EXPECT_LT(*closed.volume - open, 2 * 0.3 * area);
+  EXPECT_EQ(channel.report.map, SlabMap::Vertex);
+  EXPECT_GT(channel.report.height_min, -0.1);
+  EXPECT_LT(channel.report.height_max, 2.1);
   EXPECT_EQ(slab_map_from_name("vertex"), SlabMap::Vertex);
   EXPECT_THROW(slab_map_from_name("normal"), InputError);
 }

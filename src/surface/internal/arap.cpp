@@ -18,11 +18,11 @@ namespace tpmsfill::detail {
 
 namespace {
 
-// A triangle in its own plane, (0,0), (|e1|,0), (x2,y2), and the cotangent weight of the
-// edge opposite each corner (clamped: a sliver's huge weight would swamp the system, and
-// negative weights of obtuse corners would leave it indefinite).
+// A triangle in its own plane, (0,0), (|e1|,0), (x2,y2): per corner k the edge opposite it,
+// x_{k+1} − x_{k+2}, and that edge's cotangent weight (clamped: a sliver's huge weight would
+// swamp the system, and negative weights of obtuse corners would leave it indefinite).
 struct FlatTriangle {
-  std::array<std::array<double, 2>, 3> x;
+  std::array<std::array<double, 2>, 3> edge;
   std::array<double, 3> weight;
 };
 
@@ -30,18 +30,20 @@ FlatTriangle flatten(Vec3 a, Vec3 b, Vec3 c) {
   const Vec3 e1 = b - a, e2 = c - a;
   const double l1 = norm(e1);
   FlatTriangle f;
-  f.x[0] = {0, 0};
-  f.x[1] = {l1, 0};
-  f.x[2] = l1 > 0 ? std::array<double, 2>{dot(e2, e1) / l1, norm(cross(e1, e2)) / l1}
-                  : std::array<double, 2>{0, 0};
+  std::array<std::array<double, 2>, 3> x;
+  x[0] = {0, 0};
+  x[1] = {l1, 0};
+  x[2] = l1 > 0 ? std::array<double, 2>{dot(e2, e1) / l1, norm(cross(e1, e2)) / l1}
+                : std::array<double, 2>{0, 0};
   for (int k = 0; k < 3; ++k) {
-    const auto& p = f.x[k];
-    const auto& q = f.x[(k + 1) % 3];
-    const auto& r = f.x[(k + 2) % 3];
+    const auto& p = x[k];
+    const auto& q = x[(k + 1) % 3];
+    const auto& r = x[(k + 2) % 3];
     const double ux = q[0] - p[0], uy = q[1] - p[1], vx = r[0] - p[0], vy = r[1] - p[1];
     const double area2 = std::fabs(ux * vy - uy * vx);
     const double cot = area2 > 0 ? (ux * vx + uy * vy) / area2 : 1e3;
     f.weight[k] = std::clamp(cot, 1e-3, 1e3);
+    f.edge[k] = {q[0] - r[0], q[1] - r[1]};
   }
   return f;
 }
@@ -124,7 +126,7 @@ ArapLayout arap_layout(const TriangleSoup& mesh, const std::vector<std::array<do
         const double w = flat[t].weight[k];
         const double du = out.xy[tri[i]][0] - out.xy[tri[j]][0],
                      dv = out.xy[tri[i]][1] - out.xy[tri[j]][1];
-        const double dx = flat[t].x[i][0] - flat[t].x[j][0], dy = flat[t].x[i][1] - flat[t].x[j][1];
+        const auto [dx, dy] = flat[t].edge[k];
         s00 += w * du * dx, s01 += w * du * dy, s10 += w * dv * dx, s11 += w * dv * dy;
       }
       const double angle = std::atan2(s10 - s01, s00 + s11);
@@ -132,7 +134,7 @@ ArapLayout arap_layout(const TriangleSoup& mesh, const std::vector<std::array<do
       rotation[t] = {c, -s, s, c};
       for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3, j = (k + 2) % 3;
-        const double dx = flat[t].x[i][0] - flat[t].x[j][0], dy = flat[t].x[i][1] - flat[t].x[j][1];
+        const auto [dx, dy] = flat[t].edge[k];
         const double ru = c * dx - s * dy, rv = s * dx + c * dy;
         const double du = out.xy[tri[i]][0] - out.xy[tri[j]][0] - ru,
                      dv = out.xy[tri[i]][1] - out.xy[tri[j]][1] - rv;
@@ -149,7 +151,7 @@ ArapLayout arap_layout(const TriangleSoup& mesh, const std::vector<std::array<do
       for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3, j = (k + 2) % 3;
         const double w = flat[t].weight[k];
-        const double dx = flat[t].x[i][0] - flat[t].x[j][0], dy = flat[t].x[i][1] - flat[t].x[j][1];
+        const auto [dx, dy] = flat[t].edge[k];
         const double ru = R[0] * dx + R[1] * dy, rv = R[2] * dx + R[3] * dy;
         edge_row(tri[i], tri[j], [&](std::int64_t c, double v) {
           b(c, 0) += w * v * ru;
