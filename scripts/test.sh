@@ -30,5 +30,9 @@ browser
 # runs; elsewhere that test is skipped with a message.
 mpi=()
 command -v mpicxx > /dev/null && command -v mpirun > /dev/null && mpi=(-DTPMSFILL_MPI=ON)
-bash scripts/build.sh build "${mpi[@]}"
+# The Python module against Debian's interpreter, whose numpy and pytest setup.sh installs (a
+# pyenv or venv python3 earlier on PATH may have neither).
+python=(-DTPMSFILL_PYTHON=ON)
+[[ -x /usr/bin/python3 ]] && python+=(-DPython3_EXECUTABLE=/usr/bin/python3)
+bash scripts/build.sh build "${mpi[@]}" "${python[@]}"
 ctest --test-dir build --output-on-failure --parallel "$(nproc)"

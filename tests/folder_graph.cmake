@@ -34,7 +34,7 @@ foreach(line ${lines})
     endforeach()
   endif()
 endforeach()
-set(programs cli service)
+set(programs cli service python)
 
 # Where each public header belongs: include/tpmsfill/<folder>/X.hpp to its folder; a front-door
 # header include/tpmsfill/X.hpp to the folder of its source or of its `headers` line.
