@@ -17,6 +17,7 @@
 
 #include "tpmsfill/error.hpp"
 
+#include "core/names.hpp"
 #include "mesh/dirichlet.hpp"
 #include "surface/internal/arap.hpp"
 
@@ -394,6 +395,9 @@ std::vector<std::array<double, 2>> solve_mvc(const TriangleSoup& m,
   return uv;
 }
 
+constexpr detail::Named<LayoutMethod> kLayoutMethods[] = {
+    {LayoutMethod::Square, "square"}, {LayoutMethod::Free, "free"}, {LayoutMethod::Auto, "auto"}};
+
 // The free layout from the square's (in mm), its tube period turned onto x, normalised to its
 // bounding box and scaled so the area scale averages 1 (as the square's).
 SurfaceParameterization free_layout(
@@ -540,21 +544,11 @@ SurfaceParameterization parameterize_surface(const TriangleSoup& surface,
 }
 
 std::string_view layout_method_name(LayoutMethod method) {
-  switch (method) {
-    case LayoutMethod::Square:
-      return "square";
-    case LayoutMethod::Free:
-      return "free";
-    case LayoutMethod::Auto:
-      break;
-  }
-  return "auto";
+  return detail::name_of(kLayoutMethods, method);
 }
 
 LayoutMethod layout_method_from_name(std::string_view name) {
-  for (LayoutMethod m : {LayoutMethod::Square, LayoutMethod::Free, LayoutMethod::Auto})
-    if (name == layout_method_name(m)) return m;
-  throw InputError("unknown layout '" + std::string(name) + "' (use square, free or auto)");
+  return detail::from_name(kLayoutMethods, name, "layout");
 }
 
 }  // namespace tpmsfill
