@@ -14,7 +14,9 @@ packages=(
   libcpp-httplib-dev  # HTTP for `tpmsfill serve` (pulls libssl-dev, zlib1g-dev, libbrotli-dev)
   libzip-dev  # `tpmsfill serve`: a slice job's folder of layers sent as one zip
   # The Python module (issue 42): pybind11 against Debian's Python, tested by pytest with numpy.
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  libassimp-dev  # scenes as input: glTF/GLB, FBX, COLLADA, 3DS, ... (optional at build time)
+  libopenvdb-dev  # .vdb grids in and out (optional at build time)
   # Real meshes for the tests and the demo: CGAL's demo data (femur.off, elephant-with-holes.off,
   # ...) and assimp's odd STL/OBJ/PLY/OFF test files.
   libcgal-demo assimp-testmodels

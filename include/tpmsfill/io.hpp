@@ -1,12 +1,15 @@
 /// @file io.hpp
-/// @brief Stage "io": mesh files to triangle soups and back (STL, OBJ, PLY, OFF, 3MF).
+/// @brief Stage "io": mesh files to triangle soups and back (STL, OBJ, PLY, OFF, 3MF; scenes
+/// such as glTF, FBX and COLLADA read through assimp).
 ///
 /// Readers are our own, not CGAL's stock ones: they validate every declared count against the
 /// data size before allocating, reject non-finite coordinates and out-of-range indices with
 /// the line or byte offset, and triangulate polygons (ear clipping in the polygon's plane, a
 /// fan only where that fails). The format is decided by content first and extension second;
 /// gzip-compressed data and UTF-16 text (with a byte-order mark) are unwrapped transparently.
-/// 3MF goes through lib3mf, the 3MF Consortium's library, in both directions.
+/// 3MF goes through lib3mf, the 3MF Consortium's library, in both directions. Scenes (glTF,
+/// GLB, FBX, COLLADA, 3DS, ...) are read through assimp where the build has it (libassimp-dev),
+/// flattened into one soup; a scene's side files (a glTF's .bin) only from its own folder.
 ///
 /// Writers write a temporary file in the target folder and rename it over the target, so a
 /// failed write leaves nothing behind and never a half-written file. MeshWriter writes a mesh
@@ -35,10 +38,14 @@ enum class MeshFormat {
   /// 3MF (a zip package; read: every build item of type model, transforms and components
   /// applied, in mm; written: one object in millimetres, with metadata; see CoordinateRounding)
   ThreeMf,
+  /// A scene read through assimp (read only): glTF/GLB, FBX, COLLADA, 3DS and the rest assimp
+  /// reads, flattened (every placed mesh transformed), its up axis turned onto +z, in mm from
+  /// the unit the format states (glTF and COLLADA metres, FBX its stated unit; others as mm)
+  Scene,
 };
 
 /// Lower-case name used in reports and messages: "stl-binary", "stl-ascii", "obj", "ply", "off",
-/// "3mf".
+/// "3mf", "scene".
 std::string_view format_name(MeshFormat format);
 
 /// The format an extension names (case-insensitive), or Auto if it names none we know.

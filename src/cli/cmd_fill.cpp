@@ -64,6 +64,8 @@ double mesh_file_bytes(MeshFormat format, double triangles) {
       return 25 * triangles;
     case MeshFormat::ThreeMf:
       return 20 * triangles;  // deflated XML
+    case MeshFormat::Scene:  // never written
+      break;
   }
   return 50 * triangles;
 }

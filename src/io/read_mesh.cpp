@@ -167,23 +167,30 @@ MeshFormat detect(std::string_view data, const std::string& source) {
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   if (text.starts_with("ply\n") || text.starts_with("ply\r")) return MeshFormat::Ply;
   // A zip's local file header: the only zip mesh format is 3MF (lib3mf explains a wrong one).
-  if (data.starts_with("PK\x03\x04") && !is_exact_binary_stl(data)) return MeshFormat::ThreeMf;
+  // A zipped COLLADA (.zae) is a zip too; its name tells.
+  if (data.starts_with("PK\x03\x04") && !is_exact_binary_stl(data))
+    return is_scene_extension(source) ? MeshFormat::Scene : MeshFormat::ThreeMf;
   const std::string_view word = first_word(data);
   if (is_off_keyword(word)) return MeshFormat::Off;
   if (is_exact_binary_stl(data)) return MeshFormat::StlBinary;  // read_stl tells "solid" text
+  if (looks_like_scene(data)) return MeshFormat::Scene;
   if (const std::string_view kind = other_file_kind(data); !kind.empty())
     detail::fail_at_byte(source, 0,
                          "this is " + std::string(kind) +
-                             ", not a mesh (tpmsfill reads STL, OBJ, PLY, OFF and 3MF)");
+                             ", not a mesh (tpmsfill reads STL, OBJ, PLY, OFF, 3MF and the scenes "
+                             "assimp reads: glTF, FBX, COLLADA, 3DS, ...)");
   std::string lower(word);
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (lower == "solid") return MeshFormat::StlAscii;
   if (is_obj_keyword(word)) return MeshFormat::Obj;
   if (const MeshFormat hint = format_from_extension(source); hint != MeshFormat::Auto) return hint;
+  if (is_scene_extension(source)) return MeshFormat::Scene;  // 3DS and others without a magic
   // Binary data in no other format: the STL reader explains what is wrong with its count.
   if (data.size() >= 84 && has_control_bytes(data)) return MeshFormat::StlBinary;
-  fail_at_line(source, 1, "not a mesh file: no STL, OBJ, PLY, OFF or 3MF content recognised");
+  fail_at_line(source, 1,
+               "not a mesh file: no STL, OBJ, PLY, OFF, 3MF or scene (glTF, FBX, COLLADA, ...) "
+               "content recognised");
 }
 
 }  // namespace
@@ -204,6 +211,8 @@ std::string_view format_name(MeshFormat format) {
       return "off";
     case MeshFormat::ThreeMf:
       return "3mf";
+    case MeshFormat::Scene:
+      return "scene";
   }
   return "auto";
 }
@@ -232,8 +241,12 @@ MeshFormat format_from_extension(const std::filesystem::path& path) {
   return MeshFormat::Auto;
 }
 
-MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
-                    const ReadOptions& options) {
+namespace {
+
+// parse_mesh(), and the file the bytes came from (null for bytes from memory), which a scene
+// reads by name along with the files it names beside it.
+MeshFile parse(std::string_view bytes, const std::string& source_name, const ReadOptions& options,
+               const std::filesystem::path* file) {
   if (bytes.size() > options.max_bytes)
     throw InputError(source_name + " is larger than the limit of " +
                      std::to_string(options.max_bytes) + " bytes");
@@ -276,13 +289,24 @@ MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
     case MeshFormat::ThreeMf:
       read_3mf(data, source_name, mesh);
       break;
+    case MeshFormat::Scene:
+      read_scene(data, source_name, data.data() == bytes.data() ? file : nullptr, options.max_bytes,
+                 mesh);
+      break;
   }
   if (mesh.soup.triangles.empty()) throw InputError(source_name + " contains no triangles");
   return mesh;
 }
 
+}  // namespace
+
+MeshFile parse_mesh(std::string_view bytes, const std::string& source_name,
+                    const ReadOptions& options) {
+  return parse(bytes, source_name, options, nullptr);
+}
+
 MeshFile read_mesh_file(const std::filesystem::path& path, const ReadOptions& options) {
-  return parse_mesh(detail::read_file_bytes(path, options.max_bytes), path.string(), options);
+  return parse(detail::read_file_bytes(path, options.max_bytes), path.string(), options, &path);
 }
 
 TriangleSoup read_mesh(const std::filesystem::path& path, const ReadOptions& options) {

@@ -124,6 +124,7 @@ std::string format_header(MeshFormat format, std::uint64_t points, std::uint64_t
       out += "\nproperty list uchar uint vertex_indices\nend_header\n";
       break;
     case MeshFormat::ThreeMf:
+    case MeshFormat::Scene:  // refused by writable_format
       break;  // lib3mf writes the whole package at commit
   }
   return out;
@@ -135,6 +136,7 @@ void append_points(MeshFormat format, std::string& out, std::span<const Vec3> po
     case MeshFormat::StlBinary:
     case MeshFormat::StlAscii:
     case MeshFormat::ThreeMf:
+    case MeshFormat::Scene:
       break;  // STL stores the coordinates with each facet; 3MF's are held (State)
     case MeshFormat::Obj:
       for (const Vec3& p : points) {
@@ -231,6 +233,7 @@ void append_triangles(MeshFormat format, std::string& out, std::span<const Trian
       }
       break;
     case MeshFormat::ThreeMf:
+    case MeshFormat::Scene:  // refused by writable_format
       break;  // held (State)
   }
 }
@@ -250,6 +253,9 @@ MeshFormat writable_format(const std::filesystem::path& path, const WriteOptions
   MeshFormat format = options.format;
   if (format == MeshFormat::Auto) format = format_from_extension(path);
   if (format == MeshFormat::Auto) throw InputError("cannot write " + unknown_mesh_extension(path));
+  if (format == MeshFormat::Scene)
+    throw InputError("cannot write " + path.string() +
+                     ": scenes are read only (write .stl, .obj, .ply, .off or .3mf)");
   if ((format == MeshFormat::StlBinary && !detail::fits_32bit_ids(triangles)) ||
       (format == MeshFormat::Ply && !detail::fits_32bit_ids(points)) ||
       (format == MeshFormat::ThreeMf &&

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "io/file_bytes.hpp"
+#include "io/formats.hpp"
 #include "service/connection_gate.hpp"
 
 #include "service/archive.hpp"
@@ -70,10 +71,12 @@ std::string read_text(const fs::path& path) {
 }
 
 // The extension an upload is kept under, lower case, or "" when the kind's command cannot read
-// a file of that name: a mesh's (the readers' own format_from_extension decides) or, for the
+// a file of that name: a mesh's (the readers' own format_from_extension decides), a scene's
+// (one file: what it names beside itself is only looked for in its job's folder), or, for the
 // kinds that take one, a fitted model's.
 std::string input_extension(JobKind kind, const std::string& name) {
   if (takes_model(kind)) return detail::lower_extension(fs::path(name)) == ".tsm" ? ".tsm" : "";
+  if (io::is_scene_extension(name)) return detail::lower_extension(fs::path(name));
   if (format_from_extension(name) == MeshFormat::Auto) return "";
   const bool gzip = is_gzip_name(name);
   return detail::lower_extension(gzip ? fs::path(name).stem() : fs::path(name)) +
@@ -438,7 +441,8 @@ bool read_upload(const httplib::ContentReader& reader, const fs::path& uploads,
                 std::string(takes_model(kind) ? "mesh: send a fitted model, a .tsm file from "
                                                 "material-fit"
                                               : "mesh: the file name must end in .stl, .obj, .ply, "
-                                                ".off (each also .gz) or .3mf") +
+                                                ".off (each also .gz), .3mf, or a one-file "
+                                                "scene's (.glb, .gltf, .fbx, .dae, .3ds, ...)") +
                 " (it was '" + header.filename + "')";
             return false;
           }

@@ -40,6 +40,32 @@ TEST(Cli, ValidMeshExitsZero) {
   EXPECT_NE(out.find("6000"), std::string::npos) << "volume missing:\n" << out;
 }
 
+// Scenes through assimp: COLLADA checked, a GLB filled and the lattice checked valid.
+TEST(Cli, ChecksTheColladaDuckAndFillsAGlb) {
+  const std::filesystem::path models(TPMSFILL_ASSIMP_MODELS);
+  if (!std::filesystem::is_directory(models)) GTEST_SKIP() << "assimp-testmodels missing";
+  std::string out;
+  const int status = check(models / "Collada/duck.dae", "--no-self-intersections", &out);
+  if (out.find("lacks") != std::string::npos) GTEST_SKIP() << "built without assimp";
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_NE(out.find(": scene, 4212 triangles"), std::string::npos) << out;
+  EXPECT_NE(out.find("verdict: VALID"), std::string::npos) << out;
+
+  const auto lattice = test::scratch_dir() / "cesium-box-gyroid.stl";
+  std::filesystem::remove(lattice);
+  ASSERT_EQ(
+      test::run_command(cli() + " fill --quiet --cell 250 --voxel 20 '" +
+                            (models / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                            "' '" + lattice.string() + "'",
+                        &out),
+      0)
+      << out;
+  EXPECT_EQ(check(lattice, "", &out), 0) << out;
+  const Box3 box = bounding_box(read_mesh(lattice));  // the 1 m cube, in mm, up to a voxel
+  EXPECT_NEAR(box.min.z, -500, 20);
+  EXPECT_NEAR(box.max.z, 500, 20);
+}
+
 TEST(Cli, OpenMeshExitsOneAndSaysWhere) {
   auto dir = test::scratch_dir();
   write_mesh(dir / "open.obj", test::make_box_with_hole({0, 0, 0}, {1, 1, 1}));

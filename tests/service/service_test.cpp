@@ -193,6 +193,30 @@ TEST(Service, CheckRepairAndFillJobsAnswerWithTheirReportsAndFiles) {
   EXPECT_GT(service.wait(filled)["report"]["output"]["triangles"].get<double>(), 1000);
 }
 
+// A scene is one upload: a GLB checks like any mesh; a glTF naming a file outside its job's folder
+// (the service's token) is refused, and the token is not read into a mesh.
+TEST(Service, AOneFileSceneIsAMeshAndReachesNothingOutsideItsJob) {
+  const fs::path glb =
+      fs::path(TPMSFILL_ASSIMP_MODELS) / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+  if (!fs::exists(glb)) GTEST_SKIP() << "assimp-testmodels missing";
+  const fs::path dir = test::scratch_dir();
+  Service service(dir / "data", {"--jobs", "2"});
+  const std::string box = id_of(service.submit("check", test::read_file(glb), "", "box.glb"));
+  Json j = service.wait(box);
+  if (j.dump().find("lacks") != std::string::npos) GTEST_SKIP() << "built without assimp";
+  ASSERT_EQ(j["state"], "done") << j.dump();
+  EXPECT_EQ(j["report"]["valid"], true) << j.dump();
+  EXPECT_NEAR(j["report"]["volume"].get<double>(), 1e9, 1);
+  std::string gltf = test::read_file(glb.parent_path().parent_path() /
+                                     "BoxTextured-glTF/BoxTextured.gltf");
+  const std::string uri = "\"BoxTextured0.bin\"";
+  ASSERT_NE(gltf.find(uri), std::string::npos);
+  gltf.replace(gltf.find(uri), uri.size(), "\"../../token.txt\"");
+  j = service.wait(id_of(service.submit("check", gltf, "", "box.gltf")));
+  EXPECT_EQ(j["state"], "failed") << j.dump();
+  EXPECT_NE(j.dump().find("outside the scene's folder"), std::string::npos) << j.dump();
+}
+
 TEST(Service, BadRequestsAreRefusedWithTheSentence) {
   const fs::path dir = test::scratch_dir();
   Service service(dir / "data");
