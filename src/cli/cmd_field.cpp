@@ -168,7 +168,7 @@ int run_fit(const FieldArgs& a) {
   const ScalarVolume& v = in.volume;
   std::array<int, 3> counts{};
   for (int ax = 0; ax < 3; ++ax)
-    counts[ax] = a.coefficients.empty()       ? std::max(a.degree + 1, (v.dims[ax] + 1) / 2)
+    counts[ax] = a.coefficients.empty()       ? 0
                  : a.coefficients.size() == 1 ? a.coefficients[0]
                                               : a.coefficients[ax];
   FitOptions fo;
@@ -176,19 +176,10 @@ int run_fit(const FieldArgs& a) {
   fo.degree = a.degree;
   fo.smoothing = a.smoothing;
   fo.max_iterations = a.max_iterations;
-  const auto t_fit = std::chrono::steady_clock::now();
-  FitResult fit = fit_bspline(v.values, v.dims, counts, fo);
-  const double fit_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_fit).count();
-
-  ItdfFile file;
+  ItdfFile file = fit_field(v, counts, fo);
+  for (int ax = 0; ax < 3; ++ax) counts[ax] = file.structure.field.counts[ax];
   PorousStructure& s = file.structure;
-  s.field = std::move(fit.volume);
-  s.sign = a.sign ? field_sign_from_name(*a.sign) : v.sign;
-  if (v.has_physical_size())
-    for (int ax = 0; ax < 3; ++ax) s.size[ax] = v.spacing[ax] * v.dims[ax];
-  // Default structure: the solid the signed field describes (C <= 0); other fields must say.
-  s.t2 = {0};
+  if (a.sign) s.sign = field_sign_from_name(*a.sign);
   const StructureArgs& st = a.structure;
   if (st.solid.empty() && !st.surface && s.sign != FieldSign::Signed)
     throw InputError("an " + std::string(field_sign_name(s.sign)) +
@@ -202,16 +193,10 @@ int run_fit(const FieldArgs& a) {
   const std::vector<double> c = evaluate_bspline_grid(s.field, v.dims);
   std::size_t flips = 0;
   for (std::size_t n = 0; n < c.size(); ++n) flips += (c[n] >= iso) != (v.values[n] >= iso);
-  file.fit = FitRecord{.lspia = fo.method == FitMethod::Lspia,
-                       .source_dims = v.dims,
-                       .iterations = fit.report.iterations,
-                       .rms = fit.report.rms,
-                       .max_error = fit.report.max_error,
-                       .value_min = *lo,
-                       .value_max = *hi,
-                       .iso = iso,
-                       .flipped = double(flips) / double(c.size()),
-                       .seconds = fit_seconds};
+  file.fit->iso = iso;
+  file.fit->flipped = double(flips) / double(c.size());
+  const FitRecord& fit = *file.fit;
+  const double fit_seconds = fit.seconds;
   file.encoding[0].type =
       tpmsfill::detail::from_name(kCoefficientTypes, a.coefficient_type, "coefficient type");
   file.provenance = "tpmsfill " TPMSFILL_VERSION " field fit of " + a.input + " (sha256 " +
@@ -228,10 +213,10 @@ int run_fit(const FieldArgs& a) {
     std::printf("spline       %d x %d x %d coefficients, degree %d (%s, %.3g s%s)\n", counts[0],
                 counts[1], counts[2], a.degree, a.method.c_str(), fit_seconds,
                 fo.method == FitMethod::Lspia
-                    ? (", " + std::to_string(fit.report.iterations) + " iterations").c_str()
+                    ? (", " + std::to_string(fit.iterations) + " iterations").c_str()
                     : "");
-    std::printf("error        RMS %.4g (%.2f %% of the range %.4g), max %.4g\n", fit.report.rms,
-                100 * fit.report.rms / range, *hi - *lo, fit.report.max_error);
+    std::printf("error        RMS %.4g (%.2f %% of the range %.4g), max %.4g\n", fit.rms,
+                100 * fit.rms / range, *hi - *lo, fit.max_error);
     std::printf("iso %-8.4g %.3f %% of the cells changed side (%zu)\n", iso,
                 100 * file.fit->flipped, flips);
     std::printf("structure    %s\n", structure_label(s).c_str());
@@ -240,11 +225,11 @@ int run_fit(const FieldArgs& a) {
     std::printf("time         %.2f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  if (fit.report.rms > 0.05 * (*hi - *lo))
+  if (fit.rms > 0.05 * (*hi - *lo))
     std::fprintf(stderr,
                  "tpmsfill: warning: the fit's RMS error is %.1f %% of the value range: the "
                  "structure will not follow the scan closely; use more --coefficients\n",
-                 100 * fit.report.rms / (*hi - *lo));
+                 100 * fit.rms / (*hi - *lo));
   return kOk;
 }
 
@@ -367,7 +352,7 @@ int run_mesh(const FieldArgs& a) {
     throw InputError(unknown_mesh_extension(a.output));
   if (!a.voxel) throw InputError("field mesh needs --voxel (the grid spacing, mm)");
   require_writable_outputs({a.input}, {{"OUT", a.output}});
-  const ItdfFile file = read_itdf(a.input);
+  const ItdfFile file = read_structure(a.input);
   PorousStructure s = file.structure;
   apply_structure(a.structure, s);
   if (!(s.size[0] > 0))
@@ -571,8 +556,13 @@ Command add_field_command(CLI::App& app) {
   CLI::App* info = field->add_subcommand("info", "Describe an ITDF file or a field file");
   info->add_option("FILE", a->input, "ITDF or field file")->required()->check(existing_file());
 
-  CLI::App* mesh = field->add_subcommand("mesh", "Mesh an ITDF structure over its box (or --size)");
-  mesh->add_option("IN", a->input, "ITDF file")->required()->check(existing_file());
+  CLI::App* mesh = field->add_subcommand(
+      "mesh", "Mesh an ITDF structure (or a signed field) over its box (or --size)");
+  mesh->add_option("IN", a->input,
+                   "ITDF file, or a signed field file (.vdb level set, .nrrd, .tdfb, ...) fitted "
+                   "on reading as field fit would")
+      ->required()
+      ->check(existing_file());
   mesh->add_option("OUT", a->output, "Output mesh (.stl, .obj, .ply, .off, .3mf)")->required();
   mesh->add_option("--voxel", a->voxel, "Grid spacing, mm")->required()->check(positive());
   add_structure_flags(mesh, a->structure);

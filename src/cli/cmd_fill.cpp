@@ -16,6 +16,7 @@
 #include <tpmsfill/error.hpp>
 #include <tpmsfill/fill.hpp>
 #include <tpmsfill/io.hpp>
+#include <tpmsfill/io/volume.hpp>
 #include <tpmsfill/recipe.hpp>
 #include <tpmsfill/render.hpp>
 #include <tpmsfill/scan/itdf.hpp>
@@ -37,7 +38,7 @@ namespace tpmsfill::cli {
 namespace {
 
 struct FillArgs {
-  std::string input, output, report, preview;
+  std::string input, output, report, preview, field_out;
   JobArgs job;
   bool measure = false, full_field = false, keep_islands = false, no_self_intersections = false;
   std::optional<std::string> validate;
@@ -64,7 +65,7 @@ double mesh_file_bytes(MeshFormat format, double triangles) {
       return 25 * triangles;
     case MeshFormat::ThreeMf:
       return 20 * triangles;  // deflated XML
-    case MeshFormat::Scene:  // never written
+    case MeshFormat::Scene:   // never written
       break;
   }
   return 50 * triangles;
@@ -95,18 +96,22 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// --preview: the lattice cut open at the middle of its box (the half nearer the camera taken
-// away), seen from the default three-quarter view. A mesh streamed to disk is read back.
-void write_preview(const FillArgs& args, const FillResult& result,
-                   const std::filesystem::path& mesh_path, const std::filesystem::path& to) {
-  TriangleSoup read_back;
-  if (result.mesh.triangles.empty()) {
+// The lattice as written: the result's own, or read back where it was streamed to disk.
+const TriangleSoup& written_mesh(const FillArgs& args, const FillResult& result,
+                                 const std::filesystem::path& mesh_path, TriangleSoup& read_back) {
+  if (!result.mesh.triangles.empty()) return result.mesh;
+  if (read_back.triangles.empty()) {
     ReadOptions read;
     read.format = format_from_extension(args.output);
     read.max_bytes = std::numeric_limits<std::uint64_t>::max();  // it is our own output
     read_back = read_mesh_file(mesh_path, read).soup;
   }
-  const TriangleSoup& mesh = result.mesh.triangles.empty() ? read_back : result.mesh;
+  return read_back;
+}
+
+// --preview: the lattice cut open at the middle of its box (the half nearer the camera taken
+// away), seen from the default three-quarter view.
+void write_preview(const TriangleSoup& mesh, const std::filesystem::path& to) {
   RenderOptions options;
   options.clip.axis = 1;
   options.clip.position = bounding_box(mesh).centre().y;
@@ -167,6 +172,16 @@ int run_fill(FillArgs args) {
     require_png_name("--preview", args.preview);
     outputs.push_back({"--preview", args.preview});
   }
+  if (!args.field_out.empty()) {
+    if (volume_format_from_extension(args.field_out) != VolumeFormat::Vdb)
+      throw InputError("--field-out " + args.field_out +
+                       ": the field is written as an OpenVDB level set, named .vdb");
+    if (!vdb_available())
+      throw InputError(
+          "--field-out: this build of tpmsfill has no OpenVDB (install "
+          "libopenvdb-dev and build again)");
+    outputs.push_back({"--field-out", args.field_out});
+  }
   std::vector<std::filesystem::path> inputs{args.input};
   for (const std::string& f : {args.job.field, args.job.recipe})
     if (!f.empty()) inputs.emplace_back(f);
@@ -221,7 +236,12 @@ int run_fill(FillArgs args) {
     json = j.dump(2) + "\n";
   }
   if (!args.report.empty()) write_file_atomically(staged.stage(args.report), json);
-  if (!args.preview.empty()) write_preview(args, result, mesh_path, staged.stage(args.preview));
+  TriangleSoup read_back;
+  if (!args.preview.empty())
+    write_preview(written_mesh(args, result, mesh_path, read_back), staged.stage(args.preview));
+  if (!args.field_out.empty())
+    write_level_set(staged.stage(args.field_out), written_mesh(args, result, mesh_path, read_back),
+                    {.voxel = result.resolved.grid.voxel_size, .half_width = 3});
   staged.commit();
 
   if (!args.quiet) {
@@ -229,6 +249,7 @@ int run_fill(FillArgs args) {
     if (decimation) std::printf("decimated\n%s", to_text(decimation->report).c_str());
     if (!args.report.empty()) std::printf("report       %s\n", args.report.c_str());
     if (!args.preview.empty()) std::printf("preview      %s\n", args.preview.c_str());
+    if (!args.field_out.empty()) std::printf("field        %s\n", args.field_out.c_str());
   }
   print_warnings(report.warnings);
   return kOk;
@@ -308,6 +329,10 @@ Command add_fill_command(CLI::App& app) {
   sub->add_option("--preview", args->preview,
                   "Also write a picture of the lattice here (PNG, 640 pixels): cut open at the "
                   "middle of its box, seen from the three-quarter view of `tpmsfill render`");
+  sub->add_option("--field-out", args->field_out,
+                  "Also write the lattice as an OpenVDB narrow-band level set here (.vdb): the "
+                  "exact distance to the surface written (negative inside) within 3 voxels of "
+                  "it, at the fill's voxel; for Houdini, Blender and OpenVDB's tools");
   add_threads_option(sub, args->threads);
   add_yes_flag(sub, args->yes);
   sub->add_flag("--quiet", args->quiet, "Print nothing but errors and warnings");

@@ -54,7 +54,7 @@ void apply_field(JobArgs& args, FillOptions& options) {
       throw InputError(std::string(flag) + " describes a TPMS; --field " + args.field +
                        " replaces it (its thresholds: tpmsfill field mesh --solid/--surface)");
   LatticeDesign& d = options.design;
-  d.structure = read_itdf(args.field).structure;
+  d.structure = read_structure(args.field).structure;
   d.structure_file = args.field;
   if (std::vector<double>& cell = args.tpms.cell; !cell.empty()) {
     d.structure->size = cell.size() == 1 ? std::array<double, 3>{cell[0], cell[0], cell[0]}
@@ -123,7 +123,8 @@ void add_job_options(CLI::App* sub, JobArgs& args) {
                   "explicit ramps; docs/recipes.md); flags given as well override it")
       ->check(existing_file());
   sub->add_option("--field", args.field,
-                  "A porous structure (ITDF, from `tpmsfill field fit`) in place of the TPMS: "
+                  "A porous structure (ITDF, from `tpmsfill field fit`, or a signed field such as "
+                  "an OpenVDB level set, fitted on reading) in place of the TPMS: "
                   "stretched over the model's box, or tiled with --cell as its cell; --porosity "
                   "shifts its thresholds")
       ->check(existing_file());

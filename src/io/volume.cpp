@@ -21,6 +21,7 @@
 #include "io/file_bytes.hpp"
 #include "io/inflate.hpp"
 #include "io/parse_errors.hpp"
+#include "io/vdb.hpp"
 #include "tpmsfill/error.hpp"
 #include "tpmsfill/io.hpp"
 
@@ -802,6 +803,7 @@ VolumeFile parse_inr(std::string_view data, const std::string& source) {
 
 VolumeFormat detect(std::string_view data, const std::string& source) {
   if (data.starts_with(kBinaryMagic)) return VolumeFormat::FieldBinary;
+  if (io::looks_like_vdb(data)) return VolumeFormat::Vdb;
   if (data.starts_with("NRRD000")) return VolumeFormat::Nrrd;
   if (data.starts_with("#INRIMAGE")) return VolumeFormat::Inr;
   const std::string head(data.substr(0, 4096));
@@ -863,10 +865,13 @@ VolumeFile parse_any(std::string_view bytes, const std::string& source, const Vo
     case VolumeFormat::Inr:
       f = parse_inr(bytes, source);
       break;
+    case VolumeFormat::Vdb:
+      f = io::parse_vdb(bytes, source, o.max_bytes);
+      break;
     case VolumeFormat::Auto:
       throw InputError(source +
                        ": not a field file tpmsfill reads (the seed's text or binary form, "
-                       "NRRD, MetaImage or INR)");
+                       "NRRD, MetaImage, INR or OpenVDB)");
   }
   f.compressed = f.compressed || gz;
   for (double s : f.volume.spacing)
@@ -886,7 +891,8 @@ constexpr detail::Named<VolumeFormat> kFormats[] = {{VolumeFormat::Auto, "auto"}
                                                     {VolumeFormat::FieldBinary, "field-binary"},
                                                     {VolumeFormat::Nrrd, "nrrd"},
                                                     {VolumeFormat::MetaImage, "metaimage"},
-                                                    {VolumeFormat::Inr, "inr"}};
+                                                    {VolumeFormat::Inr, "inr"},
+                                                    {VolumeFormat::Vdb, "vdb"}};
 constexpr detail::Named<FieldSign> kSigns[] = {{FieldSign::Unknown, "unknown"},
                                                {FieldSign::Signed, "signed"},
                                                {FieldSign::Unsigned, "unsigned"}};
@@ -918,6 +924,7 @@ VolumeFormat volume_format_from_extension(const std::filesystem::path& path) {
   if (ext == ".nrrd" || ext == ".nhdr") return VolumeFormat::Nrrd;
   if (ext == ".mha" || ext == ".mhd") return VolumeFormat::MetaImage;
   if (ext == ".inr") return VolumeFormat::Inr;
+  if (ext == ".vdb") return VolumeFormat::Vdb;
   return VolumeFormat::Auto;
 }
 
@@ -1012,9 +1019,11 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& v, Volu
       out += "\n";
     }
     out += values;
+  } else if (format == VolumeFormat::Vdb) {
+    out = io::vdb_bytes(v);
   } else {
     throw InputError(path.string() +
-                     ": fields are written as .tdf (text), .tdfb (binary) or .nrrd");
+                     ": fields are written as .tdf (text), .tdfb (binary), .nrrd or .vdb");
   }
   write_file_atomically(path, out);
 }

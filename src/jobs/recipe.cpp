@@ -341,7 +341,7 @@ FillOptions read_recipe(std::string_view text, const std::string& source,
   if (r.get("field")) {
     r.text("field", o.design.structure_file);
     const std::filesystem::path file = beside_recipe(o.design.structure_file);
-    o.design.structure = read_itdf(file).structure;
+    o.design.structure = read_structure(file).structure;
     o.design.structure_file = file.string();
   }
   if (const json* v = r.get("lattice")) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -280,6 +281,51 @@ ItdfFile parse_itdf(std::string_view bytes, const std::string& source) {
 
 ItdfFile read_itdf(const std::filesystem::path& path) {
   return parse_itdf(detail::read_file_bytes(path, std::uint64_t{1} << 32), path.string());
+}
+
+ItdfFile fit_field(const ScalarVolume& v, std::array<int, 3> counts, const FitOptions& options) {
+  require_valid(v);
+  for (int ax = 0; ax < 3; ++ax)
+    if (counts[ax] == 0) counts[ax] = std::max(options.degree + 1, (v.dims[ax] + 1) / 2);
+  const auto t0 = std::chrono::steady_clock::now();
+  FitResult fit = fit_bspline(v.values, v.dims, counts, options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ItdfFile file;
+  PorousStructure& s = file.structure;
+  s.field = std::move(fit.volume);
+  s.sign = v.sign;
+  if (v.has_physical_size())
+    for (int ax = 0; ax < 3; ++ax) s.size[ax] = v.spacing[ax] * v.dims[ax];
+  s.t2 = {0};
+  const auto [lo, hi] = std::minmax_element(v.values.begin(), v.values.end());
+  const std::vector<double> c = evaluate_bspline_grid(s.field, v.dims);
+  std::size_t flips = 0;
+  for (std::size_t n = 0; n < c.size(); ++n) flips += (c[n] >= 0) != (v.values[n] >= 0);
+  file.fit = FitRecord{.lspia = options.method == FitMethod::Lspia,
+                       .source_dims = v.dims,
+                       .iterations = fit.report.iterations,
+                       .rms = fit.report.rms,
+                       .max_error = fit.report.max_error,
+                       .value_min = *lo,
+                       .value_max = *hi,
+                       .iso = 0,
+                       .flipped = double(flips) / double(c.size()),
+                       .seconds = seconds};
+  return file;
+}
+
+ItdfFile read_structure(const std::filesystem::path& path) {
+  if (detail::lower_extension(path) == ".itdf") return read_itdf(path);
+  const VolumeFile field = read_volume_file(path);
+  if (field.volume.sign != FieldSign::Signed)
+    throw InputError(path.string() + " holds an " +
+                     std::string(field_sign_name(field.volume.sign)) +
+                     " field: fit it with its structure first (tpmsfill field fit " +
+                     path.string() + " OUT.itdf --solid T1 T2, or --surface T0)");
+  ItdfFile file = fit_field(field.volume, {0, 0, 0}, {});
+  file.provenance = "fitted on reading " + path.string();
+  return file;
 }
 
 }  // namespace tpmsfill

@@ -122,6 +122,42 @@ TEST(FieldCli, FitInfoMeshAndFill) {
   EXPECT_NE(out.find("--lattice describes a TPMS"), std::string::npos) << out;
 }
 
+// OpenVDB both ways through the program: fill writes its lattice as a level set (--field-out),
+// which field info reads as signed, field mesh meshes and fill --field fills with (fitted on
+// reading), each output a valid mesh; a wrong name is refused before any work.
+TEST(FieldCli, AVdbFromFillFeedsFieldMeshAndFill) {
+  if (!vdb_available()) GTEST_SKIP() << "built without OpenVDB";
+  const auto dir = test::scratch_dir();
+  write_mesh(dir / "box.stl", test::make_box({0, 0, 0}, {12, 12, 12}));
+  std::string out;
+  const std::string box = (dir / "box.stl").string(), phi = (dir / "phi.vdb").string();
+  ASSERT_EQ(run("fill --quiet " + box + " " + (dir / "g.stl").string() +
+                    " --cell 6 --voxel 0.3 --field-out " + phi,
+                &out),
+            0)
+      << out;
+  ASSERT_EQ(run("field info " + phi, &out), 0) << out;
+  EXPECT_NE(out.find("signed"), std::string::npos) << out;
+  ASSERT_EQ(
+      run("field mesh --quiet " + phi + " " + (dir / "m.ply").string() + " --voxel 0.3", &out), 0)
+      << out;
+  EXPECT_TRUE(validate_mesh(read_mesh(dir / "m.ply")).valid());
+  ASSERT_EQ(run("fill --quiet " + box + " " + (dir / "f.ply").string() + " --field " + phi +
+                    " --voxel 0.3",
+                &out),
+            0)
+      << out;
+  EXPECT_TRUE(validate_mesh(read_mesh(dir / "f.ply")).valid());
+
+  std::filesystem::remove(dir / "x.stl");
+  EXPECT_EQ(run("fill " + box + " " + (dir / "x.stl").string() +
+                    " --cell 6 --voxel 0.3 --field-out " + (dir / "phi.nrrd").string(),
+                &out),
+            2);
+  EXPECT_NE(out.find("named .vdb"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.stl"));
+}
+
 TEST(FieldCli, BadInputsSayWhatAndWhere) {
   const auto dir = test::scratch_dir();
   test::write_file(dir / "bad.tdf", "4 4 4\n1 2 3\n");

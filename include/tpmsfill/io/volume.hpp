@@ -57,9 +57,12 @@ enum class VolumeFormat {
   Nrrd,         ///< NRRD, attached or detached data, raw or gzip (.nrrd, .nhdr)
   MetaImage,    ///< MetaImage, local or separate data, raw or zlib (.mha, .mhd)
   Inr,          ///< CGAL / INRIA image (.inr, .inr.gz)
+  /// OpenVDB (.vdb) through OpenVDB itself, where the build has it (libopenvdb-dev): the first
+  /// float grid, dense over its active voxels; written as one float grid, a level set when signed
+  Vdb,
 };
 
-/// "field-text", "field-binary", "nrrd", "metaimage", "inr".
+/// "field-text", "field-binary", "nrrd", "metaimage", "inr", "vdb".
 std::string_view volume_format_name(VolumeFormat format);
 /// The format an extension names (case-insensitive; ".inr.gz" counts as ".inr"), or Auto.
 VolumeFormat volume_format_from_extension(const std::filesystem::path& path);
@@ -95,7 +98,8 @@ VolumeFile parse_volume(std::string_view bytes, const std::string& source_name,
                         const VolumeReadOptions& options = {});
 
 /// Writes atomically (write_file_atomically). FieldText, FieldBinary (float32 unless a value
-/// would lose more than float rounding... always float64 when `exact`), Nrrd (raw, attached).
+/// would lose more than float rounding... always float64 when `exact`), Nrrd (raw, attached),
+/// Vdb (float32, every cell an active voxel; needs a physical size).
 /// @throws InputError  Auto with an extension that names no writable format, an invalid
 ///                     volume (count mismatch, a dimension < 1, a value not finite)
 /// @throws IoError     the folder is not writable, the disk is full, ...
@@ -105,6 +109,24 @@ void write_volume(const std::filesystem::path& path, const ScalarVolume& volume,
 /// @throws InputError  a dimension < 1, values.size() != count(), a value not finite, a
 ///                     negative or non-finite spacing, spacing partly zero
 void require_valid(const ScalarVolume& volume);
+
+/// Whether this build reads and writes .vdb (OpenVDB was found when it was built).
+bool vdb_available();
+
+struct LevelSetOptions {
+  double voxel = 0;       ///< voxel size, mm (> 0)
+  double half_width = 3;  ///< the band's half-width, voxels (OpenVDB's default 3; ≥ 1)
+};
+
+/// Writes the narrow-band level set of a closed mesh as a .vdb that OpenVDB's tools open: one
+/// float grid "surface" of class level set, the exact distance to the mesh (negative inside) at
+/// voxels within the band, ±half-width outside it; voxel centres on multiples of the voxel
+/// (OpenVDB's meshToLevelSet). Atomic, like every writer.
+/// @throws InputError  no OpenVDB in this build, a voxel or half-width out of range, an empty
+///                     mesh, or a band of more than 2^31 voxels per axis
+/// @throws IoError     the folder is not writable, the disk is full, ...
+void write_level_set(const std::filesystem::path& path, const TriangleSoup& mesh,
+                     const LevelSetOptions& options);
 
 /// The value at p (mm), interpolated trilinearly between the cell centres; a point beyond the
 /// outermost centres takes the nearest border value (constant extrapolation), and `outside`,

@@ -18,6 +18,8 @@
 #include <string>
 #include <string_view>
 
+#include "tpmsfill/io/volume.hpp"
+#include "tpmsfill/scan/bspline.hpp"
 #include "tpmsfill/scan/porous.hpp"
 
 namespace tpmsfill {
@@ -72,5 +74,19 @@ ItdfFile read_itdf(const std::filesystem::path& path);
 
 /// Whether these bytes start like an ITDF file (its magic).
 bool looks_like_itdf(std::string_view bytes);
+
+/// Fits a field as `tpmsfill field fit` does: a B-spline C of `counts` coefficients per axis
+/// (a 0 takes half the field's cells on that axis, at least degree + 1), the structure C ≤ 0
+/// (the solid of a signed field; the caller sets another for other fields), the field's sign
+/// and physical size, and the fit's record (iso 0).
+/// @throws InputError  as fit_bspline (counts over the cells, a degree out of range, ...)
+ItdfFile fit_field(const ScalarVolume& field, std::array<int, 3> counts, const FitOptions& options);
+
+/// The porous structure a file holds: an ITDF's as stored, or a field file's (any
+/// read_volume_file reads: .tdf, .tdfb, .nrrd, .mha, .inr, .vdb) fitted by fit_field with its
+/// defaults. What `fill --field` and `field mesh` take.
+/// @throws InputError  a field that is not signed (it needs `field fit` with --solid or
+///                     --surface), or as read_itdf, read_volume_file and fit_field
+ItdfFile read_structure(const std::filesystem::path& path);
 
 }  // namespace tpmsfill
