@@ -35,4 +35,12 @@ command -v mpicxx > /dev/null && command -v mpirun > /dev/null && mpi=(-DTPMSFIL
 python=(-DTPMSFILL_PYTHON=ON)
 [[ -x /usr/bin/python3 ]] && python+=(-DPython3_EXECUTABLE=/usr/bin/python3)
 bash scripts/build.sh build "${mpi[@]}" "${python[@]}"
+# `import tpmsfill` from anywhere: a .pth in the interpreter's user site naming build/python
+# (the user's own folder, nothing system-wide; removed by deleting the file it prints).
+py=/usr/bin/python3
+[[ -x $py ]] || py=python3
+if site=$("$py" -m site --user-site 2> /dev/null) && mkdir -p "$site" 2> /dev/null &&
+  echo "$PWD/build/python" > "$site/tpmsfill-build.pth"; then
+  echo "test: $py imports tpmsfill from $PWD/build/python ($site/tpmsfill-build.pth)"
+fi
 ctest --test-dir build --output-on-failure --parallel "$(nproc)"

@@ -25,3 +25,20 @@ def torus(R, r, n, m):
             f += [[idx(a, b), idx(a + 1, b), idx(a + 1, b + 1)],
                   [idx(a, b), idx(a + 1, b + 1), idx(a, b + 1)]]
     return v, np.array(f)
+
+
+def dome(radius, height, rings, segments):
+    """An open spherical cap over a disk of `radius` rising `height` at its centre, normals up."""
+    pts = [[0.0, 0.0, height]]
+    for a in range(1, rings + 1):
+        r = radius * a / rings
+        for b in range(segments):
+            t = 2 * math.pi * b / segments
+            pts.append([r * math.cos(t), r * math.sin(t), height * (1 - (r / radius) ** 2)])
+    f = [[0, 1 + b, 1 + (b + 1) % segments] for b in range(segments)]
+    for a in range(1, rings):
+        inner, outer = 1 + (a - 1) * segments, 1 + a * segments
+        for b in range(segments):
+            c = (b + 1) % segments
+            f += [[inner + b, outer + b, outer + c], [inner + b, outer + c, inner + c]]
+    return np.array(pts), np.array(f)

@@ -2,7 +2,8 @@
 
 The library's functions over numpy arrays; lengths are millimetres. Errors are raised as
 tpmsfill.Error and its subclasses (InputError, ParseError, IoError, ResourceError,
-ValidationError, Cancelled), each with the library's one-sentence message.
+ValidationError, Cancelled), each with the library's one-sentence message. The long functions
+take progress=callable(stage, fraction), whose False cancels; Ctrl-C cancels them too.
 """
 from ._tpmsfill import (  # noqa: F401
     Cancelled,
@@ -13,8 +14,13 @@ from ._tpmsfill import (  # noqa: F401
     ResourceError,
     ValidationError,
     check,
+    conformal,
+    decimate,
+    field_fit,
     fill,
+    repair,
+    slice,
 )
 
-__all__ = ["check", "fill", "Error", "InputError", "ParseError", "IoError", "ResourceError",
+__all__ = ["check", "repair", "fill", "slice", "decimate", "field_fit", "conformal", "Error", "InputError", "ParseError", "IoError", "ResourceError",
            "ValidationError", "Cancelled"]
