@@ -234,7 +234,9 @@ Command add_check_command(CLI::App& app) {
       "  tpmsfill check femur.stl --json > femur-check.json\n"
       "  tpmsfill check scan.stl --picture scan-defects.png\n"
       "  tpmsfill check scan.stl --picture underside.png --view=-z --size 1024");
-  sub->add_option("FILE", args->input, "Mesh file: STL, OBJ, PLY, OFF (gzip allowed) or 3MF")
+  sub->add_option("FILE", args->input,
+                  "Mesh file: STL, OBJ, PLY, OFF (gzip allowed), 3MF, or a scene (glTF/GLB, FBX, "
+                  "COLLADA, 3DS, ... through assimp)")
       ->required();
   sub->add_flag("--json", args->json,
                 "Print one JSON object instead of text (fields: docs/cli.md)");

@@ -288,9 +288,11 @@ Command add_fill_command(CLI::App& app) {
       "  tpmsfill fill femur.stl light.stl --cell 2 --voxel 0.05 --decimate 0.0125\n\n"
       "Exit code 0: written; 1: the lattice failed validation (nothing written); 2: unreadable "
       "input, bad arguments or over the memory budget.");
-  sub->add_option("IN", args->input,
-                  "Mesh: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm; holes, flipped faces and "
-                  "overlapping shells are fine")
+  sub->add_option(
+         "IN", args->input,
+         "Mesh: STL, OBJ, PLY, OFF (gzip allowed), 3MF or a scene (glTF, FBX, COLLADA, ...), "
+         "mm; holes, flipped faces and "
+         "overlapping shells are fine")
       ->required();
   sub->add_option("OUT", args->output,
                   "Output mesh; the extension picks the format (.stl, .obj, .ply, .off, .3mf; "

@@ -137,7 +137,9 @@ Command add_repair_command(CLI::App& app) {
       "Example: tpmsfill repair scan.stl scan-fixed.stl\n\n"
       "Exit code 0: repaired and written; 1: could not be made valid (nothing written); 2: "
       "unreadable input or bad arguments.");
-  sub->add_option("IN", args->input, "Mesh to repair: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm")
+  sub->add_option("IN", args->input,
+                  "Mesh to repair: STL, OBJ, PLY, OFF (gzip allowed), 3MF or a scene (glTF, FBX, "
+                  "COLLADA, ...), mm")
       ->required();
   sub->add_option("OUT", args->output,
                   "Output mesh; the extension picks the format (.stl, .obj, .ply, .off, .3mf)")

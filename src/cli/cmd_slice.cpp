@@ -183,9 +183,11 @@ Command add_slice_command(CLI::App& app) {
       "  tpmsfill slice part.stl masks/ --format png --pixel 0.05 --layer 0.05\n\n"
       "Exit code 0: written; 1: a layer's contours failed the exact check (nothing written; a "
       "bug); 2: unreadable input, bad arguments or over the memory budget.");
-  sub->add_option("IN", args->input,
-                  "Mesh: STL, OBJ, PLY, OFF (gzip allowed) or 3MF, mm; holes, flipped faces and "
-                  "overlapping shells are fine")
+  sub->add_option(
+         "IN", args->input,
+         "Mesh: STL, OBJ, PLY, OFF (gzip allowed), 3MF or a scene (glTF, FBX, COLLADA, ...), "
+         "mm; holes, flipped faces and "
+         "overlapping shells are fine")
       ->required();
   sub->add_option("OUT", args->output,
                   "Layers: a .cli or .svg file, or a folder for --format svg-layers or png")
