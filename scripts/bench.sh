@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|seed000|layout] [SPHERE_LEVELS]
+# Benchmarks behind docs/benchmarks.md. Usage: bash scripts/bench.sh [all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|seed000|layout|interop] [SPHERE_LEVELS]
 #  io:
 #  1. read/write every format and check_mesh on an icosphere (default 8 levels: 1,310,720 triangles)
 #  2. `tpmsfill check` on malformed files that declare huge counts: time and peak memory
@@ -97,12 +97,17 @@
 # 19. `tpmsfill decimate IN OUT --tolerance D/500` (D: the bounding box's diagonal) on every mesh
 #     of libcgal-demo's data/meshes that `tpmsfill check` calls valid, each output checked
 set -euo pipefail
+#  interop:
+# 36. scenes and OpenVDB (issue 42): `tpmsfill check` on assimp-testmodels' scenes (COLLADA,
+#     zipped COLLADA, glTF with a .bin, GLB, FBX, 3DS, SMD); fill with and without
+#     --field-out on the femur at 35 mm (a = 0.1 mm), the level set's size and its reading back
+#     (field info), and fill --field with it; a truncated .vdb read
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 command -v /usr/bin/time >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq time
 bash scripts/build.sh build >/dev/null
 section="${1:-all}"
-[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|slow-clients|seed000|layout)$ ]] || { levels_arg="$section"; section=all; }
+[[ "$section" =~ ^(all|io|fill|inside|repair|lattice|field|conformal|any|vs-openvdb|decimate|decimate-meshes|decimate-cgal|material|material-fit|material-unfold|material-tables|material-tspline|material-audit|material-slice|material-grade|placement|memory|slow-clients|seed000|layout|interop)$ ]] || { levels_arg="$section"; section=all; }
 levels="${levels_arg:-${2:-8}}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -292,6 +297,42 @@ if [[ "$section" == all || "$section" == fill ]]; then
       printf '| %s | %s | %s | %.0f | %s | %s |\n' "$(basename "$f")" "$code" "$wall" "$(awk -v k="$kb" 'BEGIN{print k/1024}')" "$facts" "$verdict"
     done
   fi
+fi
+
+if [[ "$section" == all || "$section" == interop ]]; then
+  echo
+  echo "## 36. scenes through assimp, OpenVDB in and out"
+  models=/usr/share/assimp/models
+  echo "| file | triangles | verdict | wall s | peak MB |"
+  echo "|---|---|---|---|---|"
+  for f in Collada/duck.dae Collada/duck.zae glTF2/BoxTextured-glTF/BoxTextured.gltf \
+    glTF2/BoxTextured-glTF-Binary/BoxTextured.glb FBX/spider.fbx 3DS/fels.3ds SMD/WusonSMD.smd; do
+    timed ./build/tpmsfill check --no-self-intersections --json "$models/$f" >"$tmp/scene.json"
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(f\"| {sys.argv[2]} | {j['triangles']} | {'valid' if j['valid'] else 'not valid'} | {sys.argv[3]} | {int(sys.argv[4])//1024} |\")" \
+      "$tmp/scene.json" "$f" "$wall" "$kb"
+  done
+  tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz -C "$tmp" --strip-components=2 data/meshes/femur.off
+  echo
+  echo "| femur at 35 mm, a = 0.1 mm | wall s | peak MB | file |"
+  echo "|---|---|---|---|"
+  timed ./build/tpmsfill fill "$tmp/femur.off" "$tmp/f.stl" --quiet --scale 35 --cell 2 --voxel 0.1
+  echo "| fill | $wall | $((kb / 1024)) | $(stat -c %s "$tmp/f.stl") bytes STL |"
+  timed ./build/tpmsfill fill "$tmp/femur.off" "$tmp/f.stl" --quiet --scale 35 --cell 2 --voxel 0.1 \
+    --field-out "$tmp/phi.vdb"
+  echo "| fill --field-out phi.vdb | $wall | $((kb / 1024)) | $(stat -c %s "$tmp/phi.vdb") bytes VDB |"
+  timed ./build/tpmsfill field info "$tmp/phi.vdb"
+  echo "| field info phi.vdb (dense $(./build/tpmsfill field info "$tmp/phi.vdb" | head -1 | sed 's/.*field, //')) | $wall | $((kb / 1024)) | |"
+  # The lattice's own level set as the femur's structure: stretched over the same box, it
+  # gives the lattice back (up to the fit and a voxel).
+  ./build/tpmsfill fill "$tmp/femur.off" "$tmp/f.stl" --quiet --scale 35 --cell 2 --voxel 0.1 \
+    --report "$tmp/a.json"
+  timed ./build/tpmsfill fill "$tmp/femur.off" "$tmp/g.stl" --quiet --scale 35 --voxel 0.1 \
+    --field "$tmp/phi.vdb" --report "$tmp/b.json"
+  porosity() { python3 -c "import json,sys; print(round(json.load(open(sys.argv[1]))['porosity'], 4))" "$1"; }
+  echo "| fill --field phi.vdb (fitted on reading; porosity $(porosity "$tmp/b.json") against the gyroid's $(porosity "$tmp/a.json")) | $wall | $((kb / 1024)) | exit $code |"
+  head -c 200 "$tmp/phi.vdb" >"$tmp/cut.vdb"
+  timed ./build/tpmsfill field info "$tmp/cut.vdb"
+  echo "| field info on its first 200 bytes (refused) | $wall | $((kb / 1024)) | exit $code |"
 fi
 
 if [[ "$section" == all || "$section" == seed000 ]]; then

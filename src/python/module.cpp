@@ -83,6 +83,12 @@ py::object from_json(const std::string& text) {
   return py::module_::import("json").attr("loads")(text);
 }
 
+// What every job that makes a mesh returns: (points, triangles, report).
+py::tuple mesh_and_report(tpmsfill::TriangleSoup&& mesh, const std::string& report_json) {
+  py::tuple arrays = arrays_of(std::move(mesh));
+  return py::make_tuple(arrays[0], arrays[1], from_json(report_json));
+}
+
 using Vertices = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
@@ -245,9 +251,7 @@ PYBIND11_MODULE(_tpmsfill, m) {
         PythonProgress watch(progress);
         o.progress = &watch;
         tpmsfill::FillResult result = watched(watch, [&] { return tpmsfill::fill(soup, o); });
-        const std::string report = tpmsfill::to_json(result.report);
-        py::tuple mesh = arrays_of(std::move(result.mesh));
-        return py::make_tuple(mesh[0], mesh[1], from_json(report));
+        return mesh_and_report(std::move(result.mesh), tpmsfill::to_json(result.report));
       },
       py::arg("vertices"), py::arg("faces"), py::arg("recipe") = py::none(), py::kw_only(),
       py::arg("progress") = py::none(),
@@ -327,9 +331,7 @@ PYBIND11_MODULE(_tpmsfill, m) {
         o.progress = &watch;
         tpmsfill::DecimateResult result =
             watched(watch, [&] { return tpmsfill::decimate(soup, o); });
-        const std::string report = tpmsfill::to_json(result.report);
-        py::tuple mesh = arrays_of(std::move(result.mesh));
-        return py::make_tuple(mesh[0], mesh[1], from_json(report));
+        return mesh_and_report(std::move(result.mesh), tpmsfill::to_json(result.report));
       },
       py::arg("vertices"), py::arg("faces"), py::arg("tolerance"), py::kw_only(),
       py::arg("target_triangles") = 0, py::arg("progress") = py::none(),
@@ -357,9 +359,7 @@ PYBIND11_MODULE(_tpmsfill, m) {
         o.progress = &watch;
         tpmsfill::RepairResult result =
             watched(watch, [&] { return tpmsfill::repair_mesh(soup, o); });
-        const std::string report = tpmsfill::to_json(result.report);
-        py::tuple mesh = arrays_of(std::move(result.mesh));
-        return py::make_tuple(mesh[0], mesh[1], from_json(report));
+        return mesh_and_report(std::move(result.mesh), tpmsfill::to_json(result.report));
       },
       py::arg("vertices"), py::arg("faces"), py::kw_only(), py::arg("progress") = py::none(),
       "A scan made a valid solid, as `tpmsfill repair`: (vertices, faces, report).\n\n"
@@ -452,9 +452,7 @@ PYBIND11_MODULE(_tpmsfill, m) {
         o.progress = &watch;
         tpmsfill::ConformalResult result =
             watched(watch, [&] { return tpmsfill::conformal_fill(surface, o); });
-        const std::string report = tpmsfill::to_json(result);
-        py::tuple mesh = arrays_of(std::move(result.mesh));
-        return py::make_tuple(mesh[0], mesh[1], from_json(report));
+        return mesh_and_report(std::move(result.mesh), tpmsfill::to_json(result));
       },
       py::arg("vertices"), py::arg("faces"), py::arg("height"), py::arg("recipe") = py::none(),
       py::kw_only(), py::arg("progress") = py::none(),
