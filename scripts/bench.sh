@@ -320,18 +320,18 @@ if [[ "$section" == all || "$section" == interop ]]; then
   timed ./build/tpmsfill fill "$tmp/femur.off" "$tmp/f.stl" --quiet --scale 35 --cell 2 --voxel 0.1 \
     --field-out "$tmp/phi.vdb"
   echo "| fill --field-out phi.vdb | $wall | $((kb / 1024)) | $(stat -c %s "$tmp/phi.vdb") bytes VDB |"
-  timed ./build/tpmsfill field info "$tmp/phi.vdb"
+  timed ./build/tpmsfill field info "$tmp/phi.vdb" >/dev/null
   echo "| field info phi.vdb (dense $(./build/tpmsfill field info "$tmp/phi.vdb" | head -1 | sed 's/.*field, //')) | $wall | $((kb / 1024)) | |"
   # The lattice's own level set as the femur's structure: stretched over the same box, it
   # gives the lattice back (up to the fit and a voxel).
   ./build/tpmsfill fill "$tmp/femur.off" "$tmp/f.stl" --quiet --scale 35 --cell 2 --voxel 0.1 \
     --report "$tmp/a.json"
   timed ./build/tpmsfill fill "$tmp/femur.off" "$tmp/g.stl" --quiet --scale 35 --voxel 0.1 \
-    --field "$tmp/phi.vdb" --report "$tmp/b.json"
+    --field "$tmp/phi.vdb" --report "$tmp/b.json" 2>/dev/null
   porosity() { python3 -c "import json,sys; print(round(json.load(open(sys.argv[1]))['porosity'], 4))" "$1"; }
   echo "| fill --field phi.vdb (fitted on reading; porosity $(porosity "$tmp/b.json") against the gyroid's $(porosity "$tmp/a.json")) | $wall | $((kb / 1024)) | exit $code |"
   head -c 200 "$tmp/phi.vdb" >"$tmp/cut.vdb"
-  timed ./build/tpmsfill field info "$tmp/cut.vdb"
+  timed ./build/tpmsfill field info "$tmp/cut.vdb" 2>/dev/null
   echo "| field info on its first 200 bytes (refused) | $wall | $((kb / 1024)) | exit $code |"
 fi
 
