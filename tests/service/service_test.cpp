@@ -241,6 +241,8 @@ TEST(Service, BadRequestsAreRefusedWithTheSentence) {
   refused("fill", R"({"lattice": {"type": "gyroidal"}})", "gyroidal");
   refused("fill", R"({"field": "/etc/passwd"})", "reads no files");
   refused("check", "", "file name must end in", "part.exe");
+  // Scenes other than glTF are for the command line only (assimp's FBX reader frees twice).
+  refused("check", "", "glTF scene", "part.fbx");
   httplib::MultipartFormDataItems no_mesh = {{"options", "{}", "", ""}};
   EXPECT_EQ(service.client().Post("/v1/check", no_mesh)->status, 400);
   EXPECT_EQ(service.client().Post("/v1/check", "{}", "application/json")->status, 400);
