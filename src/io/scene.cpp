@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "io/file_bytes.hpp"
 #include "io/formats.hpp"
 
 #ifdef TPMSFILL_WITH_ASSIMP
@@ -30,12 +31,6 @@
 
 namespace tpmsfill::io {
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 // Extensions of the formats our own readers own: never handed to assimp.
 bool ours(const std::string& ext) {
@@ -57,7 +52,7 @@ bool text_names_scene(std::string_view data) {
 }  // namespace
 
 bool is_scene_extension(const std::filesystem::path& path) {
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = detail::lower_extension(path);
   if (ext.size() < 2 || ours(ext)) return false;
 #ifdef TPMSFILL_WITH_ASSIMP
   return Assimp::Importer().IsExtensionSupported(ext.c_str());
@@ -222,7 +217,7 @@ void read_scene(std::string_view data, const std::string& source, const std::fil
       aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
           aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
           aiComponent_TEXTURES | aiComponent_LIGHTS | aiComponent_CAMERAS | aiComponent_MATERIALS);
-  std::string hint = lower(std::filesystem::path(source).extension().string());
+  std::string hint = detail::lower_extension(source);
   if (!hint.empty()) hint.erase(0, 1);
   // No joining of vertices: assimp's join compares with a tolerance; the soup keeps every corner
   // as the file places it, and exactly equal points become one later, as for STL.

@@ -125,7 +125,7 @@ std::string format_header(MeshFormat format, std::uint64_t points, std::uint64_t
       break;
     case MeshFormat::ThreeMf:
     case MeshFormat::Scene:  // refused by writable_format
-      break;  // lib3mf writes the whole package at commit
+      break;                 // lib3mf writes the whole package at commit
   }
   return out;
 }
@@ -234,7 +234,7 @@ void append_triangles(MeshFormat format, std::string& out, std::span<const Trian
       break;
     case MeshFormat::ThreeMf:
     case MeshFormat::Scene:  // refused by writable_format
-      break;  // held (State)
+      break;                 // held (State)
   }
 }
 

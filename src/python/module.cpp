@@ -172,8 +172,10 @@ std::optional<T> take(py::dict& keys, const char* key) {
   try {
     return value.cast<T>();
   } catch (const py::cast_error&) {
-    throw tpmsfill::InputError(std::string(key) + ": " + std::string(py::str(value)) +
-                               " is not a " + (std::is_same_v<T, std::string> ? "name" : "number"));
+    throw tpmsfill::InputError(std::string(key) + ": " + std::string(py::str(value)) + " is not " +
+                               (std::is_same_v<T, std::string> ? "a name"
+                                : std::is_same_v<T, bool>      ? "True or False"
+                                                               : "a number"));
   }
 }
 

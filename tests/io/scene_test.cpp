@@ -291,8 +291,7 @@ TEST(SceneRealFiles, EveryFileOfTheTestModelsReadsOrIsRefusedWithOurError) {
       const MeshFile file = read_mesh_file(entry.path());
       EXPECT_GE(file.soup.triangles.size(), 1u) << entry.path();
       for (const Vec3& p : file.soup.points)
-        ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
-            << entry.path();
+        ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) << entry.path();
       ++read;
       scenes += file.format == MeshFormat::Scene;
     } catch (const Error& e) {

@@ -207,8 +207,8 @@ TEST(Service, AOneFileSceneIsAMeshAndReachesNothingOutsideItsJob) {
   ASSERT_EQ(j["state"], "done") << j.dump();
   EXPECT_EQ(j["report"]["valid"], true) << j.dump();
   EXPECT_NEAR(j["report"]["volume"].get<double>(), 1e9, 1);
-  std::string gltf = test::read_file(glb.parent_path().parent_path() /
-                                     "BoxTextured-glTF/BoxTextured.gltf");
+  std::string gltf =
+      test::read_file(glb.parent_path().parent_path() / "BoxTextured-glTF/BoxTextured.gltf");
   const std::string uri = "\"BoxTextured0.bin\"";
   ASSERT_NE(gltf.find(uri), std::string::npos);
   gltf.replace(gltf.find(uri), uri.size(), "\"../../token.txt\"");
